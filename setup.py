@@ -1,0 +1,11 @@
+# Used by catkin_python_setup(); do not run directly.
+from setuptools import setup
+from catkin_pkg.python_setup import generate_distutils_setup
+
+setup(**generate_distutils_setup(
+    packages=['pepper_interface_tests',
+              'pepper_interface_tests.sensors',
+              'pepper_interface_tests.audio_bridge',
+              'pepper_interface_tests.emulator'],
+    package_dir={'': 'src'},
+))

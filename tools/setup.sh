@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Idempotent set-up: Debian packages, the venv, the catkin workspace.
+# Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium)
+# Each step is skipped when already done, so a second run takes a few seconds.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+WS="$ROOT/.ws"
+STAMPS="$ROOT/.stamps"
+mkdir -p "$STAMPS"
+say() { printf '[setup] %s\n' "$*"; }
+
+# 1. Debian packages (ROS 1 from Debian's own archive).
+pkgs=$(grep -v '^#' tools/debian-packages.txt | xargs)
+if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium"; fi
+missing=""
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  say "installing Debian packages:$missing"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null
+fi
+
+# 2. The venv on Debian's python3 (the ROS modules live there).
+req_hash=$(sha1sum tools/requirements.txt | cut -c1-12)
+if [ ! -x .venv/bin/python ] || [ "$(cat "$STAMPS/venv" 2>/dev/null)" != "$req_hash" ]; then
+  say "creating .venv and installing tools/requirements.txt"
+  [ -x .venv/bin/python ] || /usr/bin/python3 -m venv --system-site-packages .venv
+  .venv/bin/python -m pip install -q --disable-pip-version-check -r tools/requirements.txt 2>&1 | { grep -v "is ignored: it is neither" || true; }
+  echo "$req_hash" > "$STAMPS/venv"
+fi
+
+# 3. The catkin workspace (.ws/src/pepper_interface_tests is a link to this repository).
+mkdir -p "$WS/src"
+[ -e "$WS/src/pepper_interface_tests" ] || ln -s "$ROOT" "$WS/src/pepper_interface_tests"
+build_hash=$(cat package.xml CMakeLists.txt setup.py msg/*.msg | sha1sum | cut -c1-12)$(ls scripts | sha1sum | cut -c1-6)
+if [ ! -f "$WS/devel/setup.bash" ] || [ "$(cat "$STAMPS/build" 2>/dev/null)" != "$build_hash" ]; then
+  say "building the catkin workspace in .ws"
+  ( cd "$WS" && PATH="$ROOT/.venv/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+      -DCATKIN_ENABLE_TESTING=ON >"$STAMPS/build.log" 2>&1 ) || { cat "$STAMPS/build.log"; exit 1; }
+  echo "$build_hash" > "$STAMPS/build"
+fi
+say "ready (source tools/env.sh to use the package in a shell)"
