@@ -1,0 +1,201 @@
+"""sensorTest's command line: options -> plan -> run -> outputs -> exit code.
+
+Exit codes: 0 every selected sensor passed (SKIPPED counts as passed), 1 at least one failed,
+2 the run could not start (bad files or options, no ROS master, unwritable output folder),
+130 interrupted (Ctrl-C / SIGTERM; the output files are still written).
+"""
+import argparse
+import os
+import signal
+import sys
+import tempfile
+import time
+
+from . import results, settings
+from .results import EXIT_CANNOT_START
+from .settings import ConfigError, Options
+
+PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
+          'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
+          'play_audio', 'delete_file', 'mic_mode', 'require_heard', 'history', 'diagnostics',
+          'report')
+BOOL_PARAMS = ('quick', 'record', 'show', 'play_audio', 'delete_file', 'require_heard',
+               'history', 'diagnostics', 'report')
+
+EPILOG = '''examples:
+  rosrun pepper_interface_tests sensorTest
+  rosrun pepper_interface_tests sensorTest --mode parallel --quick
+  rosrun pepper_interface_tests sensorTest --sensors laser,frontSonar --duration 5
+  rosrun pepper_interface_tests sensorTest --platform simulator --output-dir /tmp/run1
+  rosrun pepper_interface_tests sensorTest --bag recorded.bag
+  rosrun pepper_interface_tests sensorTest _mode:=parallel _duration:=3   (private ROS params)
+exit codes: 0 all passed, 1 a sensor failed, 2 could not start, 130 interrupted'''
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        sys.stderr.write('sensorTest: error: %s\n' % message)
+        sys.exit(EXIT_CANNOT_START)
+
+
+def build_parser():
+    p = _Parser(prog='sensorTest', description='Check every sensor of a Pepper robot and report '
+                'a verdict per sensor.', epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    f = p.add_argument_group('files')
+    f.add_argument('--config', metavar='FILE', help='configuration file (default config/sensorTestConfiguration.ini)')
+    f.add_argument('--input', metavar='FILE', help='input file: which sensors run (default config/sensorTestInput.ini)')
+    f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
+    f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is looked up (default data/)')
+    f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
+    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else ~/.ros/pepper_interface_tests)')
+    r = p.add_argument_group('run')
+    r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
+    r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
+    r.add_argument('--duration', metavar='S', help='seconds each sensor is listened to (default 10)')
+    r.add_argument('--wait', metavar='S', help='seconds allowed for the first message (default 5)')
+    r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores the input file)')
+    r.add_argument('--cameras', metavar='WHICH', help='pepper, realsense or both (default both)')
+    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
+    r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
+    m = p.add_argument_group('media')
+    m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write videos and WAV files')
+    m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras (default: when a display exists)')
+    m.add_argument('--no-show', dest='show', action='store_const', const=False, help='no live view')
+    m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True, help='play the recorded microphones afterwards (spec behaviour)')
+    m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the WAV after playing it')
+    m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential (each microphone in turn, as the spec)')
+    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the microphones hear it')
+    o = p.add_argument_group('results')
+    o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep this run in the run history')
+    o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not publish /diagnostics')
+    o.add_argument('--no-report', dest='report', action='store_const', const=False, help='do not write the HTML report')
+    return p
+
+
+def options_from_args(ns):
+    values = {}
+    for name in PARAMS:
+        v = getattr(ns, name, None)
+        if v is not None:
+            values[name] = v
+    if 'sensors' in values:
+        values['sensors'] = tuple(x for x in values['sensors'].replace(' ', ',').split(',') if x)
+    for key in ('duration', 'wait'):
+        if key in values:
+            values[key] = settings.positive_seconds(values[key], '--' + key)
+    if ns.bag:
+        values['bag'] = ns.bag
+    return Options(**values)
+
+
+def options_from_params(get_param):
+    """Private ROS params (~mode, ~duration, ...) -> Options."""
+    values = {}
+    for name in PARAMS:
+        v = get_param('~' + name, None)
+        if v is None or v == '':
+            continue
+        if name in BOOL_PARAMS:
+            v = settings.parse_bool(v, key='~' + name)
+        elif name in ('duration', 'wait'):
+            v = settings.positive_seconds(v, '~' + name)
+        elif name == 'sensors':
+            v = tuple(x for x in (v if isinstance(v, (list, tuple)) else str(v).replace(' ', ',').split(',')) if x)
+        else:
+            v = str(v)
+        values[name] = v
+    return Options(**values)
+
+
+def check_output_dir(path):
+    try:
+        os.makedirs(path, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix='.write-test-', dir=path)
+        os.close(fd)
+        os.remove(probe)
+    except OSError as e:
+        raise ConfigError('cannot write results to %s: %s' % (path, e.strerror or e),
+                          fix='choose a writable folder with --output-dir (or ~output_dir)')
+
+
+def _fatal(message):
+    sys.stderr.write('sensorTest: error: %s\n' % message)
+    return EXIT_CANNOT_START
+
+
+def _on_sigterm(signum, frame):
+    raise KeyboardInterrupt
+
+
+def main(argv=None):
+    if argv is None:
+        import rospy
+        argv = rospy.myargv(sys.argv)[1:]
+    try:
+        cli = options_from_args(build_parser().parse_args(argv))
+        plan = settings.load_plan(cli)
+    except ConfigError as e:
+        return _fatal(str(e))
+    signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        if cli.bag:
+            return run_bag(plan, cli)
+        return run_live(plan, cli)
+    except ConfigError as e:
+        return _fatal(str(e))
+    except KeyboardInterrupt:
+        sys.stderr.write('sensorTest: interrupted before listening began\n')
+        return results.EXIT_INTERRUPTED
+
+
+def run_live(plan, cli):
+    from . import live
+    uri = live.master_uri()
+    deadline = time.monotonic() + 4.0
+    while not live.master_reachable(uri, timeout=1.0):
+        if time.monotonic() > deadline:
+            raise ConfigError('no ROS master at %s' % uri,
+                              fix='start roscore (or roslaunch), or point ROS_MASTER_URI at the robot\'s master')
+        time.sleep(0.25)
+    import rospy
+    rospy.init_node('sensorTest', disable_signals=True)
+    params = options_from_params(rospy.get_param)
+    if any(v is not None for v in params.__dict__.values()):
+        plan = settings.load_plan(params.merged(cli))
+    check_output_dir(plan.output_dir)
+    source = live.LiveSource(rospy.get_name())
+    try:
+        return execute(plan, source, time.monotonic, 'live')
+    finally:
+        rospy.signal_shutdown('sensorTest finished')
+
+
+def run_bag(plan, cli):
+    from .bag import BagSource
+    source = BagSource(cli.bag)
+    # a bag is checked as a whole, every topic at once, from its start to its end
+    duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
+    active = []
+    for s in plan.sensors:
+        if s.skip_reason is None and s.sensor.family == 'speech':
+            s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
+        active.append(s)
+    plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
+    check_output_dir(plan.output_dir)
+    return execute(plan, source, source.clock, os.path.abspath(cli.bag))
+
+
+def execute(plan, source, clock, source_name):
+    """Run the plan against a source and write every output; returns the exit code."""
+    from .runner import Runner
+    from .sensors.base import RunContext
+    from .terminal import Terminal
+    from . import outputs
+    ctx = RunContext(plan.output_dir, plan.platform, plan.options)
+    observers = outputs.observers_for(plan, ctx, source_name)
+    runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock)
+    runner.run.source = source_name
+    runner.run.options = {k: v for k, v in plan.options.__dict__.items() if v is not None}
+    run = runner.execute()
+    return run.exit_code

@@ -1,0 +1,77 @@
+"""Observers that turn a run into files and shared services.
+
+ResultFiles: sensorTestOutput.dat block by block as sensors finish (so an interrupted run still
+has every finished block, then [INTERRUPTED] and END TIME), sensorTestResults.json and
+sensorTestResults.xml at the end.
+SpeechHearing: while the speech check runs and the microphone is part of the run, a
+microphone level monitor is offered to it (ctx.services['microphone_levels']).
+"""
+import os
+
+from . import results
+
+
+class ResultFiles:
+    def __init__(self, output_dir, out=None):
+        self.dir = output_dir
+        self.dat = None
+        self.out = out
+
+    def run_started(self, run, plan):
+        self.dat = results.OutputFile(os.path.join(self.dir, results.OUTPUT_FILE))
+        self.dat.begin(run)
+
+    def sensor_done(self, result):
+        if self.dat:
+            self.dat.sensor(result)
+
+    def run_ended(self, run):
+        if self.dat:
+            self.dat.end(run)
+            self.dat.close()
+        results.write_json(run, os.path.join(self.dir, results.JSON_FILE))
+        results.write_junit(run, os.path.join(self.dir, results.JUNIT_FILE))
+        import sys
+        stream = self.out or sys.stdout
+        stream.write('results: %s\n' % ', '.join(os.path.join(self.dir, f) for f in (
+            results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE)))
+        stream.flush()
+
+
+class SpeechHearing:
+    """Starts a microphone level monitor for the speech check when the microphone is in the run."""
+
+    def __init__(self, plan, ctx):
+        self.ctx = ctx
+        mics = [s for s in plan.active if s.sensor.family == 'audio']
+        self.mic_topic = mics[0].topic if mics else None
+        self.monitor = None
+
+    def sensor_started(self, run):
+        if run.sensor.family != 'speech' or not self.mic_topic:
+            return
+        try:
+            from .sensors.audio import LevelMonitor
+        except ImportError:
+            return
+        self.monitor = LevelMonitor(self.mic_topic)
+        self.monitor.start()
+        self.ctx.services['microphone_levels'] = self.monitor
+
+    def sensor_done(self, result):
+        if result.name == 'speech' and self.monitor is not None:
+            self.monitor.stop()
+            self.ctx.services.pop('microphone_levels', None)
+            self.monitor = None
+
+    def run_ended(self, run):
+        if self.monitor is not None:
+            self.monitor.stop()
+
+
+def observers_for(plan, ctx, source_name):
+    obs = []
+    if source_name == 'live':
+        obs.append(SpeechHearing(plan, ctx))
+    obs.append(ResultFiles(plan.output_dir))
+    return obs

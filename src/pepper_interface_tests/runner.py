@@ -1,0 +1,387 @@
+"""Listen to each sensor for its window, sequentially or in parallel, and judge it.
+
+Data flow: TestPlan -> lanes (sequential: one lane of all sensors in input order; parallel: one
+lane per sensor, except that simulator cameras share one lane) -> one SensorRun at a time per
+lane -> SensorResult -> observers (output file, terminal, diagnostics ...).
+
+A SensorRun is fed raw messages (type name, serialized bytes, receive time, ROS time) by a live
+rospy.AnyMsg subscription or by a bag reader; it checks the type, deserializes, runs the
+generic stream checks (stats.StreamStats) and hands the message to the sensor's Check.
+Everything runs in the main thread except subscriber callbacks, which touch only their own
+SensorRun under its lock. The main loop ticks every 50 ms; a window ends on time, on --quick
+once the verdict is settled, when no message came within --wait, or on Ctrl-C.
+"""
+import threading
+import time
+
+import genpy
+
+from . import catalog
+from .results import FAIL, PASS, SKIPPED, RunResult, SensorResult
+from .sensors import check_class
+from .sensors.base import Tally, fmt
+from .stats import StreamStats
+
+TICK = 0.05
+
+
+def message_class(type_name):
+    """The Python class of a ROS message type, e.g. 'sensor_msgs/Range'."""
+    if type_name.startswith('naoqi_driver/AudioCustomMsg'):
+        type_name = 'pepper_interface_tests/AudioCustomMsg'
+    pkg, name = type_name.split('/')
+    module = __import__(pkg + '.msg', fromlist=[name])
+    return getattr(module, name)
+
+
+class SensorRun:
+    """One sensor's listening window: raw messages in, one SensorResult out."""
+
+    def __init__(self, plan, ctx, run_start, quick=False, wait=5.0, duration=10.0):
+        self.plan = plan
+        self.sensor = plan.sensor
+        self.expect = plan.expect
+        self.check = check_class(self.sensor.family)(plan, ctx)
+        self.ctx = ctx
+        self.run_start = run_start
+        self.quick = quick
+        self.wait = wait
+        self.window = self.check.window(duration)
+        self.lock = threading.Lock()
+        self.cls = message_class(self.sensor.msg_type)
+        self.stats = None
+        self.t0 = None
+        self.closed = False
+        self.result = None
+        self.header_issues = Tally()
+        self.wrong_types = {}        # type name -> count
+        self.bad_messages = 0
+        self.connections_seen = 0
+        self.publisher_lost_at = None
+        self.end_reason = ''
+
+    # ---------------------------------------------------------------- feeding
+    def begin(self, now):
+        self.t0 = now
+        self.stats = StreamStats(start=now)
+        self.check.start()
+
+    def feed_raw(self, type_name, buff, t_recv, ros_now):
+        """One message as it came off the wire (or out of a bag)."""
+        with self.lock:
+            if self.closed or self.t0 is None:
+                return
+            if not catalog.accepts_type(self.sensor, type_name):
+                self.wrong_types[type_name] = self.wrong_types.get(type_name, 0) + 1
+                return
+            try:
+                msg = self.cls().deserialize(buff)
+            except (genpy.DeserializationError, Exception) as e:  # a corrupt message is a finding
+                self.bad_messages += 1
+                self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
+                return
+            header = getattr(msg, 'header', None)
+            stamp = header.stamp.to_sec() if header is not None else None
+            self.stats.add(t_recv, stamp, ros_now if header is not None else None)
+            if header is not None:
+                want = self.expect.get('frame_id')
+                if want and header.frame_id != want:
+                    self.header_issues.add('frame', 'frame_id is "%s", expected "%s"'
+                                           % (header.frame_id, want))
+            self.check.feed(msg, t_recv - self.t0)
+
+    # ---------------------------------------------------------------- deciding when to stop
+    def due(self, now):
+        """Why the window should end now, or '' to keep listening."""
+        elapsed = now - self.t0
+        if self.check.active:
+            if self.check.done():
+                return 'finished'
+            return 'window ended' if elapsed >= max(self.window, self.wait) + 5.0 else ''
+        count = self.stats.count
+        if count == 0:
+            return 'no message within %.1f s' % self.wait if elapsed >= self.wait else ''
+        first = self.stats.recv[0] - self.t0
+        end = self.window if first <= self.window else first + min(self.window, 2.0)
+        if elapsed >= end:
+            return 'window ended'
+        if self.quick and self._settled(elapsed):
+            return 'verdict settled (--quick)'
+        return ''
+
+    def _settled(self, elapsed):
+        n = int(self.expect.get('quick_messages', 10))
+        return self.stats.count >= n and (self.stats.recv[-1] - self.stats.recv[0]) >= 0.8 \
+            and self.check.settled()
+
+    def poll(self, now):
+        if self.check.active:
+            self.check.poll(now - self.t0)
+
+    def observe_connections(self, n, now):
+        if n > 0:
+            self.connections_seen = max(self.connections_seen, n)
+        elif self.connections_seen and self.publisher_lost_at is None:
+            self.publisher_lost_at = now - self.t0
+
+    # ---------------------------------------------------------------- closing
+    def close(self, now, reason, lookup=None):
+        """End the window, close the check, build the result. `lookup(topic)` asks the master."""
+        with self.lock:
+            if self.closed:
+                return self.result
+            self.closed = True
+        self.end_reason = reason
+        try:
+            self.check.close()
+        except Exception as e:  # a writer failing must not lose the verdict
+            self.check.fail('could not finish the check: %s' % e)
+        self.result = self._judge(now, reason, lookup)
+        return self.result
+
+    def _judge(self, now, reason, lookup):
+        s, check, e = self.stats, self.check, self.expect
+        elapsed = now - self.t0
+        reasons = []
+        warnings = []
+        topic = self.plan.topic
+        if not check.active:
+            reasons += self._arrival_reasons(elapsed, lookup)
+            if s.count:
+                reasons += self._stream_reasons(elapsed, warnings)
+        reasons += self.header_issues.reasons(s.count)
+        reasons += check.failure_reasons()
+        warnings += check.warning_reasons()
+        verdict = FAIL if reasons else PASS
+        if reason == 'interrupted':
+            warnings.append('interrupted after %.1f s of %.1f s' % (elapsed, self.window))
+        band = e.get('rate')
+        summary = s.summary()
+        return SensorResult(
+            name=self.sensor.name, title=self.sensor.title, topic=topic,
+            msg_type=self.sensor.msg_type, verdict=verdict, reasons=reasons, warnings=warnings,
+            notes=list(check.notes), messages=check.count if check.active else s.count, rate_hz=summary['rate_hz'],
+            stamp_rate_hz=summary['stamp_rate_hz'],
+            expected_rate_hz=list(band) if band and not check.active else None,
+            nominal_rate_hz=e.get('nominal'),
+            received_type=next(iter(self.wrong_types), None) or (self.sensor.msg_type if s.count else None),
+            window_s=round(elapsed, 3), stopped_because=reason,
+            started_at=round(self.t0 - self.run_start, 3), ended_at=round(now - self.run_start, 3),
+            fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
+            stats=summary, values=dict(check.values),
+            series=dict(check.series, rate_hz=s.rate_series(end=now)),
+            artifacts=dict(check.artifacts))
+
+    def _arrival_reasons(self, elapsed, lookup):
+        s, topic = self.stats, self.plan.topic
+        out = []
+        if self.wrong_types:
+            types = ', '.join(sorted(self.wrong_types))
+            out.append('topic %s carries %s, expected %s' % (topic, types, self.sensor.msg_type))
+            return out
+        if s.count:
+            return out
+        info = lookup(topic) if lookup else None
+        if info is not None:
+            advertised, publishers = info
+            if advertised and not catalog.accepts_type(self.sensor, advertised):
+                out.append('topic %s is advertised as %s, expected %s'
+                           % (topic, advertised, self.sensor.msg_type))
+            elif not publishers:
+                out.append('no publisher on %s (is the driver running, and is the topic name right?)'
+                           % topic)
+            else:
+                out.append('no message on %s within %.1f s although %s publishes it'
+                           % (topic, elapsed, ', '.join(publishers)))
+        else:
+            out.append('no message on %s within %.1f s' % (topic, elapsed))
+        return out
+
+    def _stream_reasons(self, elapsed, warnings):
+        s, e = self.stats, self.expect
+        out = []
+        min_messages = int(e.get('min_messages', 3))
+        if s.count < min_messages:
+            out.append('only %d message%s in %.1f s (at least %d expected)'
+                       % (s.count, '' if s.count == 1 else 's', elapsed, min_messages))
+        band = e.get('rate')
+        if band and s.count >= 3:
+            lo, hi = band
+            for label, rate in (('rate', s.rate), ('header stamp rate', s.stamp_rate)):
+                if rate is not None and not (lo <= rate <= hi):
+                    out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
+        if s.zero_stamps:
+            out.append('%d message%s with a zero header stamp'
+                       % (s.zero_stamps, '' if s.zero_stamps == 1 else 's'))
+        if s.backwards:
+            out.append('header stamps went backwards %d time%s'
+                       % (s.backwards, '' if s.backwards == 1 else 's'))
+        if s.repeated:
+            warnings.append('%d repeated header stamp%s' % (s.repeated, '' if s.repeated == 1 else 's'))
+        delay = s.delay_summary()
+        if delay:
+            if delay['max'] > float(e.get('max_delay', 5.0)):
+                out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
+                           % (delay['max'], float(e.get('max_delay', 5.0))))
+            if -delay['min'] > float(e.get('max_future', 1.0)):
+                out.append('header stamps up to %.2f s in the future (clock skew?)' % -delay['min'])
+        # a publisher that stopped: the last message long before the end of the window
+        silence = (self.t0 + elapsed) - s.recv[-1]
+        lo_rate = band[0] if band else None
+        threshold = max(1.0, float(e.get('max_gap_factor', 3.0)) / lo_rate) if lo_rate else 2.0
+        if silence > threshold:
+            lost = ' (publisher left at %.1f s)' % self.publisher_lost_at \
+                if self.publisher_lost_at is not None else ''
+            out.append('messages stopped %.1f s after the first one; nothing for the last %.1f s%s'
+                       % (s.recv[-1] - s.recv[0], silence, lost))
+        gaps = s.gaps(threshold)
+        if gaps:
+            longest = max(gaps, key=lambda g: g[1])
+            warnings.append('%d pause%s longer than %.2f s (longest %.2f s at %.1f s)'
+                            % (len(gaps), '' if len(gaps) == 1 else 's', threshold,
+                               longest[1], longest[0]))
+        return out
+
+
+def skipped_result(plan, run_start, now):
+    return SensorResult(name=plan.sensor.name, title=plan.sensor.title, topic=plan.topic,
+                        msg_type=plan.sensor.msg_type, verdict=SKIPPED, reasons=[plan.skip_reason],
+                        started_at=round(now - run_start, 3), ended_at=round(now - run_start, 3))
+
+
+def lanes_for(plan):
+    """Which sensors run one after another: a list of lanes, each a list of SensorPlans."""
+    if plan.mode == 'sequential':
+        return [list(plan.sensors)]
+    lanes, cameras = [], []
+    for s in plan.sensors:
+        if plan.platform == 'simulator' and s.sensor.family in ('camera', 'depth') and s.skip_reason is None:
+            if not cameras:
+                lanes.append(cameras)   # keeps the position of the first camera
+            cameras.append(s)
+        else:
+            lanes.append([s])
+    return lanes
+
+
+class Observers(list):
+    """Calls a method on every observer that has it; one failing observer does not stop the run."""
+
+    def call(self, method, *args):
+        for o in self:
+            fn = getattr(o, method, None)
+            if fn is not None:
+                fn(*args)
+
+
+class Runner:
+    """Drives the lanes from the main thread. `source` subscribes (live) or feeds (bag)."""
+
+    def __init__(self, plan, ctx, source, observers=(), clock=time.monotonic, wall=time.time):
+        self.plan = plan
+        self.ctx = ctx
+        self.source = source
+        self.observers = Observers(observers)
+        self.clock = clock
+        self.run = RunResult(platform=plan.platform, mode=plan.mode, start=wall(),
+                             output_dir=plan.output_dir, files=dict(plan.files))
+        self.wall = wall
+        self.start = None
+        self.lanes = []
+        self.current = []      # per lane: the running SensorRun or None
+        self.results = {}      # sensor name -> SensorResult
+        self.order = [s.name for s in plan.sensors]
+
+    def _start_next(self, i, now):
+        lane = self.lanes[i]
+        while lane:
+            plan = lane.pop(0)
+            if plan.skip_reason is not None:
+                self._done(skipped_result(plan, self.start, now))
+                continue
+            run = SensorRun(plan, self.ctx, self.start, quick=self.plan.quick,
+                            wait=self.plan.wait, duration=self.plan.duration)
+            run.begin(now)
+            self.source.attach(run)
+            self.current[i] = run
+            self.observers.call('sensor_started', run)
+            return
+        self.current[i] = None
+
+    def _done(self, result):
+        self.results[result.name] = result
+        self.observers.call('sensor_done', result)
+
+    def _finish(self, i, now, reason):
+        run = self.current[i]
+        self.source.detach(run)
+        result = run.close(now, reason, self.source.lookup)
+        self.current[i] = None
+        self._done(result)
+
+    def execute(self):
+        """Run every lane to its end (or to an interrupt). Returns the RunResult."""
+        self.start = self.clock()
+        self.lanes = [list(l) for l in lanes_for(self.plan)]
+        self.current = [None] * len(self.lanes)
+        self.observers.call('run_started', self.run, self.plan)
+        try:
+            for i in range(len(self.lanes)):
+                self._start_next(i, self.clock())
+            while any(self.current):
+                now = self.clock()
+                for i, run in enumerate(self.current):
+                    if run is None:
+                        continue
+                    self.source.poll(run, now)
+                    run.poll(now)
+                    reason = run.due(now)
+                    if reason:
+                        self._finish(i, now, reason)
+                        self._start_next(i, self.clock())
+                self.observers.call('tick', [r for r in self.current if r], now)
+                self.source.sleep(TICK)
+        except KeyboardInterrupt:
+            self.interrupt('interrupted by Ctrl-C')
+        except SourceLost as e:
+            self.interrupt(str(e))
+        finally:
+            self._close_everything()
+        return self.run
+
+    def interrupt(self, why):
+        self.run.interrupted = True
+        self.run.interrupt_reason = why
+
+    def _close_everything(self):
+        """Close running windows and mark sensors that never ran; always completes."""
+        now = self.clock()
+        for i, run in enumerate(self.current):
+            if run is not None:
+                try:
+                    self._finish(i, now, 'interrupted')
+                except Exception as e:  # keep closing the others
+                    self.run.interrupt_reason += '; %s: %s' % (run.sensor.name, e)
+        for lane in self.lanes:
+            for plan in lane:
+                r = skipped_result(plan, self.start, now)
+                r.reasons = ['not run: the run was interrupted before it started']
+                self._done(r)
+            del lane[:]
+        self.run.sensors = [self.results[n] for n in self.order if n in self.results]
+        self.run.end = self.wall()
+        self.observers.call('run_ended', self.run)
+
+
+class SourceLost(Exception):
+    """The data source went away (e.g. the ROS master vanished); ends the run like Ctrl-C."""
+
+
+def describe(result):
+    """One line for the terminal."""
+    text = '%-22s %-7s %5d msgs' % (result.name, result.verdict, result.messages)
+    if result.rate_hz is not None:
+        text += ' %7s Hz' % fmt(result.rate_hz, 2)
+    if result.reasons:
+        text += '  ' + '; '.join(result.reasons)
+    return text

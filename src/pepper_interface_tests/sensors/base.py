@@ -1,0 +1,186 @@
+"""What every sensor check shares: the Check base class, counted problems and value summaries.
+
+A Check validates one sensor's messages and owns all of its state (no globals, no locks
+needed: the runner feeds one check from one subscriber thread, and reads it only after the
+window has closed). Subclasses override `fields`, `on_message`, and optionally `finish`,
+`settled`, `start`, `poll`.
+"""
+import math
+from collections import OrderedDict
+
+
+def fmt(value, nd=4):
+    """Short, readable text for numbers, sequences and the rest."""
+    if isinstance(value, float):
+        if math.isnan(value) or math.isinf(value):
+            return str(value)
+        return ('%.*f' % (nd, value)).rstrip('0').rstrip('.') if value != 0 else '0'
+    if isinstance(value, (list, tuple)):
+        return '[' + ', '.join(fmt(v, nd) for v in value) + ']'
+    return str(value)
+
+
+class Acc:
+    """Running min / mean / max of a numeric quantity (NaN and inf counted apart)."""
+
+    __slots__ = ('n', 'total', 'lo', 'hi', 'nonfinite')
+
+    def __init__(self):
+        self.n, self.total, self.lo, self.hi, self.nonfinite = 0, 0.0, None, None, 0
+
+    def add(self, v):
+        v = float(v)
+        if not math.isfinite(v):
+            self.nonfinite += 1
+            return
+        self.n += 1
+        self.total += v
+        self.lo = v if self.lo is None or v < self.lo else self.lo
+        self.hi = v if self.hi is None or v > self.hi else self.hi
+
+    def as_dict(self, nd=4):
+        if not self.n:
+            return {'min': None, 'mean': None, 'max': None}
+        return {'min': round(self.lo, nd), 'mean': round(self.total / self.n, nd),
+                'max': round(self.hi, nd)}
+
+    def text(self, unit=''):
+        if not self.n:
+            return 'no finite values'
+        d = self.as_dict()
+        return 'min %s, mean %s, max %s%s' % (fmt(d['min']), fmt(d['mean']), fmt(d['max']),
+                                              (' ' + unit) if unit else '')
+
+
+class Tally:
+    """Problems counted per kind: 'range outside [0.25, 2.55] m in 12 of 100 messages (e.g. 3.1)'."""
+
+    def __init__(self):
+        self._items = OrderedDict()   # key -> [text, count, example]
+
+    def add(self, key, text, example=None):
+        item = self._items.get(key)
+        if item is None:
+            self._items[key] = [text, 1, example]
+        else:
+            item[1] += 1
+
+    def __bool__(self):
+        return bool(self._items)
+
+    def keys(self):
+        return list(self._items)
+
+    def reasons(self, total):
+        out = []
+        for text, count, example in self._items.values():
+            line = text
+            if total and total > 1:
+                line += ' in %d of %d messages' % (count, total)
+            if example is not None:
+                line += ' (e.g. %s)' % fmt(example)
+            out.append(line)
+        return out
+
+
+class RunContext:
+    """What checks may use from the run: output folder, options, shared services.
+
+    `services` is a plain dict the runner fills with shared helpers (e.g. a live viewer or
+    the microphone level monitor used by the speech check); a check must cope with a missing one.
+    """
+
+    def __init__(self, output_dir, platform, options, services=None):
+        self.output_dir = output_dir
+        self.platform = platform
+        self.options = options
+        self.services = services if services is not None else {}
+
+
+class Check:
+    family = None
+    active = False          # True: the check drives itself (speech) instead of listening
+    queue_size = 100        # subscriber queue (messages); cameras size it to their stream
+    buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
+
+    def __init__(self, plan, ctx):
+        self.plan = plan
+        self.expect = plan.expect
+        self.ctx = ctx
+        self.count = 0
+        self.failures = Tally()     # each kind is a FAIL reason
+        self.warnings = Tally()     # reported, do not fail
+        self.notes = []             # plain information lines
+        self.values = OrderedDict()  # measured values (JSON, report, output file summary)
+        self.series = OrderedDict()  # name -> [(t, value)] for plots
+        self.artifacts = OrderedDict()  # kind -> file name in the output folder
+        self.first_fields = None    # [(label, text)] of the first message, the spec's fields
+        self._extra_fail = []       # reasons found at the end (finish)
+        self._finished = False
+
+    # --- called by the runner -----------------------------------------------------------
+    def feed(self, msg, t):
+        """One valid message; t = seconds since listening began."""
+        self.count += 1
+        if self.first_fields is None:
+            self.first_fields = self.fields(msg)
+        self.on_message(msg, t)
+
+    def window(self, duration):
+        """Seconds this sensor listens for, given the run's --duration."""
+        return duration
+
+    def start(self):
+        """Before listening begins."""
+
+    def poll(self, elapsed):
+        """Called about every 50 ms from the runner's thread while the window is open."""
+
+    def done(self):
+        """True when an active check has finished by itself."""
+        return False
+
+    def settled(self):
+        """With --quick: True when this check has seen enough to give its verdict."""
+        return True
+
+    def close(self):
+        """Finish once: summaries, closing writers. Safe to call twice."""
+        if not self._finished:
+            self._finished = True
+            self.finish()
+
+    # --- for subclasses ------------------------------------------------------------------
+    def fields(self, msg):
+        return []
+
+    def on_message(self, msg, t):
+        pass
+
+    def finish(self):
+        pass
+
+    def fail(self, text):
+        """A failure found once, at the end (not counted per message)."""
+        self._extra_fail.append(text)
+
+    # --- results ---------------------------------------------------------------------------
+    def failure_reasons(self):
+        return self.failures.reasons(self.count) + self._extra_fail
+
+    def warning_reasons(self):
+        return self.warnings.reasons(self.count)
+
+
+def header_fields(header):
+    return [('Header frame id', header.frame_id),
+            ('Header stamp', '%d.%09d' % (header.stamp.secs, header.stamp.nsecs)),
+            ('Header seq', header.seq)]
+
+
+def quaternion_norm(q):
+    return math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w)
+
+
+def finite(values):
+    return all(math.isfinite(v) for v in values)

@@ -1,0 +1,108 @@
+"""Speech (loudspeaker): publish the test sentence once to the speech topic, delivered to a
+subscriber (naoqi_driver speaks what arrives on /speech).
+
+Pass condition: a subscriber was connected and the sentence was handed to it. When the
+microphones are in the same run, the runner puts a level monitor in ctx.services
+('microphone_levels', see sensors/audio.py); the check then compares the level while speaking
+with the level before and reports whether the sentence was heard (required with require_heard).
+"""
+import time
+
+import rospy
+from std_msgs.msg import String
+
+from .base import Check
+
+DEFAULT_TEXT = 'This is the CSSR4Africa speaker test.'
+
+
+class SpeechCheck(Check):
+    family = 'speech'
+    active = True
+
+    def __init__(self, plan, ctx):
+        super().__init__(plan, ctx)
+        self.text = self.expect.get('text', DEFAULT_TEXT)
+        self.subscriber_wait = float(self.expect.get('subscriber_wait', 3.0))
+        self.listen_after = float(self.expect.get('listen_after', 4.0))
+        self.pub = None
+        self.sent_at = None
+        self.sent_elapsed = None
+        self.started = None
+        self._done = False
+        self.subscribers = []
+
+    def fields(self, msg):
+        return [('Text', msg.data)]
+
+    def start(self):
+        self.started = time.monotonic()
+        self.pub = rospy.Publisher(self.plan.topic, String, queue_size=1, latch=False)
+
+    def _monitor(self):
+        return self.ctx.services.get('microphone_levels')
+
+    def poll(self, elapsed):
+        if self._done or self.pub is None:
+            return
+        if self.sent_at is None:
+            if self.pub.get_num_connections() > 0:
+                monitor = self._monitor()
+                if monitor is not None and not monitor.has_baseline():
+                    if elapsed < self.subscriber_wait:
+                        return   # let the microphones collect a baseline first
+                msg = String(data=self.text)
+                self.pub.publish(msg)
+                self.sent_at, self.sent_elapsed = time.monotonic(), elapsed
+                self.feed(msg, elapsed)
+                self.subscribers = _subscriber_nodes(self.plan.topic)
+            elif elapsed >= self.subscriber_wait:
+                self._done = True
+            return
+        wait_after = self.listen_after if self._monitor() is not None else 0.3
+        if time.monotonic() - self.sent_at >= wait_after:
+            self._done = True
+
+    def done(self):
+        return self._done
+
+    def finish(self):
+        if self.pub is not None:
+            if self.sent_at is not None and self.sent_elapsed is not None:
+                time.sleep(max(0.0, 0.2 - (time.monotonic() - self.sent_at)))
+            self.pub.unregister()
+        if self.sent_at is None:
+            self.fail('no subscriber on %s after %.1f s: is naoqi_driver running?'
+                      % (self.plan.topic, self.subscriber_wait))
+            return
+        self.values['text'] = self.text
+        self.values['subscribers'] = self.subscribers
+        self.notes.append('Sentence "%s" delivered to %s' % (
+            self.text, ', '.join(self.subscribers) or 'a subscriber'))
+        monitor = self._monitor()
+        if monitor is None:
+            self.values['heard'] = None
+            return
+        heard = monitor.heard(self.sent_at, self.sent_at + self.listen_after)
+        self.values['heard'] = heard.get('heard')
+        self.values['level_rise_db'] = heard.get('rise_db')
+        if heard.get('heard'):
+            self.notes.append('Heard by the microphones: level rose %.1f dB over the baseline'
+                              % heard['rise_db'])
+        else:
+            text = 'sentence not heard by the microphones (%s)' % heard.get('why', 'no level rise')
+            if self.ctx.options.require_heard:
+                self.fail(text)
+            else:
+                self.warnings.add('unheard', text)
+
+
+def _subscriber_nodes(topic):
+    try:
+        import rosgraph
+        master = rosgraph.Master(rospy.get_name())
+        _, subs, _ = master.getSystemState()
+        me = rospy.get_name()
+        return sorted(n for t, nodes in subs if t == topic for n in nodes if n != me)
+    except Exception:  # the master may be gone; delivery already happened
+        return []

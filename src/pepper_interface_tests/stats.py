@@ -1,0 +1,128 @@
+"""Stream statistics shared by every sensor: counts, rates, jitter, gaps, stamp sanity, delay.
+
+One StreamStats per sensor run. `add()` is called for every message with its receive time
+(monotonic seconds, or the bag's record time) and, where the message has a header, its stamp
+and the ROS time at reception. Everything else is derived on demand.
+"""
+import math
+
+
+def _rate(times):
+    if len(times) < 2 or times[-1] <= times[0]:
+        return None
+    return (len(times) - 1) / (times[-1] - times[0])
+
+
+def _mean(values):
+    return sum(values) / len(values) if values else None
+
+
+def _std(values):
+    if len(values) < 2:
+        return None
+    m = _mean(values)
+    return math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1))
+
+
+class StreamStats:
+    def __init__(self, start=None):
+        self.start = start          # when listening began (same clock as receive times)
+        self.recv = []              # receive times
+        self.stamps = []            # header stamps (s), 0.0 kept to count zero stamps
+        self.delays = []            # ROS now - stamp at reception (s)
+        self.zero_stamps = 0
+        self.backwards = 0          # stamp older than the previous one
+        self.repeated = 0           # stamp equal to the previous one
+
+    def add(self, t_recv, stamp=None, ros_now=None):
+        self.recv.append(t_recv)
+        if stamp is None:
+            return
+        if stamp == 0.0:
+            self.zero_stamps += 1
+            return
+        if self.stamps:
+            if stamp < self.stamps[-1]:
+                self.backwards += 1
+            elif stamp == self.stamps[-1]:
+                self.repeated += 1
+        self.stamps.append(stamp)
+        if ros_now is not None:
+            self.delays.append(ros_now - stamp)
+
+    @property
+    def count(self):
+        return len(self.recv)
+
+    @property
+    def rate(self):
+        """Rate from receive times (Hz) over the span of the messages."""
+        return _rate(self.recv)
+
+    @property
+    def stamp_rate(self):
+        """Rate from header stamps (Hz); None without headers or with bad stamps."""
+        ordered = self.stamps
+        if len(ordered) < 2 or self.backwards:
+            return None
+        return _rate(ordered)
+
+    def intervals(self):
+        return [b - a for a, b in zip(self.recv, self.recv[1:])]
+
+    @property
+    def jitter(self):
+        """Standard deviation of the receive intervals (s)."""
+        return _std(self.intervals())
+
+    @property
+    def first_latency(self):
+        """Seconds from the start of listening to the first message."""
+        if not self.recv or self.start is None:
+            return None
+        return self.recv[0] - self.start
+
+    def gaps(self, threshold):
+        """Pauses longer than `threshold` seconds: [(offset from first message, length)]."""
+        if not self.recv:
+            return []
+        t0 = self.recv[0]
+        return [(a - t0, b - a) for a, b in zip(self.recv, self.recv[1:]) if b - a > threshold]
+
+    @property
+    def max_interval(self):
+        iv = self.intervals()
+        return max(iv) if iv else None
+
+    def delay_summary(self):
+        if not self.delays:
+            return None
+        return {'min': min(self.delays), 'mean': _mean(self.delays), 'max': max(self.delays)}
+
+    def rate_series(self, end=None, bin_s=1.0):
+        """Messages per second in consecutive bins since the start: [(t, Hz)] for plots."""
+        if self.start is None:
+            return []
+        last = end if end is not None else (self.recv[-1] if self.recv else self.start)
+        n_bins = max(1, int(math.ceil((last - self.start) / bin_s)))
+        counts = [0] * n_bins
+        for t in self.recv:
+            i = min(n_bins - 1, max(0, int((t - self.start) / bin_s)))
+            counts[i] += 1
+        return [(round((i + 0.5) * bin_s, 3), c / bin_s) for i, c in enumerate(counts)]
+
+    def summary(self):
+        def r(x, nd=3):
+            return None if x is None else round(x, nd)
+        return {
+            'messages': self.count,
+            'rate_hz': r(self.rate),
+            'stamp_rate_hz': r(self.stamp_rate),
+            'jitter_s': r(self.jitter, 4),
+            'max_interval_s': r(self.max_interval),
+            'first_message_after_s': r(self.first_latency),
+            'zero_stamps': self.zero_stamps,
+            'backwards_stamps': self.backwards,
+            'repeated_stamps': self.repeated,
+            'delay_s': {k: r(v, 4) for k, v in self.delay_summary().items()} if self.delays else None,
+        }

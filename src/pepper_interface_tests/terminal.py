@@ -1,0 +1,110 @@
+"""What the terminal shows: a line when each sensor starts and ends, live progress during the
+windows (one rewritten line on a terminal, a plain line every few seconds otherwise), and a
+summary table at the end (coloured on a terminal, plain text when not)."""
+import os
+import shutil
+import sys
+import textwrap
+
+from .results import FAIL, PASS, SKIPPED
+
+COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m'}
+RESET, BOLD = '\033[0m', '\033[1m'
+
+
+class Terminal:
+    def __init__(self, stream=None, plain_every=5.0):
+        self.out = stream or sys.stdout
+        self.tty = self.out.isatty() and os.environ.get('TERM') != 'dumb'
+        self.colour = self.tty and 'NO_COLOR' not in os.environ
+        self.plain_every = plain_every
+        self._last_plain = None
+        self._last_tty = 0.0
+        self._status_shown = False
+        self.plan = None
+
+    def _paint(self, text, verdict):
+        return COLOURS[verdict] + text + RESET if self.colour else text
+
+    def _clear(self):
+        if self._status_shown:
+            self.out.write('\r\033[K')
+            self._status_shown = False
+
+    def line(self, text=''):
+        self._clear()
+        self.out.write(text + '\n')
+        self.out.flush()
+
+    # ------------------------------------------------------------------ observer methods
+    def run_started(self, run, plan):
+        self.plan = plan
+        n = len(plan.sensors)
+        self.line('sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
+                  % (n, '' if n == 1 else 's', 'simulator' if plan.platform == 'simulator'
+                     else ('robot' if run.source == 'live' else 'bag ' + run.source),
+                     plan.mode, 'quick' if plan.quick else '%g s each' % plan.duration,
+                     plan.output_dir))
+
+    def sensor_started(self, sensor_run):
+        p = sensor_run.plan
+        if sensor_run.check.active:
+            self.line('  start  %-22s publishing on %s' % (p.name, p.topic))
+        else:
+            self.line('  start  %-22s listening on %s for %g s' % (p.name, p.topic, sensor_run.window))
+
+    def sensor_done(self, r):
+        text = '  %-6s %-22s' % (r.verdict.lower() if r.verdict != FAIL else 'FAIL', r.name)
+        if r.verdict == SKIPPED:
+            text += ' skipped: ' + '; '.join(r.reasons)
+        else:
+            text += ' %d msgs' % r.messages
+            if r.rate_hz is not None:
+                text += ', %.2f Hz' % r.rate_hz
+            if r.reasons:
+                text += ': ' + '; '.join(r.reasons)
+        self.line(self._paint(text, r.verdict))
+
+    def tick(self, runs, now):
+        if not runs:
+            return
+        if self.tty:
+            if now - self._last_tty < 0.2:
+                return
+            self._last_tty = now
+            parts = ['%s %.0f s left, %d msgs' % (r.plan.name, max(0.0, r.window - (now - r.t0)),
+                                                   r.stats.count) for r in runs]
+            width = shutil.get_terminal_size((100, 20)).columns - 1
+            text = '  ... ' + ' | '.join(parts)
+            self.out.write('\r\033[K' + text[:width])
+            self.out.flush()
+            self._status_shown = True
+        else:
+            if self._last_plain is None:
+                self._last_plain = now
+            if now - self._last_plain >= self.plain_every:
+                self._last_plain = now
+                self.line('  ... ' + ', '.join('%s %d msgs, %.0f s left' % (
+                    r.plan.name, r.stats.count, max(0.0, r.window - (now - r.t0))) for r in runs))
+
+    def run_ended(self, run):
+        self._clear()
+        self.line()
+        if run.interrupted:
+            self.line('INTERRUPTED: %s' % run.interrupt_reason)
+        header = '%-22s %-8s %8s %10s %13s  %s' % ('sensor', 'verdict', 'messages', 'rate Hz',
+                                                   'expected Hz', 'reasons')
+        self.line(BOLD + header + RESET if self.colour else header)
+        width = max(60, shutil.get_terminal_size((120, 20)).columns - 68)
+        for r in run.sensors:
+            rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
+            band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
+            reasons = '; '.join(r.reasons) or ('; '.join(r.warnings) and 'note: ' + '; '.join(r.warnings))
+            wrapped = textwrap.wrap(reasons, width) or ['']
+            row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, r.verdict, r.messages, rate, band, wrapped[0])
+            self.line(self._paint(row, r.verdict))
+            for more in wrapped[1:]:
+                self.line(' ' * 68 + more)
+        c = run.counts()
+        self.line()
+        self.line('%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED]))
