@@ -137,6 +137,9 @@ def main(argv=None):
         plan = settings.load_plan(cli)
     except ConfigError as e:
         return _fatal(str(e))
+    # Ctrl-C and SIGTERM end the run cleanly even when started with SIGINT ignored
+    # (background jobs of a non-interactive shell inherit that).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         if cli.bag:

@@ -1,0 +1,34 @@
+"""NAOqi-to-ROS audio bridge: capture side (``capture``, Python 2.7/3), wire format (``frame``)
+and the ROS publisher (``publisher``, Python 3). See docs/audio-bridge.md.
+
+This file also holds the one helper both sides share, a log rate limiter; it stays Python 2.7
+compatible because the capture side imports the package.
+"""
+import threading
+import time
+
+
+class RateLimiter(object):
+    """Lets at most one report per key through every ``interval`` seconds and counts the rest.
+
+    ``hit(key)`` counts one event and returns how many events (this one included) the caller
+    should report now, or 0 while the key is muted.
+    """
+
+    def __init__(self, interval=5.0, clock=time.time):
+        self.interval = interval
+        self._clock = clock
+        self._last = {}
+        self._pending = {}
+        self._lock = threading.Lock()
+
+    def hit(self, key):
+        now = self._clock()
+        with self._lock:
+            self._pending[key] = self._pending.get(key, 0) + 1
+            last = self._last.get(key)
+            if last is not None and now - last < self.interval:
+                return 0
+            self._last[key] = now
+            count = self._pending.pop(key)
+            return count
