@@ -1,7 +1,7 @@
 # make demo   set everything up, then run sensorTest (parallel, every robot sensor) against the
 #             built-in Pepper emulator through the real NAOqi audio bridge
 # make test   set everything up, then run the whole test suite (pytest + rostest)
-# make setup  only set up (Debian packages, .venv, catkin workspace in .ws)
+# make setup  only set up (Debian packages, .venv, catkin workspace in build/)
 .PHONY: demo test setup bench clean
 
 demo:
@@ -20,4 +20,4 @@ bench:
 	@bash -c 'source tools/env.sh && python scripts/sensorTestBenchmark'
 
 clean:
-	rm -rf .ws .venv .stamps
+	rm -rf build .venv .stamps

@@ -10,7 +10,7 @@ free_port() { python -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0
 MASTER_PORT=$(free_port); NAOQI_PORT=$(free_port); WS_PORT=$(free_port)
 export ROS_MASTER_URI="http://127.0.0.1:$MASTER_PORT" ROS_IP=127.0.0.1
 unset ROS_HOSTNAME
-export ROS_HOME="${ROS_HOME:-$PWD/.ws/ros_home}"
+export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 LOG="$ROS_HOME/demo-emulator.log"
 mkdir -p "$ROS_HOME"
 

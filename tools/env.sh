@@ -1,6 +1,6 @@
 # Source this file to get the workspace and the venv in a shell:  source tools/env.sh
 _pit_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-source "$_pit_root/.ws/devel/setup.bash"
+source "$_pit_root/build/devel/setup.bash"
 export PATH="$_pit_root/.venv/bin:$PATH"
 export VIRTUAL_ENV="$_pit_root/.venv"
 unset _pit_root

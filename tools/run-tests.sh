@@ -5,6 +5,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/env.sh
 export PYTHONDONTWRITEBYTECODE=1
-export ROS_HOME="${ROS_HOME:-$PWD/.ws/ros_home}"
+export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 mkdir -p "$ROS_HOME"
 exec python -m pytest -p no:cacheprovider "$@"

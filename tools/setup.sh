@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
-WS="$ROOT/.ws"
+WS="$ROOT/build"
 STAMPS="$ROOT/.stamps"
 mkdir -p "$STAMPS"
 say() { printf '[setup] %s\n' "$*"; }
@@ -33,13 +33,15 @@ if [ ! -x .venv/bin/python ] || [ "$(cat "$STAMPS/venv" 2>/dev/null)" != "$req_h
   echo "$req_hash" > "$STAMPS/venv"
 fi
 
-# 3. The catkin workspace (.ws/src/pepper_interface_tests is a link to this repository).
+# 3. The catkin workspace in build/ (build/src/pepper_interface_tests links to this repository;
+#    rosrun skips <package>/build/, so it finds each script once). Built with the venv's python
+#    so the devel-space relays of the scripts run inside the venv.
 mkdir -p "$WS/src"
 [ -e "$WS/src/pepper_interface_tests" ] || ln -s "$ROOT" "$WS/src/pepper_interface_tests"
 build_hash=$(cat package.xml CMakeLists.txt setup.py msg/*.msg | sha1sum | cut -c1-12)$(ls scripts | sha1sum | cut -c1-6)
 if [ ! -f "$WS/devel/setup.bash" ] || [ "$(cat "$STAMPS/build" 2>/dev/null)" != "$build_hash" ]; then
-  say "building the catkin workspace in .ws"
-  ( cd "$WS" && PATH="$ROOT/.venv/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+  say "building the catkin workspace in build/"
+  ( cd "$WS" && PATH="$ROOT/.venv/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE="$ROOT/.venv/bin/python" \
       -DCATKIN_ENABLE_TESTING=ON >"$STAMPS/build.log" 2>&1 ) || { cat "$STAMPS/build.log"; exit 1; }
   echo "$build_hash" > "$STAMPS/build"
 fi
