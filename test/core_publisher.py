@@ -2,10 +2,13 @@
 """Test helper: publish one kind of sensor message on a topic, good or with one fault.
 
 usage: core_publisher.py KIND TOPIC [--rate HZ] [--fault NAME] [--die-after S] [--node NAME]
+                         [--frame FRAME_ID]
 KIND: range, laser, joints, odometry, imu, string (a wrong type), listener (subscribes a
 std_msgs/String topic and prints what it receives).
 Faults: nan, out_of_range, broken_quaternion, zero_stamp, old_stamp, frame, missing_joint,
 dup_joint, short_velocity, bad_limits, wrong_ranges.
+--frame sets header.frame_id instead of the kind's default (e.g. SonarFront_frame for the front
+sonar); the `frame` fault still wins.
 """
 import argparse
 import math
@@ -26,7 +29,10 @@ JOINTS = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch', 'LShoulder
 def stamp(h, fault, frame):
     h.stamp = rospy.Time(0) if fault == 'zero_stamp' else (
         rospy.Time.now() - rospy.Duration(30) if fault == 'old_stamp' else rospy.Time.now())
-    h.frame_id = 'wrong_frame' if fault == 'frame' else frame
+    h.frame_id = 'wrong_frame' if fault == 'frame' else FRAME.get('frame', frame)
+
+
+FRAME = {}   # {'frame': frame_id given with --frame}
 
 
 def make(kind, fault, i):
@@ -93,7 +99,10 @@ def main():
     p.add_argument('--fault', default='')
     p.add_argument('--die-after', type=float, default=0.0)
     p.add_argument('--node', default='core_publisher')
+    p.add_argument('--frame', default=None)
     a = p.parse_args(rospy.myargv(sys.argv)[1:])
+    if a.frame is not None:
+        FRAME['frame'] = a.frame
     rospy.init_node(a.node, anonymous=True)
     if a.kind == 'listener':
         rospy.Subscriber(a.topic, String, lambda m: (print('heard: ' + m.data), sys.stdout.flush()))

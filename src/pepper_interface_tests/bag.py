@@ -53,7 +53,7 @@ class BagSource:
 
     def lookup(self, topic):
         t = self.types.get(topic)
-        return t, (['the bag'] if t else [])
+        return (t, ['the bag']) if t else (None, None)
 
     def sleep(self, dt):
         self.now += dt

@@ -187,6 +187,8 @@ class SensorRun:
             if advertised and not catalog.accepts_type(self.sensor, advertised):
                 out.append('topic %s is advertised as %s, expected %s'
                            % (topic, advertised, self.sensor.msg_type))
+            elif publishers is None:
+                out.append('topic %s is not in the bag' % topic)
             elif not publishers:
                 out.append('no publisher on %s (is the driver running, and is the topic name right?)'
                            % topic)
