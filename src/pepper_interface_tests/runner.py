@@ -11,6 +11,7 @@ Everything runs in the main thread except subscriber callbacks, which touch only
 SensorRun under its lock. The main loop ticks every 50 ms; a window ends on time, on --quick
 once the verdict is settled, when no message came within --wait, or on Ctrl-C.
 """
+import sys
 import threading
 import time
 
@@ -273,7 +274,11 @@ class Observers(list):
         for o in self:
             fn = getattr(o, method, None)
             if fn is not None:
-                fn(*args)
+                try:
+                    fn(*args)
+                except Exception as e:  # Ctrl-C (KeyboardInterrupt) still ends the run
+                    sys.stderr.write('sensorTest: %s.%s failed: %s: %s\n'
+                                     % (type(o).__name__, method, type(e).__name__, e))
 
 
 class Runner:

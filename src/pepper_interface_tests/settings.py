@@ -252,11 +252,16 @@ def read_expectations(path, platform):
         raise ConfigError('expected a mapping with "defaults", "robot" and "simulator"', path)
     defaults = data.get('defaults') or {}
     section = data.get(platform) or {}
+    lines = _yaml_key_lines(path)
+    _check_mapping('defaults', defaults, path, lines.get(('defaults',)))
+    _check_mapping(platform, section, path, lines.get((platform,)))
+    for where, value in [(('defaults',), defaults)] + [((platform, k), v) for k, v in section.items()]:
+        _check_block('.'.join(map(str, where)), value or {}, path, lines.get(where))
     out = {}
     for name in section:
         if catalog.canonical(str(name)) is None:
             raise ConfigError('unknown sensor "%s" in section %s' % (name, platform), path,
-                              fix='valid sensors: ' + _valid_names())
+                              lines.get((platform, name)), fix='valid sensors: ' + _valid_names())
     for name in catalog.SENSORS:
         merged = dict(defaults)
         for key, value in section.items():
@@ -264,6 +269,50 @@ def read_expectations(path, platform):
                 merged.update(value or {})
         out[name] = MappingProxyType(merged)
     return out
+
+
+BANDS = ('rate', 'field_of_view')
+NUMBERS = ('min_messages', 'max_delay', 'max_future', 'quick_messages', 'max_gap_factor')
+
+
+def _check_mapping(where, value, path, line):
+    if not isinstance(value, dict):
+        raise ConfigError('%s is %r, not a mapping of "key: value" lines' % (where, value), path, line,
+                          fix='indent "key: value" lines under it (see the comments at the top of '
+                              'config/sensorExpectations.yaml)')
+
+
+def _check_block(where, value, path, line):
+    """A sensor's (or the defaults') expectations: the keys every run uses must be well formed."""
+    _check_mapping(where, value, path, line)
+    for key in BANDS:
+        band = value.get(key)
+        if band is not None and not (isinstance(band, list) and len(band) == 2 and all(
+                isinstance(b, (int, float)) and not isinstance(b, bool) for b in band) and band[0] <= band[1]):
+            raise ConfigError('%s: %s is %r, not a [min, max] pair' % (where, key, band), path, line,
+                              fix='write e.g. "%s: [4.0, 16.0]"' % key)
+    for key in NUMBERS:
+        number = value.get(key)
+        if number is not None and (isinstance(number, bool) or not isinstance(number, (int, float))):
+            raise ConfigError('%s: %s is %r, not a number' % (where, key, number), path, line,
+                              fix='write a number, e.g. "%s: 3"' % key)
+
+
+def _yaml_key_lines(path):
+    """{(section,): line, (section, sensor): line} of a YAML file, for error messages."""
+    try:
+        with open(path, encoding='utf-8') as f:
+            root = yaml.compose(f)
+    except (OSError, yaml.YAMLError):
+        return {}
+    lines = {}
+    if isinstance(root, yaml.MappingNode):
+        for key, value in root.value:
+            lines[(key.value,)] = key.start_mark.line + 1
+            if isinstance(value, yaml.MappingNode):
+                for sub, _ in value.value:
+                    lines[(key.value, sub.value)] = sub.start_mark.line + 1
+    return lines
 
 
 # ---------------------------------------------------------------- the plan

@@ -1,0 +1,541 @@
+"""Configuration parsing: the configuration, input, topics and expectations files -> TestPlan.
+
+Real files in a temporary folder; no ROS needed. Every error must name the file and line, what
+was found and the valid choices (the `fix`).
+"""
+import os
+
+import pytest
+import yaml
+
+from pepper_interface_tests import catalog, cli, settings
+from pepper_interface_tests.settings import ConfigError, Options, load_plan
+
+PKG = settings.package_dir()
+SHIPPED_INPUT = os.path.join(PKG, 'config', 'sensorTestInput.ini')
+SHIPPED_EXPECT = os.path.join(PKG, 'config', 'sensorExpectations.yaml')
+PEPPER_TOPICS = os.path.join(PKG, 'data', 'pepperTopics.dat')
+SIM_TOPICS = os.path.join(PKG, 'data', 'simulatorTopics.dat')
+
+ALL = list(catalog.SENSORS)
+
+# Every spelling the original package's files use (reference: original-sensorTest.md) -> the
+# canonical (input file) name.
+ORIGINAL_SPELLINGS = {
+    # input file
+    'backSonar': 'backSonar', 'frontSonar': 'frontSonar', 'bottomCamera': 'bottomCamera',
+    'frontCamera': 'frontCamera', 'realsenseRGBCamera': 'realsenseRGBCamera',
+    'realsenseDepthCamera': 'realsenseDepthCamera', 'depthCamera': 'depthCamera',
+    'stereoCamera': 'stereoCamera', 'laser': 'laser', 'microphone': 'microphone',
+    'jointState': 'jointState', 'odometry': 'odometry', 'imu': 'imu', 'speech': 'speech',
+    # robot topics file
+    'BackSonar': 'backSonar', 'FrontSonar': 'frontSonar', 'FrontCamera': 'frontCamera',
+    'BottomCamera': 'bottomCamera', 'DepthCamera': 'depthCamera', 'StereoCamera': 'stereoCamera',
+    'RealSenseCameraRGB': 'realsenseRGBCamera', 'RealSenseCameraDepth': 'realsenseDepthCamera',
+    'Laser': 'laser', 'Microphone': 'microphone', 'JointState': 'jointState',
+    'Odometry': 'odometry', 'IMU': 'imu', 'Speech': 'speech',
+    # simulator topics file
+    'laserSensor': 'laser',
+}
+CASE_VARIANTS = (str, str.lower, str.upper, str.swapcase)
+
+
+# ------------------------------------------------------------------ helpers
+
+def write(path, text):
+    with open(str(path), 'w', encoding='utf-8') as f:
+        f.write(text)
+    return str(path)
+
+
+def topics_text(names=ALL, prefix='/t'):
+    return ''.join('%s %s/%s\n' % (n, prefix, n) for n in names)
+
+
+@pytest.fixture
+def files(tmp_path):
+    """A complete, valid set of files in tmp_path; tests overwrite the one they are about."""
+    class Files:
+        config = write(tmp_path / 'config.ini', 'platform robot\nrobotTopics topics.dat\n'
+                                                'simulatorTopics sim.dat\nmode sequential\n')
+        input = write(tmp_path / 'input.ini', ''.join('%s true\n' % n for n in ALL))
+        topics = write(tmp_path / 'topics.dat', topics_text())
+        sim = write(tmp_path / 'sim.dat', topics_text(prefix='/sim'))
+        expectations = write(tmp_path / 'expect.yaml', 'defaults:\n  min_messages: 3\n')
+        out = str(tmp_path / 'out')
+        dir = str(tmp_path)
+
+        def options(self, **kw):
+            base = dict(config=self.config, input=self.input, expectations=self.expectations,
+                        topics_dir=self.dir, output_dir=self.out)
+            base.update(kw)
+            return Options(**base)
+    return Files()
+
+
+def plan_names(plan):
+    return [s.name for s in plan.sensors]
+
+
+def error_of(options):
+    with pytest.raises(ConfigError) as info:
+        load_plan(options)
+    return info.value
+
+
+def enabled_in_file(path):
+    """The enabled sensors of an input file, read here independently of settings.py."""
+    out = []
+    for raw in open(path, encoding='utf-8'):
+        parts = raw.split('#')[0].split()
+        if len(parts) == 2 and parts[1].lower() == 'true':
+            out.append(parts[0])
+    return out
+
+
+# ------------------------------------------------------------------ the shipped files
+
+def test_shipped_files_give_the_input_file_order():
+    plan = load_plan(Options())
+    assert plan.platform == 'robot' and plan.mode == 'sequential'
+    assert plan_names(plan) == [catalog.canonical(n) for n in enabled_in_file(SHIPPED_INPUT)]
+    assert plan.files['topics'] == os.path.abspath(PEPPER_TOPICS)
+    assert all(s.topic and s.topic.startswith('/') for s in plan.sensors)
+
+
+def test_shipped_robot_topics_file_maps_every_sensor():
+    topics = settings.read_topics(PEPPER_TOPICS)
+    assert set(topics) == set(ALL)
+    assert topics['laser'] == '/naoqi_driver/laser'
+    assert topics['realsenseRGBCamera'] == '/camera/color/image_raw'
+    assert topics['backSonar'] == '/naoqi_driver/sonar/back'
+
+
+def test_shipped_simulator_topics_file_matches_despite_its_spellings():
+    """The original skipped every simulator test: laserSensor never matched laser."""
+    topics = settings.read_topics(SIM_TOPICS)
+    assert topics['laser'] == '/pepper/laser_2'
+    assert topics['backSonar'] == '/pepper/sonar_back'
+    plan = load_plan(Options(platform='simulator', sensors=tuple(ALL)))
+    active = {s.name: s.topic for s in plan.sensors if s.skip_reason is None}
+    assert active['laser'] == '/pepper/laser_2'
+    assert active['odometry'] == '/pepper/odom'
+
+
+def test_shipped_expectations_are_consistent():
+    data = yaml.safe_load(open(SHIPPED_EXPECT))
+    for platform in ('robot', 'simulator'):
+        for name, values in data[platform].items():
+            assert catalog.canonical(name) == name, name
+            if 'rate' in values:
+                lo, hi = values['rate']
+                assert 0 < lo < hi, (platform, name)
+                if 'nominal' in values:
+                    assert lo <= values['nominal'] <= hi, (platform, name)
+    for name in data['simulator']:
+        assert catalog.SENSORS[name].simulator, 'simulator expectations for %s, which it lacks' % name
+
+
+# ------------------------------------------------------------------ every spelling, all three files
+
+@pytest.mark.parametrize('spelling', sorted(ORIGINAL_SPELLINGS))
+def test_every_original_spelling_is_known(spelling):
+    for variant in CASE_VARIANTS:
+        assert catalog.canonical(variant(spelling)) == ORIGINAL_SPELLINGS[spelling]
+    assert catalog.canonical('  %s ' % spelling) == ORIGINAL_SPELLINGS[spelling]
+
+
+@pytest.mark.parametrize('spelling', sorted(ORIGINAL_SPELLINGS))
+def test_every_spelling_works_in_all_three_files(files, spelling):
+    name = ORIGINAL_SPELLINGS[spelling]
+    for i, variant in enumerate(CASE_VARIANTS):
+        key = variant(spelling)
+        write(files.input, '%s true\n' % key)
+        write(files.topics, '%s /spelled/%d\n' % (key, i))
+        write(files.expectations, 'defaults:\n  min_messages: 3\nrobot:\n  %s:\n    nominal: %d\n'
+              % (key, 40 + i))
+        plan = load_plan(files.options(cameras='both'))
+        assert plan_names(plan) == [name], key
+        assert plan.sensors[0].topic == '/spelled/%d' % i, key
+        assert plan.sensors[0].expect['nominal'] == 40 + i, key
+        assert plan.sensors[0].expect['min_messages'] == 3
+
+
+def test_unknown_spelling_is_not_guessed():
+    for wrong in ('sonar', 'laser2', 'camera', '', 'Head'):
+        assert catalog.canonical(wrong) is None
+
+
+# ------------------------------------------------------------------ malformed lines
+
+def test_comments_blank_lines_and_case_in_input(files):
+    write(files.input, '# a comment line\n\n   \nLASER   TRUE   # trailing comment\n'
+                       '  # indented comment\nbackSonar false\nImu True\n')
+    assert plan_names(load_plan(files.options())) == ['laser', 'imu']
+
+
+@pytest.mark.parametrize('which, text, line', [
+    ('config', 'platform robot\nmode\n', 2),
+    ('input', 'laser true\n\nbackSonar\n', 3),
+    ('topics', 'Laser /scan\nBackSonar   \n', 2),
+])
+def test_key_without_value(files, which, text, line):
+    path = write(getattr(files, which), text)
+    e = error_of(files.options())
+    assert (e.path, e.line) == (path, line)
+    assert str(e).startswith('%s:%d: ' % (path, line))
+    assert 'no value' in e.message and e.fix
+
+
+def test_unknown_configuration_key(files):
+    write(files.config, 'platform robot\nspeed fast\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.config, 2)
+    assert '"speed"' in e.message
+    for key in ('platform', 'robotTopics', 'simulatorTopics', 'mode'):
+        assert key in e.fix
+
+
+def test_unknown_sensor_in_input(files):
+    write(files.input, 'laser true\nsonarLeft true\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.input, 2)
+    assert '"sonarLeft"' in e.message
+    for name in ALL:
+        assert name in e.fix
+
+
+def test_unknown_key_in_topics_file_but_actuators_ignored(files):
+    write(files.topics, topics_text() + 'Head /head\nWheels /cmd_vel\nLArm /larm\n')
+    load_plan(files.options())       # actuator keys are ignored
+    write(files.topics, topics_text() + 'Tail /tail\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.topics, len(ALL) + 1)
+    assert '"Tail"' in e.message and 'Wheels' in e.fix and 'backSonar' in e.fix
+
+
+@pytest.mark.parametrize('value', ['naoqi_driver/laser', '/a /b'])
+def test_topic_value_must_be_one_absolute_name(files, value):
+    write(files.topics, 'Laser %s\n' % value)
+    write(files.input, 'laser true\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.topics, 1)
+    assert value in e.message and 'Laser /' in e.fix
+
+
+@pytest.mark.parametrize('value', ['maybe', 'ture', '2', 'enabled'])
+def test_bad_true_false(files, value):
+    write(files.input, 'laser true\nimu %s\n' % value)
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.input, 2)
+    assert value in e.message and 'true or false' in e.fix
+
+
+@pytest.mark.parametrize('word, value', [('true', True), ('FALSE', False), ('Yes', True),
+                                         ('off', False), ('1', True), ('0', False)])
+def test_true_false_words(word, value):
+    assert settings.parse_bool(word) is value
+
+
+@pytest.mark.parametrize('key, value, valid', [
+    ('mode', 'diagonal', ('sequential', 'parallel')),
+    ('platform', 'gazebo', ('robot', 'simulator')),
+])
+def test_bad_mode_or_platform_in_configuration(files, key, value, valid):
+    write(files.config, '# header\nplatform robot\nmode sequential\n%s %s\n' % (key, value))
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.config, 4)
+    assert value in e.message
+    for v in valid:
+        assert v in e.fix
+
+
+def test_configuration_values_are_case_insensitive(files):
+    write(files.config, 'PLATFORM Robot\nMODE Parallel\nROBOTTOPICS topics.dat\n')
+    plan = load_plan(files.options())
+    assert (plan.platform, plan.mode) == ('robot', 'parallel')
+
+
+@pytest.mark.parametrize('option, value', [('mode', 'diagonal'), ('platform', 'gazebo'),
+                                           ('cameras', 'kinect'), ('mic_mode', 'stereo')])
+def test_bad_option_values_name_the_choices(files, option, value):
+    e = error_of(files.options(**{option: value}))
+    assert value in e.message and e.fix.startswith('use one of: ')
+
+
+def test_missing_platform(files):
+    write(files.config, 'mode parallel\n')
+    e = error_of(files.options())
+    assert e.path == files.config and 'platform' in e.message and '--platform' in e.fix
+    plan = load_plan(files.options(platform='Simulator', topics=files.sim))
+    assert plan.platform == 'simulator' and plan.mode == 'parallel'
+
+
+def test_duplicate_sensor_including_other_spelling(files):
+    write(files.input, 'laser true\nimu true\nLaser false\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.input, 3)
+    assert 'twice' in e.message and 'line 1' in e.message
+
+
+@pytest.mark.parametrize('which', ['config', 'input', 'topics', 'expectations'])
+def test_missing_file(files, tmp_path, which):
+    missing = str(tmp_path / 'nowhere' / 'missing.file')
+    e = error_of(files.options(**{which: missing}))
+    assert e.path == missing and 'not found' in e.message and e.fix
+
+
+def test_topics_file_named_by_configuration_missing(files):
+    write(files.config, 'platform robot\nrobotTopics other.dat\n')
+    e = error_of(files.options())
+    assert e.path == os.path.join(files.dir, 'other.dat') and 'not found' in e.message
+
+
+@pytest.mark.parametrize('which', ['config', 'input', 'topics'])
+def test_unreadable_file_a_directory(files, tmp_path, which):
+    folder = tmp_path / 'a_folder.ini'
+    folder.mkdir()
+    e = error_of(files.options(**{which: str(folder)}))
+    assert e.path == str(folder) and 'cannot read' in e.message and 'permissions' in e.fix
+
+
+def test_unreadable_file_permissions(files):
+    if os.geteuid() == 0:
+        pytest.skip('running as root: chmod 000 does not stop root from reading '
+                    '(covered by the directory-in-place-of-a-file case)')
+    os.chmod(files.input, 0)
+    try:
+        e = error_of(files.options())
+    finally:
+        os.chmod(files.input, 0o644)
+    assert e.path == files.input and 'cannot read' in e.message
+
+
+def test_file_that_is_not_text(files):
+    with open(files.input, 'wb') as f:
+        f.write(b'laser \xff\xfe\x00true\n')
+    e = error_of(files.options())
+    assert e.path == files.input and 'cannot read' in e.message
+
+
+@pytest.mark.parametrize('value', ['abc', '0', '-3', 'nan', 'inf', '', None])
+def test_bad_duration_and_wait(value):
+    for what in ('duration', 'wait'):
+        with pytest.raises(ConfigError) as info:
+            settings.positive_seconds(value, what)
+        assert what in info.value.message and 'greater than 0' in info.value.fix
+
+
+def test_bad_duration_in_options_and_on_the_command_line(files):
+    e = error_of(files.options(duration=0))
+    assert 'duration' in e.message
+    with pytest.raises(ConfigError) as info:
+        cli.options_from_args(cli.build_parser().parse_args(['--duration', 'ten']))
+    assert '--duration' in info.value.message and '"ten"' in info.value.message
+    assert load_plan(files.options(duration=2.5, wait=1)).duration == 2.5
+
+
+def test_bad_expectations_yaml_gives_the_line(files):
+    write(files.expectations, 'defaults:\n  min_messages: 3\nrobot:\n  laser: [unclosed\n')
+    e = error_of(files.options())
+    assert e.path == files.expectations and e.line in (4, 5) and 'YAML' in e.fix
+
+
+def test_unknown_sensor_in_expectations(files):
+    write(files.expectations, 'robot:\n  lidar:\n    rate: [1, 2]\n')
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.expectations, 2)
+    assert '"lidar"' in e.message and 'laser' in e.fix
+
+
+def test_expectations_not_a_mapping(files):
+    write(files.expectations, '- a\n- b\n')
+    e = error_of(files.options())
+    assert e.path == files.expectations and 'mapping' in e.message
+
+
+# ------------------------------------------------------------------ --sensors, cameras, platform
+
+def test_sensors_option_chooses_subset_and_order(files):
+    write(files.input, 'laser true\nimu false\nbackSonar true\n')
+    plan = load_plan(files.options(sensors=('IMU', 'Laser', 'odom', 'laser')))
+    assert plan_names(plan) == ['imu', 'laser', 'odometry']   # its order; duplicates once; disabled ok
+
+
+def test_sensors_option_unknown_name(files):
+    e = error_of(files.options(sensors=('laser', 'periscope')))
+    assert '"periscope"' in e.message and '--sensors' in e.message and 'frontSonar' in e.fix
+
+
+def test_input_file_order_is_execution_order(files):
+    order = ['odometry', 'laser', 'backSonar', 'imu', 'jointState']
+    write(files.input, ''.join('%s true\n' % n for n in order) + 'speech false\n')
+    assert plan_names(load_plan(files.options())) == order
+
+
+@pytest.mark.parametrize('cameras, skipped', [
+    ('pepper', {'realsenseRGBCamera', 'realsenseDepthCamera'}),
+    ('realsense', {'frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera'}),
+    ('both', set()),
+    ('BOTH', set()),
+])
+def test_cameras_choice(files, cameras, skipped):
+    plan = load_plan(files.options(cameras=cameras))
+    got = {s.name: s.skip_reason for s in plan.sensors if s.skip_reason}
+    assert set(got) == skipped
+    for reason in got.values():
+        assert 'cameras=%s' % cameras.lower() in reason
+    assert plan_names(plan) == ALL     # skipped sensors keep their place
+
+
+def test_cameras_default_is_both(files):
+    assert load_plan(files.options()).cameras == 'both'
+
+
+def test_simulator_skips_what_the_simulator_lacks(files):
+    sim_names = [n for n in ALL if catalog.SENSORS[n].simulator]
+    write(files.sim, topics_text(sim_names, prefix='/sim'))   # no topics for the others
+    plan = load_plan(files.options(platform='simulator'))
+    skipped = {s.name: s.skip_reason for s in plan.sensors if s.skip_reason}
+    assert set(skipped) == {'microphone', 'imu', 'stereoCamera', 'speech',
+                            'realsenseRGBCamera', 'realsenseDepthCamera'}
+    assert all('simulator' in r for r in skipped.values())
+    assert {s.name: s.topic for s in plan.active} == {n: '/sim/' + n for n in sim_names}
+    assert plan.files['topics'] == files.sim
+
+
+def test_topic_missing_for_an_enabled_sensor(files):
+    write(files.topics, topics_text([n for n in ALL if n != 'odometry']))
+    e = error_of(files.options())
+    assert e.path == files.topics and '"odometry"' in e.message
+    assert 'odometry /topic/name' in e.fix and 'input.ini' in e.fix
+    # disabled, or excluded by --sensors: no topic needed
+    write(files.input, 'laser true\nodometry false\n')
+    assert plan_names(load_plan(files.options())) == ['laser']
+    assert plan_names(load_plan(files.options(sensors=('imu',)))) == ['imu']
+
+
+def test_topics_file_option_and_topics_dir(files, tmp_path):
+    other = tmp_path / 'elsewhere'
+    other.mkdir()
+    write(other / 'topics.dat', topics_text(prefix='/other'))
+    plan = load_plan(files.options(topics_dir=str(other), sensors=('laser',)))
+    assert plan.sensors[0].topic == '/other/laser'
+    direct = write(tmp_path / 'direct.dat', 'laserSensor /direct\n')
+    plan = load_plan(files.options(topics=direct, sensors=('laser',)))
+    assert plan.sensors[0].topic == '/direct' and plan.files['topics'] == direct
+    write(files.config, 'platform robot\nrobotTopics %s\n' % direct)     # absolute path in config
+    assert load_plan(files.options(sensors=('laser',))).sensors[0].topic == '/direct'
+
+
+def test_options_override_the_configuration_file(files):
+    write(files.config, 'platform robot\nmode sequential\nrobotTopics topics.dat\n'
+                        'simulatorTopics sim.dat\n')
+    plan = load_plan(files.options(mode='parallel', platform='simulator', quick=True))
+    assert (plan.mode, plan.platform, plan.quick) == ('parallel', 'simulator', True)
+    assert plan.files['topics'] == files.sim
+    plan = load_plan(files.options())
+    assert (plan.mode, plan.platform, plan.quick) == ('sequential', 'robot', False)
+    assert (plan.duration, plan.wait) == (10.0, 5.0)
+    assert plan.output_dir == files.out
+
+
+def test_mode_and_topics_file_defaults(files):
+    """Without mode and topics keys: sequential, and the original file names in the topics dir."""
+    write(files.config, 'platform robot\n')
+    write(os.path.join(files.dir, 'pepperTopics.dat'), topics_text(prefix='/pepper_default'))
+    write(os.path.join(files.dir, 'simulatorTopics.dat'), 'laserSensor /sim_default\n')
+    plan = load_plan(files.options(sensors=('laser',)))
+    assert plan.mode == 'sequential' and plan.sensors[0].topic == '/pepper_default/laser'
+    plan = load_plan(files.options(sensors=('laser',), platform='simulator'))
+    assert plan.sensors[0].topic == '/sim_default'
+
+
+# ------------------------------------------------------------------ expectations
+
+def test_expectations_merge_defaults_and_platform(files):
+    write(files.expectations, yaml.safe_dump({
+        'defaults': {'min_messages': 3, 'max_delay': 5.0},
+        'robot': {'Laser': {'max_delay': 1.0, 'ranges': 61}, 'backSonar': None},
+        'simulator': {'laserSensor': {'ranges': 90}},
+    }))
+    plan = load_plan(files.options(sensors=('laser', 'backSonar', 'imu')))
+    e = {s.name: dict(s.expect) for s in plan.sensors}
+    assert e['laser'] == {'min_messages': 3, 'max_delay': 1.0, 'ranges': 61}
+    assert e['backSonar'] == {'min_messages': 3, 'max_delay': 5.0}
+    assert e['imu'] == {'min_messages': 3, 'max_delay': 5.0}
+    sim = load_plan(files.options(platform='simulator', sensors=('laser',)))
+    assert dict(sim.sensors[0].expect) == {'min_messages': 3, 'max_delay': 5.0, 'ranges': 90}
+    with pytest.raises(TypeError):
+        plan.sensors[0].expect['ranges'] = 1        # read-only
+
+
+def test_shipped_expectations_reach_the_plan():
+    plan = load_plan(Options(sensors=('laser', 'jointState')))
+    laser, joints = plan.sensors
+    data = yaml.safe_load(open(SHIPPED_EXPECT))
+    assert laser.expect['ranges'] == data['robot']['laser']['ranges']
+    assert laser.expect['min_messages'] == data['defaults']['min_messages']
+    assert list(joints.expect['joints']) == data['robot']['jointState']['joints']
+
+
+# ------------------------------------------------------------------ options from args and ROS params
+
+def test_options_merged():
+    a = Options(mode='parallel', duration=3.0)
+    b = Options(duration=5.0, quick=False)
+    m = a.merged(b)
+    assert (m.mode, m.duration, m.quick) == ('parallel', 5.0, False)
+
+
+def test_options_from_command_line():
+    ns = cli.build_parser().parse_args(['--mode', 'parallel', '--sensors', 'laser,BackSonar imu',
+                                        '--duration', '2', '--wait', '1.5', '--quick',
+                                        '--output-dir', '/tmp/x', '--no-history', '--cameras', 'pepper'])
+    o = cli.options_from_args(ns)
+    assert o.sensors == ('laser', 'BackSonar', 'imu')
+    assert (o.mode, o.duration, o.wait, o.quick, o.history) == ('parallel', 2.0, 1.5, True, False)
+    assert (o.output_dir, o.cameras, o.platform) == ('/tmp/x', 'pepper', None)
+
+
+def test_options_from_private_params():
+    params = {'~mode': 'parallel', '~duration': 2, '~wait': '1.5', '~quick': 'true',
+              '~record': False, '~sensors': ['laser', 'imu'], '~output_dir': '/tmp/y',
+              '~platform': ''}
+    o = cli.options_from_params(lambda name, default=None: params.get(name, default))
+    assert (o.mode, o.duration, o.wait, o.quick, o.record) == ('parallel', 2.0, 1.5, True, False)
+    assert o.sensors == ('laser', 'imu') and o.output_dir == '/tmp/y' and o.platform is None
+    params['~sensors'] = 'laser, imu'
+    o = cli.options_from_params(lambda name, default=None: params.get(name, default))
+    assert o.sensors == ('laser', 'imu')
+
+
+@pytest.mark.parametrize('name, value, words', [('~quick', 'sometimes', 'true or false'),
+                                                ('~duration', 'long', 'greater than 0')])
+def test_bad_private_params(name, value, words):
+    with pytest.raises(ConfigError) as info:
+        cli.options_from_params(lambda n, default=None: value if n == name else default)
+    assert name in info.value.message and words in info.value.fix
+
+
+@pytest.mark.parametrize('text, line, words', [
+    ('defaults: 3\n', 1, 'defaults is 3'),
+    ('defaults:\n  min_messages: 3\nrobot: [laser]\n', 3, 'robot is'),
+    ('robot:\n  backSonar:\n    nominal: 10\n  laser: 5\n', 4, 'robot.laser is 5'),
+    ('robot:\n  laser:\n    rate: 5\n', 2, 'rate is 5'),
+    ('robot:\n  imu:\n    rate: [16, 4]\n', 2, 'rate is [16, 4]'),
+    ('robot:\n  backSonar:\n    field_of_view: [0.1]\n', 2, 'field_of_view'),
+    ('defaults:\n  min_messages: many\n', 1, 'min_messages is \'many\''),
+    ('robot:\n\n  laser:\n    max_delay: [1]\n', 3, 'max_delay'),
+])
+def test_malformed_expectations_name_the_line(files, text, line, words):
+    """Before: a TypeError/AttributeError traceback at start, or a crash when the verdict was made."""
+    write(files.expectations, text)
+    e = error_of(files.options())
+    assert (e.path, e.line) == (files.expectations, line)
+    assert words in e.message and e.fix
+
+
+def test_expectations_of_the_other_platform_are_not_checked(files):
+    write(files.expectations, 'simulator:\n  laser:\n    rate: 5\n')
+    assert load_plan(files.options(sensors=('laser',))).platform == 'robot'
