@@ -1,9 +1,10 @@
 """NAOqi-to-ROS audio bridge: capture side (``capture``, Python 2.7/3), wire format (``frame``)
 and the ROS publisher (``publisher``, Python 3). See docs/audio-bridge.md.
 
-This file also holds the one helper both sides share, a log rate limiter; it stays Python 2.7
-compatible because the capture side imports the package.
+This file also holds the small helpers both sides share (a log rate limiter and a one-line
+usage-error parser); it stays Python 2.7 compatible because the capture side imports it.
 """
+import argparse
 import threading
 import time
 
@@ -32,3 +33,10 @@ class RateLimiter(object):
             self._last[key] = now
             count = self._pending.pop(key)
             return count
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line on stderr (exit code 2), not the usage block."""
+
+    def error(self, message):
+        self.exit(2, '%s: error: %s (see --help)\n' % (self.prog, message))

@@ -1,0 +1,333 @@
+"""ROS side of the audio bridge: websocket frames -> pepper_interface_tests/AudioCustomMsg.
+
+A rospy node running a ``websockets.sync.server`` (plain threads, one per connection; no
+asyncio next to rospy). Every binary message is validated with ``decode_frame``; bad ones are
+dropped with at most one warning per cause every 5 s (with the count) and the node carries on.
+Good 4-channel frames are published with channel 0..3 in rearLeft, rearRight, frontLeft,
+frontRight, whatever the layout (planar or interleaved) of the frame.
+
+Sequence accounting: within a stream (same stream id) a jump of the sequence number counts the
+missing buffers in ``lost_in_gaps``; a new stream id (capture restarted) counts a stream reset,
+not a loss. The last stream id and sequence are kept in ``~stats``, so a restarted publisher also
+counts what was lost while it was down (after a hard kill that snapshot may be up to one second
+old, so the count may then include up to a second of buffers the dead process did publish).
+
+Options (command line wins over the private parameter of the same name):
+  --host / ~host (127.0.0.1)  --port / ~port (9090)  --token / ~token ('')
+  --topic / ~topic (/naoqi_driver/audio)
+``~stats`` (dict, updated once a second): received, published, dropped_bad, lost_in_gaps,
+connections, rejected_connections, stream_resets, bad_causes, stream_id, last_sequence,
+latency_ms_mean, latency_ms_max (buffer end to publish, last second; -1 when no data).
+"""
+import hmac
+import http
+import logging
+import sys
+import threading
+import time
+
+import numpy as np
+
+from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter
+from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_HEADER,
+                                                       decode_frame)
+
+NODE = 'naoqiAudioPublisher'
+DEFAULTS = {'host': '127.0.0.1', 'port': 9090, 'token': '', 'topic': '/naoqi_driver/audio'}
+WARN_INTERVAL = 5.0
+STATS_INTERVAL = 1.0
+
+
+class SequenceTracker(object):
+    """Counts buffers missing from sequence gaps; tells capture restarts from losses."""
+
+    def __init__(self, stream_id=None, last_sequence=None):
+        self.stream_id, self.last = stream_id, last_sequence
+        self.lost = 0
+        self.resets = 0
+
+    def observe(self, stream_id, sequence):
+        """Account one frame. Returns (missing_before_it, event) with event None, 'start',
+        'reset' (new stream id: capture restarted) or 'backwards' (sequence went back)."""
+        if self.stream_id is None:
+            event, missing = 'start', 0
+        elif stream_id != self.stream_id:
+            event, missing = 'reset', 0
+            self.resets += 1
+        elif sequence <= self.last:
+            event, missing = 'backwards', 0
+            self.resets += 1
+        else:
+            event, missing = None, sequence - self.last - 1
+        self.stream_id, self.last = stream_id, sequence
+        self.lost += missing
+        return missing, event
+
+
+class Stats(object):
+    """Counters shared by the connection threads, published as ``~stats``."""
+
+    FIELDS = ('received', 'published', 'dropped_bad', 'lost_in_gaps', 'connections',
+              'rejected_connections', 'stream_resets')
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.counts = dict((f, 0) for f in self.FIELDS)
+        self.bad_causes = {}
+        self._latencies = []
+
+    def add(self, field, n=1):
+        with self.lock:
+            self.counts[field] += n
+
+    def bad(self, cause):
+        with self.lock:
+            self.counts['dropped_bad'] += 1
+            self.bad_causes[cause] = self.bad_causes.get(cause, 0) + 1
+
+    def latency(self, ms):
+        with self.lock:
+            self._latencies.append(ms)
+
+    def snapshot(self, tracker):
+        with self.lock:
+            lat, self._latencies = self._latencies, []
+            out = dict(self.counts)
+            out['bad_causes'] = dict(self.bad_causes)
+        out['lost_in_gaps'] = tracker.lost
+        out['stream_resets'] = tracker.resets
+        out['stream_id'] = '' if tracker.stream_id is None else '%08x' % tracker.stream_id
+        out['last_sequence'] = -1 if tracker.last is None else tracker.last
+        out['latency_ms_mean'] = round(float(np.mean(lat)), 2) if lat else -1.0
+        out['latency_ms_max'] = round(float(np.max(lat)), 2) if lat else -1.0
+        return out
+
+
+def to_message(frame, msg_class):
+    """AudioCustomMsg from a 4-channel frame (planar or interleaved)."""
+    samples = np.frombuffer(frame.payload, dtype='<i2')
+    if frame.planar:
+        chans = samples.reshape(frame.channels, frame.samples_per_channel)
+    else:
+        chans = samples.reshape(frame.samples_per_channel, frame.channels).T
+    return msg_class(rearLeft=chans[0].tolist(), rearRight=chans[1].tolist(),
+                     frontLeft=chans[2].tolist(), frontRight=chans[3].tolist())
+
+
+class Bridge(object):
+    """Websocket connection handler: validate, account, publish."""
+
+    def __init__(self, publish, msg_class, token, log):
+        self.publish, self.msg_class, self.token, self.log = publish, msg_class, token, log
+        self.stats = Stats()
+        self.tracker = SequenceTracker()
+        self._track_lock = threading.Lock()
+        self._limiter = RateLimiter(WARN_INTERVAL)
+
+    def warn_limited(self, key, text):
+        n = self._limiter.hit(key)
+        if n:
+            self.log.warning('%s (%d in the last %.0f s)' % (text, n, WARN_INTERVAL))
+
+    def check_token(self, connection, request):
+        """websockets process_request hook: 401 unless the handshake carries the token."""
+        if not self.token:
+            return None
+        given = request.headers.get(TOKEN_HEADER)
+        if given is not None and hmac.compare_digest(given.encode(), self.token.encode()):
+            return None
+        cause = 'no token' if given is None else 'wrong token'
+        self.stats.add('rejected_connections')
+        self.stats.bad(cause)
+        self.warn_limited(cause, 'rejected websocket connection from %s: %s'
+                          % (_peer(connection), cause))
+        return connection.respond(http.HTTPStatus.UNAUTHORIZED, 'missing or wrong token\n')
+
+    def handle(self, connection):
+        """One capture connection: runs in its own thread until the peer goes away."""
+        from websockets.exceptions import ConnectionClosed
+        peer = _peer(connection)
+        self.stats.add('connections')
+        self.log.info('capture connected from %s' % peer)
+        try:
+            for message in connection:
+                try:
+                    self.on_message(message, peer)
+                except Exception as exc:  # e.g. publishing during shutdown: never kill the node
+                    self.warn_limited('internal', 'frame from %s not published: %s: %s'
+                                      % (peer, type(exc).__name__, exc))
+        except ConnectionClosed as exc:
+            if exc.sent is not None and exc.sent.code == 1009:
+                self.stats.bad('oversized')
+                self.warn_limited('oversized', 'closed connection from %s: message larger than'
+                                  ' %d bytes' % (peer, MAX_FRAME_BYTES))
+        self.log.info('capture connection from %s closed' % peer)
+
+    def on_message(self, message, peer):
+        self.stats.add('received')
+        if isinstance(message, str):
+            self.stats.bad('text message')
+            return self.warn_limited('text message', 'dropped a text message from %s: only '
+                                     'binary frames are expected' % peer)
+        try:
+            frame = decode_frame(message)
+            if frame.channels != 4:
+                raise FrameError('not 4 channels', 'frame has %d channel(s); AudioCustomMsg '
+                                 'needs the 4 of ALAudioDevice ALL' % frame.channels)
+        except FrameError as exc:
+            self.stats.bad(exc.cause)
+            return self.warn_limited(exc.cause, 'dropped bad frame from %s: %s' % (peer, exc))
+        msg = to_message(frame, self.msg_class)
+        with self._track_lock:  # publish first: a frame that failed to publish counts as lost
+            self.publish(msg)
+            previous = self.tracker.last
+            missing, event = self.tracker.observe(frame.stream_id, frame.sequence)
+        self.stats.add('published')
+        end = frame.ts_sec + frame.ts_usec / 1e6 + frame.samples_per_channel / float(
+            frame.sample_rate)
+        if frame.ts_sec:
+            self.stats.latency((time.time() - end) * 1000.0)
+        self._report(frame, missing, event, previous)
+
+    def _report(self, frame, missing, event, previous):
+        if event == 'start':
+            self.log.info('stream %08x: %d ch x %d samples @ %d Hz, %s, first sequence %d'
+                          % (frame.stream_id, frame.channels, frame.samples_per_channel,
+                             frame.sample_rate, 'planar' if frame.planar else 'interleaved',
+                             frame.sequence))
+        elif event == 'reset':
+            self.log.warning('new stream %08x from sequence %d: the capture side restarted'
+                             % (frame.stream_id, frame.sequence))
+        elif event == 'backwards':
+            self.log.warning('stream %08x: sequence went back from %d to %d'
+                             % (frame.stream_id, previous, frame.sequence))
+        if missing:
+            self.warn_limited('gap', 'lost %d buffer(s) before sequence %d; %d lost in total'
+                              % (missing, frame.sequence, self.tracker.lost))
+
+
+def _peer(connection):
+    try:
+        host, port = connection.remote_address[:2]
+        return '%s:%d' % (host, port)
+    except (TypeError, ValueError, AttributeError):
+        return 'unknown peer'
+
+
+def _port(value):
+    try:
+        port = int(value)
+    except (TypeError, ValueError):
+        port = -1
+    if not 1 <= port <= 65535:
+        raise ValueError('port %r is not a TCP port (1..65535)' % (value,))
+    return port
+
+
+def parse_args(argv):
+    p = OneLineParser(prog=NODE, description='Publish NAOqi audio frames received '
+                                'over a websocket as AudioCustomMsg.')
+    for name in ('host', 'port', 'token', 'topic'):
+        p.add_argument('--' + name, default=None,
+                       help='overrides ~%s (default %r)' % (name, DEFAULTS[name]))
+    return p.parse_args(argv)
+
+
+def _options(args, rospy):
+    opts = {}
+    for name, default in DEFAULTS.items():
+        cli = getattr(args, name)
+        opts[name] = cli if cli is not None else rospy.get_param('~' + name, default)
+    opts['port'] = _port(opts['port'])
+    opts['token'] = str(opts['token'])
+    return opts
+
+
+def _wait_for_master(log):
+    import rosgraph
+    master, warned = rosgraph.Master('/' + NODE), False
+    while not master.is_online():
+        if not warned:
+            log('ROS master %s not reachable yet; waiting' % rosgraph.get_master_uri())
+            warned = True
+        time.sleep(1.0)
+
+
+def _resume(bridge, rospy):
+    """Continue sequence accounting from the previous run's ``~stats``, if any."""
+    old = rospy.get_param('~stats', None)
+    if isinstance(old, dict) and old.get('stream_id') and old.get('last_sequence', -1) >= 0:
+        bridge.tracker = SequenceTracker(int(old['stream_id'], 16), int(old['last_sequence']))
+        rospy.loginfo('continuing sequence accounting of stream %s after sequence %d (from '
+                      'the previous ~stats)', old['stream_id'], old['last_sequence'])
+
+
+def _stats_loop(bridge, stop, rospy):
+    while not stop.wait(STATS_INTERVAL):
+        _write_stats(bridge, rospy)
+
+
+_STATS_LIMITER = RateLimiter(60.0)
+
+
+def _write_stats(bridge, rospy):
+    with bridge._track_lock:
+        snap = bridge.stats.snapshot(bridge.tracker)
+    try:
+        rospy.set_param('~stats', snap)
+    except Exception as exc:  # master gone (restarting, or shutting down first)
+        n = _STATS_LIMITER.hit('stats')
+        if n:
+            sys.stderr.write('%s: could not update ~stats (%d time(s) in the last minute): %s\n'
+                             % (NODE, n, exc))
+
+
+def main(argv=None):
+    import rospy
+    from pepper_interface_tests.msg import AudioCustomMsg
+    from websockets.sync.server import serve
+
+    args = parse_args(rospy.myargv(sys.argv)[1:] if argv is None else argv)
+    _wait_for_master(lambda text: sys.stderr.write('%s: %s\n' % (NODE, text)))
+    rospy.init_node(NODE)
+    try:
+        opts = _options(args, rospy)
+    except ValueError as exc:
+        rospy.logerr(str(exc))
+        return 2
+    pub = rospy.Publisher(opts['topic'], AudioCustomMsg, queue_size=50)
+    bridge = Bridge(pub.publish, AudioCustomMsg, opts['token'], _RosLog(rospy))
+    _resume(bridge, rospy)
+    quiet = logging.getLogger(NODE + '.websockets')
+    quiet.setLevel(logging.CRITICAL + 1)
+    quiet.propagate = False
+    try:
+        server = serve(bridge.handle, opts['host'], opts['port'], compression=None,
+                       max_size=MAX_FRAME_BYTES, process_request=bridge.check_token,
+                       logger=quiet)
+    except OSError as exc:
+        rospy.logerr('cannot listen on %s:%d: %s' % (opts['host'], opts['port'], exc.strerror
+                                                      or exc))
+        return 1
+    stop = threading.Event()
+    threading.Thread(target=server.serve_forever, name='websocket', daemon=True).start()
+    threading.Thread(target=_stats_loop, args=(bridge, stop, rospy), name='stats',
+                     daemon=True).start()
+    rospy.loginfo('listening on ws://%s:%d%s, publishing %s' % (
+        opts['host'], opts['port'], ' (token required)' if opts['token'] else '',
+        rospy.resolve_name(opts['topic'])))
+
+    def shutdown():
+        stop.set()
+        server.shutdown()
+        _write_stats(bridge, rospy)
+    rospy.on_shutdown(shutdown)
+    rospy.spin()
+    return 0
+
+
+class _RosLog(object):
+    """Bridge's log sink: rospy's loggers (they reach stderr and /rosout)."""
+
+    def __init__(self, rospy):
+        self.info, self.warning = rospy.loginfo, rospy.logwarn

@@ -1,0 +1,349 @@
+"""The NAOqi audio bridge end to end, with real processes only:
+
+naoqiEndpoint (libqi) -> naoqiAudio -> websocket -> naoqiAudioPublisher -> roscore -> audio_dump
+
+Each chain test gets a fresh roscore and free ports, so it can run next to other tests.
+"""
+import ast
+import glob
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import websocket  # websocket-client: the raw (hostile) client of these tests
+
+from audio_chain import (BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count,
+                         wait_messages, wait_param)
+from pepper_interface_tests.audio_bridge import frame as fr
+from pepper_interface_tests.emulator.audio_source import (CHANNEL_NAMES, CHANNEL_TONES_HZ,
+                                                          expected_counter, find_counter_start)
+from rosmaster import ROOT, script
+
+STATS = '/naoqiAudioPublisher/stats'
+CAPTURE_SIDE = [os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/capture.py'),
+                os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/frame.py'),
+                os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/__init__.py'),
+                os.path.join(ROOT, 'scripts/naoqiAudio')]
+
+
+@pytest.fixture
+def procs(tmp_path, master):
+    """The test's processes; stopped before its roscore (``master``) goes."""
+    p = Procs(tmp_path)
+    yield p
+    p.stop_all()
+    print(p.logs())  # shown by pytest only when the test failed
+
+
+def chain(procs, master, tmp_path, pattern='counter', endpoint_args=(), capture_args=(),
+          publisher_args=()):
+    """Start the whole chain; return (naoqi_port, ws_port, dump_path, processes dict)."""
+    naoqi_port, ws_port = free_port(), free_port()
+    out = tmp_path / ('dump-%d.npz' % ws_port)
+    endpoint = procs.endpoint(naoqi_port, '--pattern', pattern, *endpoint_args)
+    publisher = procs.publisher(master, ws_port, *publisher_args)
+    dumper = procs.dumper(master, out)
+    dumper.wait_for('connected', 30)
+    capture = procs.capture(naoqi_port, ws_port, *capture_args)
+    return naoqi_port, ws_port, out, dict(endpoint=endpoint, publisher=publisher,
+                                          dumper=dumper, capture=capture)
+
+
+def counter_starts(blocks):
+    """Start index of every received block; fails unless each is an exact counter run in the
+    right fields (rearLeft, rearRight, frontLeft, frontRight = channels 0..3)."""
+    starts = []
+    for i, b in enumerate(blocks):
+        assert b.shape == (BUFFER, 4), 'message %d has shape %s' % (i, b.shape)
+        start = find_counter_start(b)  # raises unless every field is its channel's exact run
+        assert np.array_equal(b, expected_counter(start, BUFFER))
+        starts.append(start)
+    return np.array(starts)
+
+
+def dominant_hz(x, rate=RATE):
+    x = np.asarray(x, dtype=np.float64)
+    spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(len(x))))
+    return np.fft.rfftfreq(len(x), 1.0 / rate)[np.argmax(spectrum)]
+
+
+# ---------------------------------------------------------------- frame format (pure code)
+
+def good_frame(seq=0, planar=True, channels=4, samples=BUFFER, stream_id=1):
+    payload = expected_counter(seq * samples, samples, channels)
+    payload = (payload.T if planar else payload).astype('<i2').tobytes()
+    return fr.encode_frame(payload, channels, samples, RATE, seq, 100, 5, planar=planar,
+                           stream_id=stream_id)
+
+
+def test_frame_roundtrip_and_every_rejection():
+    data = good_frame(seq=7, planar=False)
+    f = fr.decode_frame(data)
+    assert (f.planar, f.channels, f.samples_per_channel, f.sample_rate, f.sequence, f.ts_sec,
+            f.ts_usec, f.stream_id) == (False, 4, BUFFER, RATE, 7, 100, 5, 1)
+    assert len(data) == fr.HEADER_SIZE + 4 * BUFFER * 2 and fr.HEADER_SIZE == 40
+    assert f.payload == data[40:]
+    assert fr.decode_frame(bytearray(data)) == f
+    assert fr.decode_frame(memoryview(data)) == f
+    header = list(fr.HEADER.unpack_from(data))
+
+    def with_header(**changes):
+        h = list(header)
+        names = ['magic', 'version', 'flags', 'channels', 'samples', 'rate', 'stream_id',
+                 'sequence', 'ts_sec', 'ts_usec', 'payload_bytes']
+        for k, v in changes.items():
+            h[names.index(k)] = v
+        return fr.HEADER.pack(*h) + data[40:]
+
+    cases = {
+        'bad magic': [b'XXXX' + data[4:], b'GET / HTTP/1.1', b'Q'],
+        'truncated': [data[:20], data[:-2], b'PAU1', b'P'],
+        'oversized': [with_header(samples=20000, payload_bytes=4 * 20000 * 2),
+                      data + b'\0' * (fr.MAX_FRAME_BYTES)],
+        'length mismatch': [with_header(payload_bytes=10), data + b'\0\0'],
+        'bad channel count': [with_header(channels=0), with_header(channels=9)],
+        'bad version': [with_header(version=9)],
+        'bad flags': [with_header(flags=0x80)],
+        'bad sample rate': [with_header(rate=0)],
+    }
+    for cause, messages in cases.items():
+        for m in messages:
+            with pytest.raises(fr.FrameError) as err:
+                fr.decode_frame(m)
+            assert err.value.cause == cause, (cause, str(err.value))
+            assert cause in str(err.value)
+    with pytest.raises(fr.FrameError, match='length mismatch'):
+        fr.encode_frame(b'\0' * 10, 4, BUFFER, RATE, 0)
+
+
+def test_capture_side_is_python27_compatible(tmp_path):
+    """vermin (source level) on the capture side, with a control that vermin does flag py3-only
+    code; and, where a Python 2.7 interpreter exists, the real thing."""
+    vermin = os.path.join(os.path.dirname(sys.executable), 'vermin')
+    cmd = [vermin, '-t=2.7-', '-t=3.7-', '--no-tips', '--violations']
+    res = subprocess.run(cmd + CAPTURE_SIDE, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    assert res.returncode == 0, res.stdout.decode()
+    bad = tmp_path / 'py3only.py'
+    bad.write_text('x = 1\nprint(f"{x}")\n')
+    res = subprocess.run(cmd + [str(bad)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    assert res.returncode != 0, 'vermin did not flag an f-string: the check is blind'
+    for path in CAPTURE_SIDE:  # it may run on the robot: no ROS, no numpy
+        tree = ast.parse(open(path).read())
+        modules = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+        modules += [n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+        assert not [m for m in modules if m.split('.')[0] in (
+            'rospy', 'roslib', 'rosgraph', 'genpy', 'std_msgs', 'numpy')], (path, modules)
+    py27 = os.environ.get('PYTHON27') or next(iter(sorted(glob.glob(
+        os.path.expanduser('~/.pyenv/versions/2.7*/bin/python2.7')))), None)
+    if not py27:
+        return  # the static check above is the requirement; no 2.7 interpreter here
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, 'src'))
+    code = ('from pepper_interface_tests.audio_bridge import frame, capture\n'
+            'f = frame.encode_frame(bytearray(b"\\x01\\x00" * 16), 4, 4, 48000, 3)\n'
+            'assert frame.decode_frame(f).sequence == 3\n'
+            'assert frame.decode_frame(f).payload == b"\\x01\\x00" * 16\n'
+            'assert capture.parse_args(["--ip", "10.0.0.2"]).port == 9559\n')
+    res = subprocess.run([py27, '-c', code], env=env, stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT)
+    assert res.returncode == 0, res.stdout.decode()
+    res = subprocess.run([py27, script('naoqiAudio')[1], '--ip', '300.1.1.1'], env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert res.returncode == 2 and b'not a valid IPv4 address' in res.stderr
+
+
+# ---------------------------------------------------------------- the whole chain
+
+@pytest.mark.parametrize('layout', ['planar', 'interleaved'])
+def test_chain_counter_is_sample_exact_in_the_right_fields(procs, master, tmp_path, layout):
+    extra = ('--interleaved',) if layout == 'interleaved' else ()
+    _, _, out, p = chain(procs, master, tmp_path, 'counter', capture_args=extra)
+    wait_messages(p['dumper'], 25, 40)
+    assert p['capture'].stop(signal.SIGTERM) == 0
+    assert 'unsubscribed from ALAudioDevice' in p['capture'].log()
+    p['endpoint'].wait_for('SoundProcessingModule unsubscribed', 10)
+    blocks, _ = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    assert len(starts) >= 25
+    assert set(np.diff(starts)) == {BUFFER}, 'stream not contiguous: %s' % np.diff(starts)
+    assert layout in p['publisher'].log()
+    stats = get_param(master, STATS)
+    assert stats['lost_in_gaps'] == 0 and stats['dropped_bad'] == 0
+    assert stats['published'] >= len(blocks)
+
+
+def test_chain_tones_identify_each_field_and_a_dead_microphone(procs, master, tmp_path):
+    _, _, out, p = chain(procs, master, tmp_path, 'tones',
+                         endpoint_args=('--silent-channel', 'frontLeft'))
+    wait_messages(p['dumper'], 15, 40)
+    blocks, _ = finish_dump(p['dumper'], out)
+    audio = np.concatenate(blocks)
+    for c, name in enumerate(CHANNEL_NAMES):
+        if name == 'frontLeft':
+            assert not audio[:, c].any(), 'silent microphone is not silent'
+        else:
+            assert abs(dominant_hz(audio[:, c]) - CHANNEL_TONES_HZ[name]) < 5, name
+
+
+def test_chain_60s_realtime_no_lost_buffer(procs, master, tmp_path):
+    _, _, out, p = chain(procs, master, tmp_path, 'counter')
+    wait_messages(p['dumper'], 1, 40)
+    time.sleep(61.5)
+    stats = get_param(master, STATS)
+    blocks, recv = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    assert set(np.diff(starts)) == {BUFFER}, 'gap in the stream'
+    in_60s = np.count_nonzero(recv < recv[0] + 60.0)
+    expected = 60.0 * RATE / BUFFER  # 703.1
+    assert abs(in_60s - expected) <= 0.02 * expected, (in_60s, expected)
+    assert stats['lost_in_gaps'] == 0 and stats['dropped_bad'] == 0
+    assert 'dropped' not in p['capture'].log().replace('0 dropped', '')
+    rate = (len(recv) - 1) / (recv[-1] - recv[0])
+    intervals = np.diff(recv)
+    print('\n60 s run: %d buffers in the first 60 s (expected %.1f), %.3f buffers/s, '
+          'arrival interval mean %.1f ms sd %.1f ms max %.1f ms, bridge latency (buffer end '
+          '-> publish) mean %.1f ms max %.1f ms in the last second, lost %d'
+          % (in_60s, expected, rate, intervals.mean() * 1e3, intervals.std() * 1e3,
+             intervals.max() * 1e3, stats['latency_ms_mean'], stats['latency_ms_max'],
+             stats['lost_in_gaps']))
+
+
+def test_publisher_killed_and_restarted_mid_stream(procs, master, tmp_path):
+    naoqi_port, ws_port, out, p = chain(procs, master, tmp_path, 'counter')
+    wait_messages(p['dumper'], 20, 40)
+    before_kill = message_count(p['dumper'])
+    time.sleep(1.2)  # let the publisher write a ~stats snapshot covering these buffers
+    p['publisher'].stop(signal.SIGKILL)
+    time.sleep(2.0)
+    publisher2 = procs.publisher(master, ws_port)
+    p['capture'].wait_for('websocket connection lost', 20)
+    p['capture'].wait_for('websocket connected', 30, count=2)
+    n = message_count(p['dumper'])
+    wait_messages(p['dumper'], max(n, before_kill) + 15, 40)
+    stats = wait_param(master, STATS, lambda s: s['published'] >= 15, 10)
+    blocks, _ = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    jumps = np.nonzero(np.diff(starts) != BUFFER)[0]
+    assert len(jumps) == 1, 'expected exactly one gap (the restart): %s' % np.diff(starts)
+    gap_at_subscriber = (starts[jumps[0] + 1] - starts[jumps[0]]) // BUFFER - 1
+    assert 'continuing sequence accounting' in publisher2.log()
+    assert 'lost' in publisher2.log() and stats['connections'] >= 1
+    # The restarted publisher counts what never reached it; its reference point (the last
+    # ~stats of the killed one) may be up to one second (~12 buffers) old.
+    assert 1 <= stats['lost_in_gaps'] <= gap_at_subscriber + 13, (stats, gap_at_subscriber)
+    # Buffers the capture side dropped from its full queue never reached any publisher.
+    dropped = sum(int(n) for n in re.findall(r'dropped (\d+) buffer\(s\) while the websocket',
+                                             p['capture'].log()))
+    assert dropped <= stats['lost_in_gaps'], (dropped, stats)
+    assert 'Traceback' not in p['capture'].log()
+
+
+def test_capture_resubscribes_after_naoqi_restart(procs, master, tmp_path):
+    naoqi_port, ws_port, out, p = chain(procs, master, tmp_path, 'counter')
+    wait_messages(p['dumper'], 10, 40)
+    p['endpoint'].stop(signal.SIGKILL)
+    p['capture'].wait_for('NAOqi connection lost', 20)
+    time.sleep(1.0)
+    n = message_count(p['dumper'])
+    procs.endpoint(naoqi_port, '--pattern', 'counter')
+    p['capture'].wait_for('subscribed to ALAudioDevice', 30, count=2)
+    wait_messages(p['dumper'], n + 10, 40)
+    stats = get_param(master, STATS)
+    blocks, _ = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    # The new endpoint's counter starts again: one discontinuity, contiguous on both sides.
+    assert np.count_nonzero(np.diff(starts) != BUFFER) == 1
+    assert stats['lost_in_gaps'] == 0 and stats['stream_resets'] == 0
+    assert 'Traceback' not in p['capture'].log()
+
+
+def test_hostile_frames_rejected_while_good_traffic_continues(procs, master, tmp_path):
+    token = 's3cret-token'
+    _, ws_port, out, p = chain(procs, master, tmp_path, 'counter',
+                               capture_args=('--token', token),
+                               publisher_args=('--token', token))
+    wait_messages(p['dumper'], 5, 40)
+    url = 'ws://127.0.0.1:%d' % ws_port
+    for header in ([], [fr.TOKEN_HEADER + ': wrong']):
+        with pytest.raises(websocket.WebSocketBadStatusException) as err:
+            websocket.create_connection(url, header=header, timeout=5)
+        assert err.value.status_code == 401
+    ws = websocket.create_connection(url, header=[fr.TOKEN_HEADER + ': ' + token], timeout=5)
+    good = good_frame()
+    bad = {
+        'truncated': good[:100],
+        'bad magic': b'EVIL' + good[4:],
+        'oversized': fr.HEADER.pack(fr.MAGIC, 1, 1, 4, 16385, RATE, 1, 0, 0, 0,
+                                    4 * 16385 * 2) + b'\0' * 64,
+        'length mismatch': good + b'\0\0',
+        'bad channel count': fr.HEADER.pack(fr.MAGIC, 1, 1, 0, 16, RATE, 1, 0, 0, 0, 0),
+        'not 4 channels': good_frame(channels=2),
+    }
+    for _ in range(20):  # a flood: warnings must stay rate-limited
+        for message in bad.values():
+            ws.send_binary(message)
+    ws.send('a text message')
+    ws.close()
+    huge = websocket.create_connection(url, header=[fr.TOKEN_HEADER + ': ' + token], timeout=5)
+    try:
+        huge.send_binary(b'PAU1' + b'\0' * (fr.MAX_FRAME_BYTES + 10))  # over the ws limit
+        with pytest.raises(websocket.WebSocketException):
+            for _ in range(10):
+                huge.recv()  # the server closes this connection (1009)
+    except (OSError, websocket.WebSocketException):
+        pass  # closed while we were still sending: just as good
+    n = message_count(p['dumper'])
+    wait_messages(p['dumper'], n + 12, 40)
+    stats = wait_param(master, STATS, lambda s: s['bad_causes'].get('oversized', 0) >= 21, 10)
+    blocks, _ = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    assert set(np.diff(starts)) == {BUFFER}, 'good traffic was disturbed'
+    causes = stats['bad_causes']
+    for cause in bad:
+        assert causes.get(cause, 0) >= 20, (cause, causes)
+    assert causes['no token'] == 1 and causes['wrong token'] == 1
+    assert causes['text message'] == 1
+    assert stats['rejected_connections'] == 2 and stats['lost_in_gaps'] == 0
+    log = p['publisher'].log()
+    assert p['publisher'].alive() and 'Traceback' not in log
+    assert len([l for l in log.splitlines() if 'bad magic' in l]) <= 2, 'warnings not limited'
+
+
+def test_usage_errors_and_waiting_for_peers(master, tmp_path):
+    for args in (['--ip', '300.1.1.1'], ['--ip', 'no such host.invalid'], ['--port', '0'],
+                 ['--ws', 'http://127.0.0.1:1'], ['--queue-seconds', '0']):
+        res = subprocess.run(script('naoqiAudio') + args, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, timeout=60)
+        err = res.stderr.decode()
+        assert res.returncode == 2, (args, err)
+        assert 'Traceback' not in err and len(err.strip().splitlines()) == 1, err
+    # Nobody listening on either side: it waits with backoff, quietly, and stops cleanly.
+    procs = Procs(tmp_path)
+    try:
+        cap = procs.capture(free_port(), free_port())
+        cap.wait_for('NAOqi not reachable', 20)
+        time.sleep(3)
+        assert cap.alive()
+        assert cap.log().count('not reachable') == 1, 'retry messages flood:\n' + cap.log()
+        assert cap.stop(signal.SIGTERM, timeout=15) == 0
+        assert 'Traceback' not in cap.log()
+        for args in (['--port', '70000'], ['--port', 'x']):
+            res = subprocess.run(script('naoqiAudioPublisher') + args, env=master.env(),
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=60)
+            assert res.returncode == 2, res.stdout.decode()
+            assert b'Traceback' not in res.stdout
+        port = free_port()
+        first = procs.publisher(master, port)
+        res = subprocess.run(script('naoqiAudioPublisher') + ['--port', str(port),
+                                                              '__name:=second'],
+                             env=master.env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             timeout=60)
+        assert res.returncode == 1 and b'cannot listen on 127.0.0.1:%d' % port in res.stdout
+        assert b'Traceback' not in res.stdout
+        assert first.stop(signal.SIGTERM) == 0
+    finally:
+        procs.stop_all()
