@@ -1,0 +1,329 @@
+"""Microphones (AudioCustomMsg: int16[] rearLeft, rearRight, frontLeft, frontRight).
+
+Channel order everywhere (message fields, WAV channels, reports) is NAOqi's:
+0 rearLeft, 1 rearRight, 2 frontLeft, 3 frontRight.
+
+Per message (counted): the four arrays have the same, non-zero length.
+Over the window (FAIL at the end):
+  * sample rate: samples per channel received / time, from receive times, excluding the first
+    buffer (its samples were captured before the window), must be `sample_rate` (48000)
+    within `sample_rate_tolerance` (0.05 = 5 %); needs 3 buffers or more;
+  * silent channel: a channel whose RMS is below `silence_dbfs` (default -70 dBFS) or whose
+    samples are all zero fails, named by its place (e.g. "frontLeft");
+Reported: RMS and peak per channel in dBFS (0 dBFS = full scale 32768), clipping share per
+channel (|sample| >= 32767; above `max_clipping_share`, default 0.01, a warning), gaps (a pause
+between buffers longer than 3 buffer periods; a warning), buffer size.
+
+Recording (unless record is off), in ctx.output_dir:
+  * mic_mode 'together' (default): microphoneOutput.wav, 4 channels in the order above,
+    sample_rate Hz, PCM_16, written incrementally;
+  * mic_mode 'sequential' (the D4.1 behaviour): the window is 4 x duration; each microphone in
+    turn (rearLeft, rearRight, frontLeft, frontRight) is recorded for `duration` seconds into
+    microphoneOutput_<place>.wav (mono), and microphoneOutput.wav holds the four slots one
+    after another (mono), as the original did. A buffer belongs to the slot in which it was
+    received.
+Files are finished in finish() (the runner calls it at the end of the window, on Ctrl-C and on
+errors). With play_audio the recording is then played (playback.py).
+
+LevelMonitor: a separate subscriber used by the speech check to tell whether the robot's
+sentence was heard (level rise over the baseline before speaking).
+"""
+import collections
+import math
+import os
+import threading
+import time
+
+import numpy as np
+
+from ..recording import WavWriter
+from .base import Check, fmt
+
+CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
+FULL_SCALE = 32768.0
+SERIES_MAX = 2000
+
+
+def dbfs(rms):
+    return 20.0 * math.log10(rms / FULL_SCALE) if rms > 0 else float('-inf')
+
+
+def _db_value(x):
+    return None if not math.isfinite(x) else round(x, 2)
+
+
+def channels_of(msg):
+    """The four channel arrays of a message as int16 numpy arrays, in NAOqi order."""
+    return [np.asarray(getattr(msg, name), dtype=np.int16) for name in CHANNELS]
+
+
+class AudioCheck(Check):
+    family = 'audio'
+    queue_size = 200
+
+    def __init__(self, plan, ctx):
+        super().__init__(plan, ctx)
+        self.rate = int(self.expect.get('sample_rate', 48000))
+        self.tolerance = float(self.expect.get('sample_rate_tolerance', 0.05))
+        self.silence = float(self.expect.get('silence_dbfs', -70.0))
+        self.max_clipping = float(self.expect.get('max_clipping_share', 0.01))
+        self.mode = getattr(ctx.options, 'mic_mode', None) or 'together'
+        self.slot = 10.0            # seconds per microphone in sequential mode (window / 4)
+        self.recording = getattr(ctx.options, 'record', None) is not False
+        self.energy = np.zeros(4)   # sum of squares per channel
+        self.peak = np.zeros(4, dtype=np.int64)
+        self.clipped = np.zeros(4, dtype=np.int64)
+        self.nonzero = np.zeros(4, dtype=np.int64)
+        self.samples = 0            # per channel, all buffers
+        self.first_len = None
+        self.first_t = None
+        self.last_t = None
+        self.prev_t = None
+        self.lengths = collections.Counter()
+        self.gaps = []              # (t, pause)
+        self.writers = {}
+        self.player = None
+        self._end_warnings = []
+        for name in CHANNELS:
+            self.series['level_dbfs_' + name] = []
+
+    def warn(self, text):
+        """A warning found once, at the end (not counted per message), like Check.fail."""
+        self._end_warnings.append(text)
+
+    def warning_reasons(self):
+        return super().warning_reasons() + self._end_warnings
+
+    # ---- set-up -------------------------------------------------------------------------
+    def window(self, duration):
+        self.slot = float(duration)
+        return 4 * duration if self.mode == 'sequential' else duration
+
+    def start(self):
+        for stale in self._file_names():
+            path = os.path.join(self.ctx.output_dir, stale)
+            if os.path.exists(path):
+                os.unlink(path)
+
+    def _file_names(self):
+        return ['microphoneOutput.wav'] + ['microphoneOutput_%s.wav' % c for c in CHANNELS]
+
+    def _writer(self, name, channels):
+        w = self.writers.get(name)
+        if w is None:
+            w = self.writers[name] = WavWriter(os.path.join(self.ctx.output_dir, name), self.rate, channels)
+        return w
+
+    def fields(self, msg):
+        return [('Samples per channel', len(msg.rearLeft)), ('Channels', '4 (%s)' % ', '.join(CHANNELS))]
+
+    def settled(self):
+        return self.count >= 12
+
+    # ---- per message --------------------------------------------------------------------
+    def on_message(self, msg, t):
+        chans = channels_of(msg)
+        lengths = [len(c) for c in chans]
+        if len(set(lengths)) != 1:
+            self.failures.add('lengths', 'channel arrays of different lengths',
+                              ' '.join('%s=%d' % (n, k) for n, k in zip(CHANNELS, lengths)))
+            return
+        n = lengths[0]
+        if n == 0:
+            self.failures.add('empty', 'empty audio buffer')
+            return
+        self.lengths[n] += 1
+        if self.first_t is None:
+            self.first_t, self.first_len = t, n
+        elif self.prev_t is not None and self.rate:
+            period = n / float(self.rate)
+            if t - self.prev_t > 3 * period:
+                self.gaps.append((self.prev_t, t - self.prev_t))
+        self.prev_t = self.last_t = t
+        self.samples += n
+        block = np.stack(chans, axis=1)          # (n, 4) int16
+        wide = block.astype(np.int32)
+        sq = np.einsum('ij,ij->j', wide, wide, dtype=np.float64)
+        self.energy += sq
+        absval = np.abs(wide)
+        self.peak = np.maximum(self.peak, absval.max(axis=0))
+        self.clipped += np.count_nonzero(absval >= 32767, axis=0)
+        self.nonzero += np.count_nonzero(block, axis=0)
+        if len(self.series['level_dbfs_rearLeft']) < SERIES_MAX:
+            for i, name in enumerate(CHANNELS):
+                self.series['level_dbfs_' + name].append(
+                    (round(t, 3), _db_value(dbfs(math.sqrt(sq[i] / n)))))
+        if self.recording:
+            self._record(block, t)
+
+    def _record(self, block, t):
+        if self.mode == 'sequential':
+            slot = int(t // self.slot) if self.slot > 0 else 0
+            if slot >= 4:
+                return
+            mono = np.ascontiguousarray(block[:, slot])
+            self._writer('microphoneOutput_%s.wav' % CHANNELS[slot], 1).write(mono)
+            self._writer('microphoneOutput.wav', 1).write(mono)
+        else:
+            self._writer('microphoneOutput.wav', 4).write(block)
+
+    # ---- end ----------------------------------------------------------------------------
+    def measured_rate(self):
+        if self.first_t is None or self.last_t is None or self.last_t <= self.first_t:
+            return None
+        return (self.samples - self.first_len) / (self.last_t - self.first_t)
+
+    def finish(self):
+        for w in self.writers.values():
+            w.close()
+        self._report_files()
+        if not self.samples:
+            return
+        self.values['samples_per_channel'] = self.samples
+        self.values['buffer_sizes'] = dict(self.lengths)
+        rate = self.measured_rate()
+        self.values['sample_rate_hz'] = round(rate, 1) if rate else None
+        self.values['sample_rate_expected_hz'] = self.rate
+        if rate is None or self.count < 3:
+            self.fail('too few audio buffers (%d) to measure the sample rate' % self.count)
+        elif abs(rate - self.rate) > self.tolerance * self.rate:
+            self.fail('sample rate %.0f Hz, expected %d Hz +- %s%%'
+                      % (rate, self.rate, fmt(100 * self.tolerance, 1)))
+        else:
+            self.notes.append('Sample rate %.0f Hz (expected %d)' % (rate, self.rate))
+        levels = collections.OrderedDict()
+        for i, name in enumerate(CHANNELS):
+            rms = math.sqrt(self.energy[i] / self.samples)
+            level = {'rms_dbfs': _db_value(dbfs(rms)), 'peak_dbfs': _db_value(dbfs(float(self.peak[i]))),
+                     'clipping_share': round(float(self.clipped[i]) / self.samples, 6),
+                     'all_zero': bool(self.nonzero[i] == 0)}
+            levels[name] = level
+            if level['all_zero']:
+                self.fail('microphone %s is silent: all samples are zero' % name)
+            elif dbfs(rms) < self.silence:
+                self.fail('microphone %s is silent: RMS %s dBFS below silence_dbfs %s'
+                          % (name, fmt(dbfs(rms), 1), fmt(self.silence, 1)))
+            if level['clipping_share'] > self.max_clipping:
+                self.warn('microphone %s clips in %.2f%% of its samples (max_clipping_share %s%%)'
+                          % (name, 100 * level['clipping_share'], fmt(100 * self.max_clipping, 2)))
+        self.values['channels'] = levels
+        self.notes.append('Levels (RMS / peak dBFS): ' + ', '.join(
+            '%s %s / %s' % (n, fmt(v['rms_dbfs'], 1), fmt(v['peak_dbfs'], 1)) for n, v in levels.items()))
+        if self.gaps:
+            longest = max(g for _, g in self.gaps)
+            self.values['gaps'] = [[round(a, 3), round(b, 3)] for a, b in self.gaps[:50]]
+            self.warn('%d gap%s in the audio stream (pause > 3 buffer periods), longest %.2f s'
+                      % (len(self.gaps), '' if len(self.gaps) == 1 else 's', longest))
+        self._play()
+
+    def _report_files(self):
+        self.values['mic_mode'] = self.mode
+        files = collections.OrderedDict()
+        for name, w in self.writers.items():
+            if w.error:
+                self.warn(w.error)
+            elif w.written:
+                files[name] = {'channels': w.channels, 'sample_rate': w.samplerate, 'subtype': w.subtype,
+                               'seconds': round(w.seconds, 3)}
+        if files:
+            self.values['recordings'] = files
+            self.artifacts['audio'] = 'microphoneOutput.wav' if 'microphoneOutput.wav' in files else next(iter(files))
+            for c in CHANNELS:
+                key = 'microphoneOutput_%s.wav' % c
+                if key in files:
+                    self.artifacts['audio_' + c] = key
+            self.notes.append('audio: ' + ', '.join('%s (%d ch, %s s)' % (n, f['channels'], fmt(f['seconds'], 1))
+                                                    for n, f in files.items()))
+        elif not self.recording:
+            self.notes.append('recording off')
+
+    def _play(self):
+        if not getattr(self.ctx.options, 'play_audio', None):
+            return
+        main = self.writers.get('microphoneOutput.wav')
+        if main is None or not main.written:
+            return
+        from ..playback import play_channels
+        self.player, line = play_channels(main.path, CHANNELS if main.channels == 4 else None,
+                                          delete_after=bool(getattr(self.ctx.options, 'delete_file', None)))
+        self.notes.append(line)
+
+
+class LevelMonitor:
+    """Microphone level history for the speech check.
+
+    `start()` subscribes to the microphone topic (its own subscriber, any AudioCustomMsg type
+    name), and keeps the last `history` seconds of per-buffer levels (RMS over the four
+    channels, dBFS) with their time.monotonic() receive times. `heard(t0, t1)` compares the
+    loudest buffer in [t0, t1] with the median level of the `baseline` seconds before t0: a rise
+    of `rise_db` (default 6 dB) or more counts as heard.
+    """
+
+    def __init__(self, topic, history=120.0, baseline=3.0, rise_db=6.0):
+        self.topic = topic
+        self.history = float(history)
+        self.baseline = float(baseline)
+        self.rise_db = float(rise_db)
+        self._levels = collections.deque()
+        self._lock = threading.Lock()
+        self._sub = None
+
+    def start(self):
+        import rospy
+        self._sub = rospy.Subscriber(self.topic, rospy.AnyMsg, self._callback, queue_size=50)
+        return self
+
+    def stop(self):
+        if self._sub is not None:
+            self._sub.unregister()
+            self._sub = None
+
+    def _callback(self, raw):
+        from pepper_interface_tests.msg import AudioCustomMsg
+        try:
+            msg = AudioCustomMsg().deserialize(raw._buff)
+        except Exception:
+            return
+        self.add(channels_of(msg), time.monotonic())
+
+    def add(self, chans, now):
+        """One buffer (list of channel arrays) received at monotonic time `now`."""
+        total, n = 0.0, 0
+        for c in chans:
+            if len(c):
+                w = c.astype(np.float64)
+                total += float(np.dot(w, w))
+                n += len(c)
+        if not n:
+            return
+        level = dbfs(math.sqrt(total / n))
+        with self._lock:
+            self._levels.append((now, level))
+            while self._levels and self._levels[0][0] < now - self.history:
+                self._levels.popleft()
+
+    def _between(self, a, b):
+        with self._lock:
+            return [lv for t, lv in self._levels if a <= t <= b]
+
+    def has_baseline(self, now=None):
+        now = time.monotonic() if now is None else now
+        return len(self._between(now - self.baseline, now)) >= 5
+
+    def heard(self, t0, t1):
+        before = self._between(t0 - self.baseline, t0)
+        during = self._between(t0, t1)
+        if not during:
+            return {'heard': False, 'rise_db': None, 'why': 'no microphone data while speaking'}
+        if not before:
+            return {'heard': False, 'rise_db': None, 'why': 'no microphone data before speaking'}
+        base = float(np.median(before))
+        loud = max(during)
+        if not math.isfinite(loud):
+            return {'heard': False, 'rise_db': None, 'why': 'microphones silent while speaking'}
+        rise = loud - base if math.isfinite(base) else float('inf')
+        rise_value = round(rise, 1) if math.isfinite(rise) else 99.0
+        if rise >= self.rise_db:
+            return {'heard': True, 'rise_db': rise_value, 'why': 'level rose %.1f dB' % rise_value}
+        return {'heard': False, 'rise_db': rise_value,
+                'why': 'level rose only %.1f dB (needs %.0f dB)' % (rise_value, self.rise_db)}

@@ -1,0 +1,286 @@
+"""Cameras (sensor_msgs/Image): front, bottom, stereo and RealSense colour.
+
+Per message (counted FAIL reasons):
+  * layout: `step * height == len(data)` and `step >= width * bytes per pixel` of the encoding;
+    a message with a broken layout is not converted further;
+  * encoding, width and height as expected (`encoding`, `width`, `height`, when configured);
+  * cv_bridge conversion to BGR; a conversion error is counted, never raised;
+  * stereo (stereoCamera, or `stereo: true`): an even width (two views of width/2 side by
+    side) and left and right views that are not identical.
+Over the window (FAIL at the end):
+  * black / constant: brightness mean below `min_brightness` ("black") or pixel standard
+    deviation below `min_spread` ("constant") in more than `bad_frame_share` of the frames
+    (default 0.5; fewer bad frames are a warning: a camera may start dark while its exposure
+    settles);
+  * frozen: `frozen_frames` (default 5) or more identical consecutive frames. Pepper can send
+    the same frame twice at low rates, so this must stay above 2.
+Cost: statistics use every 4th row and column, the frozen test compares a CRC of every 8th
+row and column; the video is encoded in the recorder's own thread (recording.py).
+Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
+"""
+import os
+import zlib
+
+import numpy as np
+
+from ..recording import VideoRecorder, save_jpeg
+from .base import Acc, Check, fmt
+
+# bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)
+BYTES_PER_PIXEL = {
+    'rgb8': 3, 'bgr8': 3, 'rgba8': 4, 'bgra8': 4, 'rgb16': 6, 'bgr16': 6, 'rgba16': 8, 'bgra16': 8,
+    'mono8': 1, 'mono16': 2, '8UC1': 1, '8UC3': 3, '8UC4': 4, '16UC1': 2, '16SC1': 2,
+    '32FC1': 4, '32SC1': 4, '64FC1': 8, 'yuv422': 2, 'uyvy': 2, 'yuyv': 2,
+    'bayer_rggb8': 1, 'bayer_bggr8': 1, 'bayer_gbrg8': 1, 'bayer_grbg8': 1,
+}
+SERIES_MAX = 2000
+
+
+def bytes_per_pixel(encoding):
+    if encoding in BYTES_PER_PIXEL:
+        return BYTES_PER_PIXEL[encoding]
+    try:
+        from cv_bridge import CvBridge
+        dtype, channels = CvBridge().encoding_to_dtype_with_channels(encoding)
+        return np.dtype(dtype).itemsize * channels
+    except Exception:
+        return None
+
+
+class ImageCheck(Check):
+    """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
+    buff_size = 1 << 24
+    queue_seconds = 2.0
+
+    def __init__(self, plan, ctx):
+        super().__init__(plan, ctx)
+        rate = self.expect.get('rate') or [1.0, 35.0]
+        self.queue_size = max(10, int(round(float(rate[1]) * self.queue_seconds)))
+        self.bridge = None
+        self.geometry = None        # (width, height, encoding, step) of the first message
+        self.recording = getattr(ctx.options, 'record', None) is not False and bool(plan.sensor.video)
+        self.recorder = None
+        if self.recording:
+            self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
+                                          fallback_fps=float(self.expect.get('nominal', 10)),
+                                          max_fps=float(rate[1]))
+        self.viewer = ctx.services.get('viewer')
+        self.converted = 0
+        self.sizes = {}             # (w, h, encoding) -> count, when it changes
+        self._end_warnings = []
+
+    def warn(self, text):
+        """A warning found once, at the end (not counted per message), like Check.fail."""
+        self._end_warnings.append(text)
+
+    def warning_reasons(self):
+        return super().warning_reasons() + self._end_warnings
+
+    def fields(self, msg):
+        return [('Image Width', msg.width), ('Image Height', msg.height),
+                ('Encoding', msg.encoding), ('Step', msg.step)]
+
+    def start(self):
+        self._bridge()      # import cv_bridge now, not while the first frames arrive
+        # a video of an earlier run must not pass for this one's
+        if self.recorder is not None and os.path.exists(self.recorder.path):
+            os.unlink(self.recorder.path)
+
+    # ---- per message ---------------------------------------------------------------------
+    def check_layout(self, msg):
+        """Counted failures for a message whose bytes do not match its declared geometry.
+        Returns False when the message cannot be converted."""
+        key = (msg.width, msg.height, msg.encoding)
+        if self.geometry is None:
+            self.geometry = (msg.width, msg.height, msg.encoding, msg.step)
+        if key not in self.sizes and self.sizes:
+            self.warnings.add('size_change', 'image geometry changed during the window', '%dx%d %s' % key)
+        self.sizes[key] = self.sizes.get(key, 0) + 1
+        ok = True
+        expected = self.expect.get('encoding')
+        if expected and msg.encoding != expected:
+            self.failures.add('encoding', 'encoding "%s" where "%s" is expected' % (msg.encoding, expected))
+        for dim in ('width', 'height'):
+            want = self.expect.get(dim)
+            if want and getattr(msg, dim) != want:
+                self.failures.add(dim, '%s %d where %d is expected' % (dim, getattr(msg, dim), want))
+        if msg.width == 0 or msg.height == 0:
+            self.failures.add('empty', 'empty image (%dx%d)' % (msg.width, msg.height))
+            return False
+        if msg.step * msg.height != len(msg.data):
+            self.failures.add('datalen', 'step x height (%d x %d = %d) is not the data length'
+                              % (msg.step, msg.height, msg.step * msg.height), len(msg.data))
+            ok = False
+        bpp = bytes_per_pixel(msg.encoding)
+        if bpp is None:
+            self.failures.add('unknown_enc', 'unknown encoding "%s"' % msg.encoding)
+            ok = False
+        elif msg.step < msg.width * bpp:
+            self.failures.add('step', 'step %d is less than width x bytes per pixel (%d x %d)'
+                              % (msg.step, msg.width, bpp), msg.step)
+            ok = False
+        return ok
+
+    def _bridge(self):
+        if self.bridge is None:
+            from cv_bridge import CvBridge
+            self.bridge = CvBridge()
+        return self.bridge
+
+    def convert(self, msg, desired):
+        """cv_bridge conversion; None (and a counted failure) when it fails."""
+        try:
+            image = self._bridge().imgmsg_to_cv2(msg, desired)
+        except Exception as e:   # CvBridgeError, or numpy errors on odd buffers
+            text = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            self.failures.add('convert', 'cv_bridge cannot convert %s to %s' % (msg.encoding, desired), text)
+            return None
+        self.converted += 1
+        return image
+
+    def show_and_record(self, bgr, t):
+        if self.viewer is not None:
+            self.viewer.post(self.plan.name, bgr)
+        if self.recorder is not None:
+            self.recorder.add(bgr, t)
+
+    # ---- end -----------------------------------------------------------------------------
+    def finish_media(self):
+        """Close the recorder, write JPEG artifacts, report the recording."""
+        if self.geometry:
+            w, h, enc, step = self.geometry
+            self.values['width'], self.values['height'] = w, h
+            self.values['encoding'], self.values['step'] = enc, step
+        if len(self.sizes) > 1:
+            self.values['geometries'] = {'%dx%d %s' % k: n for k, n in self.sizes.items()}
+        rec = self.recorder
+        if rec is None:
+            if not self.recording and self.plan.sensor.video:
+                self.notes.append('recording off')
+            return
+        summary = rec.close()
+        self.values['video'] = summary
+        for note in rec.notes:
+            self.notes.append('video: ' + note)
+        if summary['file']:
+            self.artifacts['video'] = summary['file']
+            self.notes.append('video %s: %d frames, %dx%d, %s, %s fps'
+                              % (summary['file'], summary['frames_written'], summary['width'],
+                                 summary['height'], summary['codec'], fmt(summary['fps'], 2)))
+        if rec.error:
+            self.warn(rec.error)
+        if rec.dropped:
+            self.warn('%d of %d frames not recorded (the video encoder could not keep up)'
+                      % (rec.dropped, rec.received))
+        if rec.resized:
+            self.warn('%d frames of another size resized to %dx%d for the video'
+                      % (rec.resized, rec.size[0], rec.size[1]))
+        for kind, image in (('first_frame', rec.first_frame), ('last_frame', rec.last_frame)):
+            if image is None:
+                continue
+            name = '%s_%s.jpg' % (self.plan.name, kind.split('_')[0])
+            if save_jpeg(os.path.join(self.ctx.output_dir, name), image):
+                self.artifacts[kind] = name
+
+
+class CameraCheck(ImageCheck):
+    family = 'camera'
+
+    def __init__(self, plan, ctx):
+        super().__init__(plan, ctx)
+        self.stereo = bool(self.expect.get('stereo', plan.name == 'stereoCamera'))
+        self.min_brightness = float(self.expect.get('min_brightness', 5.0))
+        self.min_spread = float(self.expect.get('min_spread', 2.0))
+        self.frozen_frames = max(3, int(self.expect.get('frozen_frames', 5)))
+        self.bad_share = float(self.expect.get('bad_frame_share', 0.5))
+        self.brightness, self.spread = Acc(), Acc()
+        self.black = self.constant = 0
+        self.first_bad = None
+        self.last_sig = None
+        self.run = 1
+        self.longest_run = 0
+        self.longest_run_at = None
+        self.frozen_runs = 0
+        self.same_halves = 0
+        self.series['brightness'] = []
+
+    def settled(self):
+        return self.count >= self.frozen_frames + 1
+
+    def on_message(self, msg, t):
+        if not self.check_layout(msg):
+            return
+        if self.stereo and msg.width % 2:
+            self.failures.add('stereo_odd', 'stereo width %d is odd: not two views side by side' % msg.width)
+        bgr = self.convert(msg, 'bgr8')
+        if bgr is None:
+            return
+        small = bgr[::4, ::4]
+        mean, std = float(small.mean()), float(small.std())
+        self.brightness.add(mean)
+        self.spread.add(std)
+        if len(self.series['brightness']) < SERIES_MAX:
+            self.series['brightness'].append((round(t, 3), round(mean, 2)))
+        bad = None
+        if mean < self.min_brightness:
+            self.black += 1
+            bad = 'black'
+        elif std < self.min_spread:
+            self.constant += 1
+            bad = 'constant'
+        if bad and self.first_bad is None:
+            self.first_bad = (bad, round(t, 2), mean, std)
+        self._frozen(bgr, t)
+        if self.stereo and not bad and msg.width % 2 == 0:
+            half = bgr.shape[1] // 2
+            if np.array_equal(bgr[::4, :half:4], bgr[::4, half::4]):
+                self.same_halves += 1
+                self.failures.add('stereo_same', 'stereo left and right views are identical')
+        self.show_and_record(bgr, t)
+
+    def _frozen(self, bgr, t):
+        sig = (bgr.shape, zlib.crc32(np.ascontiguousarray(bgr[::8, ::8]).data))
+        if sig == self.last_sig:
+            self.run += 1
+            if self.run == self.frozen_frames:
+                self.frozen_runs += 1
+        else:
+            self.run = 1
+        self.last_sig = sig
+        if self.run > self.longest_run:
+            self.longest_run, self.longest_run_at = self.run, round(t, 2)
+
+    def finish(self):
+        self.finish_media()
+        n = self.converted
+        self.values['brightness_mean'] = self.brightness.as_dict(2)
+        self.values['brightness_spread'] = self.spread.as_dict(2)
+        self.values['frames_black'] = self.black
+        self.values['frames_constant'] = self.constant
+        self.values['longest_identical_run'] = self.longest_run
+        if self.stereo and self.geometry:
+            w, h = self.geometry[0], self.geometry[1]
+            self.values['stereo'] = {'width': w, 'height': h, 'view_width': w // 2, 'view_height': h,
+                                     'identical_views': self.same_halves}
+            self.notes.append('Stereo: %dx%d, two views of %dx%d' % (w, h, w // 2, h))
+            if w != 2 * (w // 2):
+                self.fail('stereo width %d is not twice a view width' % w)
+        if not n:
+            return
+        self.notes.append('Brightness mean %s; spread (std) %s (0-255, every 4th pixel)'
+                          % (self.brightness.text(), self.spread.text()))
+        for word, frames, limit_text in (
+                ('black', self.black, 'mean brightness below %s' % fmt(self.min_brightness)),
+                ('constant', self.constant, 'pixel spread below %s' % fmt(self.min_spread))):
+            if not frames:
+                continue
+            text = 'image %s (%s) in %d of %d frames' % (word, limit_text, frames, n)
+            if frames > self.bad_share * n:
+                self.fail(text)
+            else:
+                self.warn(text)
+        if self.longest_run >= self.frozen_frames:
+            self.fail('image frozen: %d identical consecutive frames (until t=%s s; frozen_frames %d)'
+                      % (self.longest_run, fmt(self.longest_run_at, 2), self.frozen_frames))
+        elif self.longest_run > 1:
+            self.notes.append('Longest run of identical frames: %d' % self.longest_run)

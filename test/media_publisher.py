@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""Test helper: publish camera, depth or microphone messages on a topic, good or with one fault.
+
+usage: media_publisher.py KIND TOPIC [--rate HZ] [--fault NAME] [--width W] [--height H]
+                          [--count N] [--report FILE] [--node NAME] [--frame-id ID]
+KIND  camera  sensor_msgs/Image rgb8, a moving pattern (every frame differs)
+      stereo  rgb8, two different views side by side (width = 2 x view width)
+      depth   16UC1 in mm (a ramp 0.5-3.5 m, a band of invalid zero pixels)
+      audio   AudioCustomMsg, 4 channels, --samples per buffer at --sample-rate
+Faults
+  camera/stereo: frozen (the same frame every time), black, constant (mid grey), wrong_step
+      (step one byte short), wrong_encoding (bgra8 with a matching layout), size_change
+      (every other frame half size), same_halves (stereo views identical)
+  depth: zero (all pixels 0), float_m (32FC1 in metres, NaN band), bad_encoding (rgb8)
+  audio: silent:<channel> (that channel all zeros), tone (channel i carries a sine of
+      TONES[i] Hz), lengths (frontRight one sample short)
+--loud-after S (audio): quiet noise (about -50 dBFS) for S seconds, then loud noise (about
+-15 dBFS); the time.monotonic() of the switch is written to --loud-file.
+--count N publishes N messages, starting once a subscriber is connected, then stays up (so
+the count in a listening window is known exactly). --report FILE writes {"published": N}
+at exit (SIGINT/SIGTERM or after --count).
+"""
+import argparse
+import json
+import signal
+import sys
+import time
+
+import numpy as np
+import rospy
+from sensor_msgs.msg import Image
+
+TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
+CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
+
+
+def pattern(w, h, i):
+    yy, xx = np.mgrid[0:h, 0:w]
+    r = (xx * 2 + 5 * i) % 256
+    g = (yy * 3 + 3 * i) % 256
+    b = ((xx + yy) + 7 * i) % 256
+    return np.dstack([r, g, b]).astype(np.uint8)
+
+
+def image(w, h, encoding, data, step, frame_id):
+    m = Image(width=w, height=h, encoding=encoding, step=step, is_bigendian=0, data=data)
+    m.header.stamp = rospy.Time.now()
+    m.header.frame_id = frame_id
+    return m
+
+
+def make_camera(a, i, cache):
+    w, h = a.width, a.height
+    if a.fault == 'size_change' and i % 2:
+        w, h = w // 2, h // 2
+    if a.fault == 'frozen':
+        px = cache.setdefault('frozen', pattern(w, h, 0))
+    elif a.fault == 'black':
+        px = np.zeros((h, w, 3), np.uint8)
+    elif a.fault == 'constant':
+        px = np.full((h, w, 3), 128, np.uint8)
+    elif a.kind == 'stereo':
+        view = pattern(w // 2, h, i)
+        other = view if a.fault == 'same_halves' else np.roll(view, 7, axis=1)
+        px = np.concatenate([view, other], axis=1)
+    else:
+        px = pattern(w, h, i)
+    if a.fault == 'wrong_encoding':
+        px4 = np.dstack([px, np.full((h, w), 255, np.uint8)])
+        return image(w, h, 'bgra8', px4.tobytes(), w * 4, a.frame_id)
+    step = w * 3 - 1 if a.fault == 'wrong_step' else w * 3
+    return image(w, h, 'rgb8', px.tobytes(), step, a.frame_id)
+
+
+def make_depth(a, i, cache):
+    w, h = a.width, a.height
+    if 'ramp' not in cache:
+        ramp = np.tile(np.linspace(500, 3500, w, dtype=np.float64), (h, 1))
+        cache['ramp'] = ramp
+    mm = (cache['ramp'] + 20 * (i % 10)).astype(np.uint16)
+    mm[: h // 10] = 0        # invalid band
+    if a.fault == 'zero':
+        mm[:] = 0
+    if a.fault == 'float_m':
+        m = mm.astype(np.float32) / 1000.0
+        m[: h // 10] = np.nan
+        return image(w, h, '32FC1', m.tobytes(), w * 4, a.frame_id)
+    if a.fault == 'bad_encoding':
+        return image(w, h, 'rgb8', pattern(w, h, i).tobytes(), w * 3, a.frame_id)
+    return image(w, h, '16UC1', mm.tobytes(), w * 2, a.frame_id)
+
+
+def make_audio(a, i, cache):
+    from pepper_interface_tests.msg import AudioCustomMsg
+    n = a.samples
+    t = (np.arange(n) + i * n) / float(a.sample_rate)
+    rng = cache.setdefault('rng', np.random.default_rng(1))
+    chans = []
+    for c, name in enumerate(CHANNELS):
+        if a.fault == 'tone':
+            x = 8000.0 * np.sin(2 * np.pi * TONES[c] * t)
+        elif a.loud_after is not None:
+            loud = time.monotonic() >= cache.setdefault('loud_at', time.monotonic() + a.loud_after)
+            if loud and not cache.get('told'):
+                cache['told'] = True
+                with open(a.loud_file, 'w') as f:
+                    f.write('%.6f' % cache['loud_at'])
+            x = rng.normal(0, 6000.0 if loud else 100.0, n)
+        else:
+            x = rng.normal(0, 1500.0, n)     # noise, about -27 dBFS
+        x = np.clip(x, -32768, 32767).astype(np.int16)
+        if a.fault == 'silent:' + name:
+            x[:] = 0
+        if a.fault == 'lengths' and name == 'frontRight':
+            x = x[:-1]
+        chans.append(x.tolist())
+    return AudioCustomMsg(*chans)
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument('kind', choices=('camera', 'stereo', 'depth', 'audio'))
+    p.add_argument('topic')
+    p.add_argument('--rate', type=float, default=None)
+    p.add_argument('--fault', default='')
+    p.add_argument('--width', type=int, default=None)
+    p.add_argument('--height', type=int, default=None)
+    p.add_argument('--samples', type=int, default=4096)
+    p.add_argument('--sample-rate', type=float, default=48000.0)
+    p.add_argument('--count', type=int, default=0)
+    p.add_argument('--loud-after', type=float, default=None)
+    p.add_argument('--loud-file', default=None)
+    p.add_argument('--report', default=None)
+    p.add_argument('--node', default='media_publisher')
+    p.add_argument('--frame-id', default='')
+    a = p.parse_args(rospy.myargv()[1:])
+    defaults = {'camera': (320, 240), 'stereo': (640, 180), 'depth': (320, 240), 'audio': (0, 0)}[a.kind]
+    a.width, a.height = a.width or defaults[0], a.height or defaults[1]
+    if a.kind == 'audio':
+        from pepper_interface_tests.msg import AudioCustomMsg as cls
+        rate = a.rate or a.sample_rate / a.samples
+        make = make_audio
+    else:
+        cls, rate = Image, a.rate or 10.0
+        make = make_depth if a.kind == 'depth' else make_camera
+
+    rospy.init_node(a.node, anonymous=True, disable_signals=True)
+    pub = rospy.Publisher(a.topic, cls, queue_size=100)
+    published = [0]
+    stop = [False]
+
+    def finish(*_):
+        stop[0] = True
+
+    signal.signal(signal.SIGINT, finish)
+    signal.signal(signal.SIGTERM, finish)
+
+    def report():
+        if a.report:
+            with open(a.report, 'w') as f:
+                json.dump({'published': published[0]}, f)
+
+    if a.count:
+        while not stop[0] and pub.get_num_connections() == 0:
+            time.sleep(0.02)
+        time.sleep(0.3)      # let the subscriber's connection settle
+    cache = {}
+    period = 1.0 / rate
+    next_t = time.monotonic()
+    i = 0
+    print('publishing %s on %s at %.2f Hz%s' % (a.kind, a.topic, rate, ' (%s)' % a.fault if a.fault else ''),
+          flush=True)
+    while not stop[0] and not rospy.is_shutdown():
+        if a.count and published[0] >= a.count:
+            report()
+            while not stop[0]:
+                time.sleep(0.05)
+            break
+        pub.publish(make(a, i, cache))
+        published[0] += 1
+        i += 1
+        next_t += period
+        delay = next_t - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)
+        else:
+            next_t = time.monotonic()
+    report()
+    rospy.signal_shutdown('done')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

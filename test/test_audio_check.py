@@ -1,0 +1,176 @@
+"""Microphone check (sensors/audio.py): channel lengths, sample rate, silent channels by place,
+clipping, gaps, the WAV recordings (together / sequential), the LevelMonitor used by the speech
+check; and the whole path through sensorTest with a real rospy publisher."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import soundfile
+
+from media_tools import HERE, Publishers, dominant_frequency, explain, make_check, sensor_test, TOPICS
+from rosmaster import kill_group, spawn
+
+CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
+TONES = (500.0, 1000.0, 1500.0, 2500.0)     # as media_publisher.py
+
+
+def buffers(n_buffers, n=4096, rate=48000.0, silent=None, amplitude=3000.0, short=None):
+    from pepper_interface_tests.msg import AudioCustomMsg
+    out = []
+    for i in range(n_buffers):
+        t = (np.arange(n) + i * n) / rate
+        chans = []
+        for c, name in enumerate(CHANNELS):
+            x = np.clip(amplitude * np.sin(2 * np.pi * TONES[c] * t), -32768, 32767).astype(np.int16)
+            if name == silent:
+                x[:] = 0
+            if name == short:
+                x = x[:-1]
+            chans.append(x.tolist())
+        out.append(AudioCustomMsg(*chans))
+    return out
+
+
+def feed(check, msgs, interval=4096 / 48000.0, start=0.0):
+    for i, m in enumerate(msgs):
+        check.feed(m, start + i * interval)
+    check.close()
+    return check
+
+
+def test_levels_rate_and_the_four_channel_wav(tmp_path):
+    c = make_check('microphone', tmp_path)
+    c.start()
+    c = feed(c, buffers(12))
+    assert c.failure_reasons() == [] and c.warning_reasons() == []
+    assert c.values['sample_rate_hz'] == 48000.0
+    assert c.values['samples_per_channel'] == 12 * 4096
+    for name in CHANNELS:   # a sine of amplitude 3000: RMS -23.8 dBFS, peak -20.8 dBFS
+        assert abs(c.values['channels'][name]['rms_dbfs'] - (-23.78)) < 0.05
+        assert abs(c.values['channels'][name]['peak_dbfs'] - (-20.77)) < 0.05
+    data, rate = soundfile.read(os.path.join(str(tmp_path), 'out', 'microphoneOutput.wav'), dtype='int16')
+    info = soundfile.info(os.path.join(str(tmp_path), 'out', 'microphoneOutput.wav'))
+    assert (info.channels, info.samplerate, info.subtype) == (4, 48000, 'PCM_16')
+    assert data.shape == (12 * 4096, 4)
+    for i in range(4):
+        assert abs(dominant_frequency(data[:, i], rate) - TONES[i]) < 5
+    assert c.artifacts['audio'] == 'microphoneOutput.wav'
+
+
+def test_a_silent_channel_fails_by_its_place(tmp_path):
+    c = feed(make_check('microphone', tmp_path, record=False), buffers(6, silent='frontLeft'))
+    assert c.failure_reasons() == ['microphone frontLeft is silent: all samples are zero']
+    c = feed(make_check('microphone', tmp_path, record=False), buffers(6, amplitude=5))
+    assert len(c.failure_reasons()) == 4
+    assert 'microphone rearRight is silent: RMS -80.9 dBFS below silence_dbfs -70' in c.failure_reasons()
+
+
+def test_sample_rate_outside_the_tolerance_fails(tmp_path):
+    slow = 4096 / 44100.0        # buffers of 4096 arriving at the pace of 44.1 kHz
+    c = feed(make_check('microphone', tmp_path, record=False), buffers(10), interval=slow)
+    assert c.failure_reasons() == ['sample rate 44100 Hz, expected 48000 Hz +- 5%']
+    c = feed(make_check('microphone', tmp_path, record=False), buffers(10), interval=4096 / 46000.0)
+    assert c.failure_reasons() == []     # 4 % off: within the tolerance
+
+
+def test_unequal_channel_lengths_are_counted(tmp_path):
+    msgs = buffers(4) + buffers(2, short='frontRight')
+    c = feed(make_check('microphone', tmp_path, record=False), msgs)
+    assert 'channel arrays of different lengths in 2 of 6 messages (e.g. rearLeft=4096 rearRight=4096 ' \
+           'frontLeft=4096 frontRight=4095)' in c.failure_reasons()
+
+
+def test_clipping_and_gaps_are_reported(tmp_path):
+    c = make_check('microphone', tmp_path, record=False)
+    msgs = buffers(8, amplitude=40000.0)     # beyond full scale: clipped
+    for i, m in enumerate(msgs):
+        c.feed(m, i * 0.0853 + (1.0 if i >= 4 else 0.0))     # one 1 s pause
+    c.close()
+    warnings = ' | '.join(c.warning_reasons())
+    assert 'microphone rearLeft clips in ' in warnings and '(max_clipping_share 1%)' in warnings
+    assert '1 gap in the audio stream (pause > 3 buffer periods), longest 1.09 s' in c.warning_reasons()
+    assert c.values['channels']['rearLeft']['clipping_share'] > 0.01
+
+
+def test_sequential_mode_records_each_microphone_in_turn(tmp_path):
+    c = make_check('microphone', tmp_path, mic_mode='sequential')
+    assert c.window(1.0) == 4.0
+    c.start()
+    c = feed(c, buffers(47))           # 4.01 s of audio, 1 s per microphone
+    out = os.path.join(str(tmp_path), 'out')
+    for i, name in enumerate(CHANNELS):
+        data, rate = soundfile.read(os.path.join(out, 'microphoneOutput_%s.wav' % name), dtype='int16')
+        assert data.ndim == 1 and 0.9 <= len(data) / rate <= 1.1
+        assert abs(dominant_frequency(data, rate) - TONES[i]) < 5, name     # that microphone's signal
+    whole = soundfile.info(os.path.join(out, 'microphoneOutput.wav'))
+    assert whole.channels == 1 and abs(whole.duration - 47 * 4096 / 48000.0) < 0.01
+    assert c.artifacts['audio_frontRight'] == 'microphoneOutput_frontRight.wav'
+
+
+def test_level_monitor_compares_with_the_baseline():
+    from pepper_interface_tests.sensors.audio import LevelMonitor
+    m = LevelMonitor('/unused')
+    rng = np.random.default_rng(0)
+    for k in range(40):                       # 0.1 s apart; loud from t = 3.0
+        amp = 4000.0 if k >= 30 else 100.0
+        m.add([rng.normal(0, amp, 4096).astype(np.int16) for _ in range(4)], 100.0 + k * 0.1)
+    assert m.has_baseline(now=102.9)
+    loud = m.heard(103.0, 104.0)
+    assert loud['heard'] and 30 < loud['rise_db'] < 34
+    quiet = m.heard(101.5, 102.9)
+    assert not quiet['heard'] and quiet['why'].startswith('level rose only')
+    assert m.heard(200.0, 201.0) == {'heard': False, 'rise_db': None, 'why': 'no microphone data while speaking'}
+
+
+# ---------------------------------------------------------------- real ROS
+
+def test_level_monitor_on_a_real_topic(module_master, tmp_path):
+    loud_file = os.path.join(str(tmp_path), 'loud_at')
+    pub = spawn([sys.executable, os.path.join(HERE, 'media_publisher.py'), 'audio', TOPICS['microphone'],
+                 '--loud-after', '5', '--loud-file', loud_file], module_master.env(), stdout=subprocess.DEVNULL)
+    try:
+        probe = subprocess.run([sys.executable, os.path.join(HERE, 'media_level_probe.py'), TOPICS['microphone'],
+                                '8', loud_file], env=module_master.env(), capture_output=True, text=True, timeout=60)
+    finally:
+        kill_group(pub)
+    assert probe.returncode == 0, probe.stderr
+    result = json.loads(probe.stdout.strip().splitlines()[-1])
+    assert result['has_baseline'] and result['levels'] > 40
+    assert result['loud']['heard'] and result['loud']['rise_db'] > 20, result
+    assert not result['quiet']['heard'], result
+
+
+def test_sensor_test_records_each_tone_in_its_channel(module_master, tmp_path):
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('microphone', 'audio', '--fault', 'tone', '--count', 40)
+        done, res = sensor_test(module_master, tmp_path, ['microphone'], duration=5, extra=['--play-audio'],
+                                expect={'microphone': {'max_gap_factor': 40}}, env={'CI': 'true'})
+        published = pubs.stop()
+    assert res is not None, explain(done, res)
+    mic = res['by_name']['microphone']
+    assert mic['verdict'] == 'PASS' and done.returncode == 0, explain(done, res)
+    assert published['microphone'] == 40 and mic['messages'] == 40
+    assert abs(mic['values']['sample_rate_hz'] - 48000) < 2400
+    path = os.path.join(str(tmp_path), 'out', 'microphoneOutput.wav')
+    info = soundfile.info(path)
+    assert (info.channels, info.samplerate, info.subtype, info.frames) == (4, 48000, 'PCM_16', 40 * 4096)
+    data, rate = soundfile.read(path, dtype='int16')
+    for i, name in enumerate(CHANNELS):
+        assert abs(dominant_frequency(data[:, i], rate) - TONES[i]) < 5, name
+    assert 'playback off (CI): microphoneOutput.wav kept' in mic['notes']
+    assert os.path.exists(path)
+
+
+def test_sensor_test_fails_a_silent_channel_and_a_wrong_sample_rate(module_master, tmp_path):
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('microphone', 'audio', '--fault', 'silent:rearRight', '--sample-rate', 44100)
+        done, res = sensor_test(module_master, tmp_path, ['microphone'], duration=4)
+    assert res is not None, explain(done, res)
+    mic = res['by_name']['microphone']
+    assert mic['verdict'] == 'FAIL' and done.returncode == 1, explain(done, res)
+    assert 'microphone rearRight is silent: all samples are zero' in mic['reasons']
+    assert any(r.startswith('sample rate 44') and r.endswith('expected 48000 Hz +- 5%') for r in mic['reasons']), \
+        mic['reasons']
+    assert mic['values']['channels']['rearLeft']['rms_dbfs'] > -40

@@ -1,0 +1,155 @@
+"""Camera check (sensors/camera.py): per-message layout/encoding checks, black/constant/frozen
+frames, stereo geometry, and the whole path through sensorTest with real rospy publishers."""
+import os
+
+import numpy as np
+import pytest
+
+from media_tools import (Publishers, explain, image_msg, make_check, pattern, sensor_test,
+                         video_codec, video_info)
+
+
+def feed(check, frames, rate=10.0):
+    for i, msg in enumerate(frames):
+        check.feed(msg, i / rate)
+    check.close()
+    return check
+
+
+def good(n, w=160, h=120):
+    return [image_msg(pattern(w, h, i), 'rgb8') for i in range(n)]
+
+
+def test_good_frames_pass_with_the_spec_fields_and_measured_values(tmp_path):
+    c = feed(make_check('frontCamera', tmp_path, record=False), good(12))
+    assert c.failure_reasons() == [] and c.warning_reasons() == []
+    assert c.first_fields == [('Image Width', 160), ('Image Height', 120), ('Encoding', 'rgb8'), ('Step', 480)]
+    assert c.values['width'] == 160 and c.values['height'] == 120 and c.values['step'] == 480
+    assert 100 < c.values['brightness_mean']['mean'] < 160
+    assert c.values['longest_identical_run'] == 1
+    assert 'video' not in c.artifacts      # record=False
+
+
+def test_stream_sized_subscriber_queue_and_large_buffer(tmp_path):
+    c = make_check('frontCamera', tmp_path)            # robot rate band [1, 35] Hz
+    assert c.buff_size == 1 << 24
+    assert c.queue_size == 70                          # ~2 s at the highest expected rate
+
+
+def test_wrong_step_is_counted_and_the_frame_not_converted(tmp_path):
+    frames = [image_msg(pattern(160, 120, i), 'rgb8', step=479) for i in range(5)]
+    c = feed(make_check('frontCamera', tmp_path, record=False), frames)
+    reasons = ' | '.join(c.failure_reasons())
+    assert 'step x height (479 x 120 = 57480) is not the data length in 5 of 5 messages' in reasons
+    assert 'step 479 is less than width x bytes per pixel (160 x 3)' in reasons
+    assert c.converted == 0
+
+
+def test_wrong_encoding_and_size_fail(tmp_path):
+    bgra = np.dstack([pattern(160, 120, 0), np.full((120, 160), 255, np.uint8)])
+    frames = [image_msg(bgra, 'bgra8') for _ in range(1)] + good(2)
+    c = feed(make_check('frontCamera', tmp_path, record=False, expect={'width': 320, 'height': 240}), frames)
+    reasons = ' | '.join(c.failure_reasons())
+    assert 'encoding "bgra8" where "rgb8" is expected in 1 of 3 messages' in reasons
+    assert 'width 160 where 320 is expected in 3 of 3 messages' in reasons
+    assert 'height 120 where 240 is expected' in reasons
+    assert c.converted == 3                            # bgra8 converts: it is only unexpected
+
+
+def test_cv_bridge_error_is_a_counted_failure_not_a_crash(tmp_path):
+    depth = np.full((120, 160), 1000, np.uint16)
+    frames = [image_msg(depth, '16UC1') for _ in range(3)]
+    c = feed(make_check('frontCamera', tmp_path, record=False), frames)
+    reasons = ' | '.join(c.failure_reasons())
+    assert 'cv_bridge cannot convert 16UC1 to bgr8 in 3 of 3 messages' in reasons
+
+
+@pytest.mark.parametrize('repeats,frozen', [(4, False), (5, True)])
+def test_frozen_needs_frozen_frames_identical_frames_in_a_row(tmp_path, repeats, frozen):
+    same = image_msg(pattern(160, 120, 99), 'rgb8')
+    frames = good(3) + [same] * repeats + [image_msg(pattern(160, 120, 50 + i), 'rgb8') for i in range(3)]
+    c = feed(make_check('bottomCamera', tmp_path, record=False), frames)
+    assert c.values['longest_identical_run'] == repeats
+    text = ' | '.join(c.failure_reasons())
+    assert ('image frozen: %d identical consecutive frames' % repeats in text) is frozen, text
+
+
+def test_black_in_most_frames_fails_and_in_few_frames_warns(tmp_path):
+    black = [image_msg(np.zeros((120, 160, 3), np.uint8), 'rgb8') for _ in range(6)]
+    c = feed(make_check('frontCamera', tmp_path, record=False), black + good(4))
+    assert any(r.startswith('image black (mean brightness below 5) in 6 of 10 frames') for r in c.failure_reasons())
+    c = feed(make_check('frontCamera', tmp_path, record=False), black[:2] + good(8))
+    assert not any('black' in r for r in c.failure_reasons())
+    assert 'image black (mean brightness below 5) in 2 of 10 frames' in c.warning_reasons()
+
+
+def test_constant_grey_image_fails_as_constant(tmp_path):
+    grey = [image_msg(np.full((120, 160, 3), 128, np.uint8), 'rgb8') for _ in range(4)]
+    c = feed(make_check('frontCamera', tmp_path, record=False), grey)
+    assert any('image constant (pixel spread below 2) in 4 of 4 frames' in r for r in c.failure_reasons())
+    assert c.values['frames_constant'] == 4 and c.values['frames_black'] == 0
+
+
+def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
+    def pair(i, same):
+        view = pattern(160, 90, i)
+        return image_msg(np.concatenate([view, view if same else np.roll(view, 5, axis=1)], axis=1), 'rgb8')
+    c = feed(make_check('stereoCamera', tmp_path, record=False), [pair(i, False) for i in range(4)])
+    assert c.failure_reasons() == []
+    assert c.values['stereo'] == {'width': 320, 'height': 90, 'view_width': 160, 'view_height': 90,
+                                  'identical_views': 0}
+    c = feed(make_check('stereoCamera', tmp_path, record=False), [pair(i, True) for i in range(4)])
+    assert 'stereo left and right views are identical in 4 of 4 messages' in c.failure_reasons()
+
+
+def test_frames_are_posted_to_the_viewer_service(tmp_path):
+    from pepper_interface_tests.viewer import Viewer
+    viewer = Viewer()            # not created through Viewer.create: no window is opened here
+    c = feed(make_check('frontCamera', tmp_path, record=False, services={'viewer': viewer}), good(5))
+    assert viewer.posted == {'frontCamera': 5}
+    assert viewer._latest['frontCamera'].shape == (120, 160, 3)
+
+
+# ---------------------------------------------------------------- through sensorTest
+
+def test_sensor_test_judges_and_records_cameras(module_master, tmp_path):
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('frontCamera', 'camera', '--rate', 12, '--count', 24)
+        pubs.add('bottomCamera', 'camera', '--rate', 10, '--fault', 'frozen')
+        pubs.add('stereoCamera', 'stereo', '--rate', 10)
+        pubs.add('realsenseRGBCamera', 'camera', '--rate', 10, '--fault', 'wrong_step')
+        done, res = sensor_test(module_master, tmp_path, ['frontCamera', 'bottomCamera', 'stereoCamera',
+                                                          'realsenseRGBCamera'], duration=5,
+                                expect={'frontCamera': {'max_gap_factor': 5}})
+        published = pubs.stop()
+    assert res is not None, explain(done, res)
+    s = res['by_name']
+    assert done.returncode == 1, explain(done, res)
+    front = s['frontCamera']
+    assert front['verdict'] == 'PASS', explain(done, res)
+    assert published['frontCamera'] == 24
+    assert front['messages'] == 24, explain(done, res)
+    out = os.path.join(str(tmp_path), 'out')
+    frames, w, h, fps = video_info(os.path.join(out, 'frontCameraOutput.mp4'))
+    assert frames == 24 and (w, h) == (320, 240)
+    assert abs(fps - 12) < 1.5, fps                         # the measured rate, not a constant
+    assert front['values']['video']['frames_written'] == 24
+    assert video_codec(os.path.join(out, 'frontCameraOutput.mp4')) in ('h264', 'mpeg4')
+    assert front['artifacts'] == {'video': 'frontCameraOutput.mp4', 'first_frame': 'frontCamera_first.jpg',
+                                  'last_frame': 'frontCamera_last.jpg'}
+    assert os.path.getsize(os.path.join(out, 'frontCamera_last.jpg')) > 1000
+    assert ['Image Width', '320'] in front['fields'] and ['Step', '960'] in front['fields']
+
+    bottom = s['bottomCamera']
+    assert bottom['verdict'] == 'FAIL'
+    assert any(r.startswith('image frozen: ') for r in bottom['reasons']), bottom['reasons']
+
+    stereo = s['stereoCamera']
+    assert stereo['verdict'] == 'PASS', explain(done, res)
+    assert stereo['values']['stereo']['view_width'] == 320 and stereo['values']['stereo']['width'] == 640
+
+    rs = s['realsenseRGBCamera']
+    assert rs['verdict'] == 'FAIL'
+    assert any('is not the data length' in r for r in rs['reasons']), rs['reasons']
+    assert not os.path.exists(os.path.join(out, 'realsenseRGBOutput.mp4'))  # nothing valid to record
+    assert not [f for f in os.listdir(out) if f.startswith('.')]          # no temporary files left

@@ -1,0 +1,119 @@
+"""Depth check (sensors/depth.py): 16UC1 mm (Pepper, RealSense), 32FC1 m (simulator), wrong
+encodings, valid share and median limits, the fixed-range colour video; and through sensorTest."""
+import os
+
+import numpy as np
+
+from media_tools import Publishers, explain, image_msg, make_check, sensor_test, video_info
+
+
+def feed(check, frames, rate=10.0):
+    for i, msg in enumerate(frames):
+        check.feed(msg, i / rate)
+    check.close()
+    return check
+
+
+def mm_frame(value_mm, w=160, h=120, invalid_rows=0):
+    a = np.full((h, w), value_mm, np.uint16)
+    a[:invalid_rows] = 0
+    return image_msg(a, '16UC1')
+
+
+def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
+    frames = [mm_frame(1500 + 10 * i, invalid_rows=12) for i in range(10)]
+    c = feed(make_check('depthCamera', tmp_path, record=False), frames)
+    assert c.failure_reasons() == []
+    d = c.values['depth_m']
+    assert d['min'] == 1.5 and d['max'] == 1.59 and abs(d['median'] - 1.545) < 1e-6
+    assert abs(c.values['valid_share']['mean'] - 0.9) < 1e-6
+    assert c.first_fields == [('Image Width', 160), ('Image Height', 120), ('Encoding', '16UC1'), ('Step', 320)]
+
+
+def test_all_zero_depth_fails_with_a_clear_reason(tmp_path):
+    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(0) for _ in range(4)])
+    reasons = c.failure_reasons()
+    assert 'depth image has no valid pixel (all zero or not finite) in 4 of 4 messages' in reasons
+    assert 'depth all zero: no valid pixel in any of the 4 frames' in reasons
+
+
+def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
+    m = np.full((120, 160), 2.0, np.float32)
+    m[:30] = np.nan
+    m[30:40] = np.inf
+    frames = [image_msg(m, '32FC1') for _ in range(5)]
+    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), frames)
+    assert c.failure_reasons() == []
+    assert c.values['depth_m'] == {'min': 2.0, 'median': 2.0, 'max': 2.0}
+    assert abs(c.values['valid_share']['mean'] - 80 / 120) < 1e-3
+
+
+def test_realsense_aligned_depth_16uc1(tmp_path):
+    a = np.tile(np.linspace(300, 4000, 640).astype(np.uint16), (480, 1))
+    c = feed(make_check('realsenseDepthCamera', tmp_path, record=False), [image_msg(a, '16UC1')] * 3)
+    assert c.failure_reasons() == []
+    assert c.values['width'] == 640 and c.values['depth_m']['min'] == 0.3
+
+
+def test_a_colour_image_on_a_depth_topic_is_a_wrong_encoding(tmp_path):
+    rgb = np.zeros((120, 160, 3), np.uint8)
+    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), [image_msg(rgb, 'rgb8')] * 3)
+    assert any(r.startswith('encoding "rgb8" is not a depth encoding') for r in c.failure_reasons())
+    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(1000)] * 2 + [image_msg(rgb, 'rgb8')])
+    assert 'encoding "rgb8" where "16UC1" is expected in 1 of 3 messages' in c.failure_reasons()
+
+
+def test_valid_share_and_median_limits(tmp_path):
+    frames = [mm_frame(1500, invalid_rows=110) for _ in range(4)]      # 8 % valid
+    c = feed(make_check('depthCamera', tmp_path, record=False), frames)
+    assert any(r.startswith('only 8.3% of the pixels are valid (min_valid_share 20%)') for r in c.failure_reasons())
+    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(9500)] * 4)
+    assert 'median depth 9.5 m outside median_range [0.3, 8] m' in c.failure_reasons()
+
+
+def test_video_uses_a_fixed_range_and_black_invalid_pixels(tmp_path):
+    c = make_check('depthCamera', tmp_path, record=False)
+    near = np.full((10, 10), 2500, np.uint16)      # 2.5 m: the middle of the 0-5 m range
+    mixed = near.copy()
+    mixed[:, 5:] = 4900
+    mixed[0, 0] = 0
+    a, b = c.colourise(near, 0.001), c.colourise(mixed, 0.001)
+    assert (a[5, 2] == b[5, 2]).all()              # same depth, same colour, whatever else is in view
+    assert (b[0, 0] == 0).all() and b[5, 2].any()
+    metres = c.colourise(near.astype(np.float32) / 1000, 1.0)
+    assert np.abs(metres.astype(int) - a.astype(int)).max() <= 2
+
+
+# ---------------------------------------------------------------- through sensorTest
+
+def test_sensor_test_depth_robot(module_master, tmp_path):
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('depthCamera', 'depth', '--rate', 10, '--fault', 'zero')
+        pubs.add('realsenseDepthCamera', 'depth', '--rate', 15, '--count', 30, '--width', 640, '--height', 480)
+        done, res = sensor_test(module_master, tmp_path, ['depthCamera', 'realsenseDepthCamera'], duration=5,
+                                expect={'realsenseDepthCamera': {'max_gap_factor': 15}})
+        published = pubs.stop()
+    assert res is not None, explain(done, res)
+    s = res['by_name']
+    assert s['depthCamera']['verdict'] == 'FAIL'
+    assert 'depth all zero: no valid pixel in any of the %d frames' % s['depthCamera']['messages'] \
+        in s['depthCamera']['reasons'], explain(done, res)
+    rs = s['realsenseDepthCamera']
+    assert rs['verdict'] == 'PASS', explain(done, res)
+    assert published['realsenseDepthCamera'] == 30 and rs['messages'] == 30
+    assert 0.5 <= rs['values']['depth_m']['min'] and rs['values']['depth_m']['max'] <= 3.7
+    frames, w, h, fps = video_info(os.path.join(str(tmp_path), 'out', 'realsenseDepthOutput.mp4'))
+    assert frames == 30 and (w, h) == (640, 480) and abs(fps - 15) < 2
+
+
+def test_sensor_test_depth_simulator_32fc1(module_master, tmp_path):
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('depthCamera', 'depth', '--rate', 10, '--fault', 'float_m')
+        done, res = sensor_test(module_master, tmp_path, ['depthCamera'], duration=3, platform='simulator')
+    assert res is not None, explain(done, res)
+    d = res['by_name']['depthCamera']
+    assert d['verdict'] == 'PASS' and done.returncode == 0, explain(done, res)
+    assert ['Encoding', '32FC1'] in d['fields']
+    assert 1.5 < d['values']['depth_m']['median'] < 2.5
+    frames, w, h, _ = video_info(os.path.join(str(tmp_path), 'out', 'depthCameraOutput.mp4'))
+    assert frames == d['messages'] and (w, h) == (320, 240)

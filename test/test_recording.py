@@ -1,0 +1,259 @@
+"""Recordings (recording.py), playback (playback.py), the live view (viewer.py), and recordings
+that survive Ctrl-C in a real sensorTest run."""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+import soundfile
+
+from media_tools import Publishers, load_results, pattern, topics_file, video_codec, video_info
+from pepper_interface_tests import playback, recording
+from pepper_interface_tests.recording import VideoRecorder, WavWriter
+from pepper_interface_tests.viewer import Viewer
+from rosmaster import kill_group, script, spawn
+
+
+def record(path, frames, rate, codec='mp4v', **kw):
+    rec = VideoRecorder(str(path), codec=codec, **kw)
+    for i, f in enumerate(frames):
+        rec.add(f, i / rate)
+    return rec
+
+
+def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path):
+    path = tmp_path / 'frontCameraOutput.mp4'
+    rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
+    time.sleep(0.5)
+    assert not path.exists()                       # written under a temporary name until close
+    summary = rec.close()
+    frames, w, h, fps = video_info(str(path))
+    assert (frames, w, h) == (36, 160, 120)
+    assert abs(fps - 12.0) < 0.05 and summary['fps'] == 12.0
+    assert summary['frames_written'] == 36 and summary['frames_dropped'] == 0
+    assert video_codec(str(path)) == 'mpeg4'
+    assert not [p for p in os.listdir(tmp_path) if p.startswith('.')]
+
+
+def test_avc1_writes_h264_when_the_build_can(tmp_path):
+    if not recording.avc1_available():
+        pytest.skip('this OpenCV build cannot write H.264')
+    path = tmp_path / 'bottomCameraOutput.mp4'
+    rec = record(path, [pattern(160, 120, i) for i in range(20)], rate=10.0, codec='avc1')
+    assert rec.close()['codec'] == 'avc1'
+    assert video_codec(str(path)) == 'h264' and video_info(str(path))[0] == 20
+
+
+def test_auto_codec_follows_the_encoding_budget(tmp_path, monkeypatch):
+    if not recording.avc1_available():
+        pytest.skip('this OpenCV build cannot write H.264')
+    monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '0')
+    rec = record(tmp_path / 'a.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
+    rec.close()
+    assert rec.codec == 'mp4v' and any('mp4v chosen' in n for n in rec.notes), rec.notes
+    monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '50')
+    rec = record(tmp_path / 'b.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
+    rec.close()
+    assert rec.codec == 'avc1' and any('avc1 chosen' in n for n in rec.notes), rec.notes
+    assert recording.BUDGET.committed == 0.0       # a closed recorder gives its share back
+
+
+def test_rate_is_corrected_when_the_stream_slows_down(tmp_path):
+    if not recording.shutil.which('ffmpeg'):
+        pytest.skip('ffmpeg not installed')
+    path = tmp_path / 'depthCameraOutput.mp4'
+    rec = VideoRecorder(str(path), codec='mp4v')
+    times = [i / 30.0 for i in range(31)] + [1.0 + i / 10.0 for i in range(1, 41)]   # 30 Hz, then 10 Hz
+    for i, t in enumerate(times):
+        rec.add(pattern(96, 64, i), t)
+    summary = rec.close()
+    overall = (len(times) - 1) / (times[-1] - times[0])
+    assert abs(summary['fps'] - overall) < 0.05, summary
+    frames, _, _, fps = video_info(str(path))
+    assert frames == len(times) and abs(fps - overall) < 0.3, fps
+    assert any('frame rate corrected' in n for n in rec.notes)
+
+
+def test_other_sizes_are_resized_grey_is_converted_and_late_frames_ignored(tmp_path):
+    path = tmp_path / 'stereoCameraOutput.mp4'
+    frames = [pattern(160, 120, i) if i % 3 else pattern(80, 60, i) for i in range(1, 16)]
+    frames.append(np.full((120, 160), 90, np.uint8))
+    rec = record(path, frames, rate=10.0)
+    summary = rec.close()
+    assert summary['frames_written'] == 16 and summary['frames_resized'] == 5
+    assert video_info(str(path))[:3] == (16, 160, 120)
+    size, mtime = path.stat().st_size, path.stat().st_mtime_ns
+    rec.add(pattern(160, 120, 99), 9.0)            # a late callback after close
+    rec.close()
+    assert rec.late == 1 and path.stat().st_size == size and path.stat().st_mtime_ns == mtime
+
+
+def test_frames_that_do_not_fit_the_queue_are_counted_not_lost_silently(tmp_path):
+    path = tmp_path / 'realsenseRGBOutput.mp4'
+    rec = VideoRecorder(str(path), codec='avc1' if recording.avc1_available() else 'mp4v', queue_bytes=1)
+    big = [pattern(640, 480, i) for i in range(6)]
+    for i in range(200):                           # far faster than any encoder
+        rec.add(big[i % 6], i / 30.0)
+    summary = rec.close()
+    assert summary['frames_dropped'] > 0
+    assert summary['frames_written'] + summary['frames_dropped'] == summary['frames_received'] == 200
+    assert video_info(str(path))[0] == summary['frames_written']
+
+
+def test_wav_writer_is_incremental_and_appears_on_close(tmp_path):
+    path = tmp_path / 'microphoneOutput.wav'
+    w = WavWriter(str(path), 48000, 4)
+    chunk = (np.arange(4096 * 4).reshape(4096, 4) % 2000).astype(np.int16)
+    for _ in range(3):
+        w.write(chunk)
+    assert not path.exists()
+    w.close()
+    w.close()
+    data, rate = soundfile.read(str(path), dtype='int16')
+    assert rate == 48000 and data.shape == (3 * 4096, 4) and (data[:4096] == chunk).all()
+    assert soundfile.info(str(path)).subtype == 'PCM_16'
+    empty = WavWriter(str(tmp_path / 'none.wav'), 48000, 1)
+    empty.close()
+    assert not (tmp_path / 'none.wav').exists() and not empty.written
+
+
+# ---------------------------------------------------------------- playback
+
+def _wav(path, seconds=0.3, channels=4):
+    t = np.arange(int(48000 * seconds)) / 48000.0
+    data = np.stack([(3000 * np.sin(2 * np.pi * (500 * (c + 1)) * t)) for c in range(channels)], axis=1)
+    soundfile.write(str(path), data.astype(np.int16), 48000, subtype='PCM_16')
+
+
+def test_playback_is_off_in_ci_and_keeps_the_file(tmp_path, monkeypatch, capsys):
+    path = tmp_path / 'microphoneOutput.wav'
+    _wav(path)
+    monkeypatch.setenv('CI', 'true')
+    proc, line = playback.play_channels(str(path), ('a', 'b', 'c', 'd'), delete_after=True)
+    assert proc is None and line == 'playback off (CI): microphoneOutput.wav kept'
+    assert capsys.readouterr().out == line + '\n' and path.exists()
+
+
+def test_playback_without_a_sound_device_says_so_in_one_line(tmp_path, monkeypatch, capsys):
+    if playback.sound_device()[0]:
+        pytest.skip('this machine has a sound card')
+    path = tmp_path / 'microphoneOutput.wav'
+    _wav(path)
+    monkeypatch.delenv('CI', raising=False)
+    monkeypatch.delenv('SENSORTEST_AUDIO_DEVICE', raising=False)
+    proc, line = playback.play_channels(str(path), ('a', 'b', 'c', 'd'))
+    assert proc is None and line == 'no sound device: playback skipped'
+    assert capsys.readouterr().out == 'no sound device: playback skipped\n'
+
+
+def test_playback_plays_channel_by_channel_in_the_background_and_deletes(tmp_path, monkeypatch):
+    if not recording.shutil.which('aplay'):
+        pytest.skip('aplay not installed')
+    path = tmp_path / 'microphoneOutput.wav'
+    _wav(path, seconds=0.5)
+    monkeypatch.delenv('CI', raising=False)
+    monkeypatch.setenv('SENSORTEST_AUDIO_DEVICE', 'null')     # ALSA's null device: plays nothing audible
+    proc, line = playback.play_channels(str(path), ('rearLeft', 'rearRight', 'frontLeft', 'frontRight'),
+                                        delete_after=True)
+    assert proc is not None, line
+    assert line == 'playing microphoneOutput.wav (rearLeft, rearRight, frontLeft, frontRight, 2 s) with aplay, ' \
+                   'deleted afterwards'
+    assert proc.wait(20) == 0
+    assert not path.exists() and not os.listdir(tmp_path)     # recording and mono copy removed
+
+
+def test_mono_sequence_puts_the_channels_one_after_another(tmp_path):
+    path = tmp_path / 'microphoneOutput.wav'
+    _wav(path, seconds=0.25)
+    mono, seconds = playback._mono_sequence(str(path), ('a', 'b', 'c', 'd'))
+    data, rate = soundfile.read(mono, dtype='int16')
+    original, _ = soundfile.read(str(path), dtype='int16')
+    assert seconds == 1.0 and data.ndim == 1
+    assert (data[:12000] == original[:, 0]).all() and (data[36000:] == original[:, 3]).all()
+
+
+# ---------------------------------------------------------------- live view
+
+def test_viewer_off_prints_one_line_and_returns_none(monkeypatch, capsys):
+    assert Viewer.create(False) is None
+    assert capsys.readouterr().out == 'live view off: disabled\n'
+    monkeypatch.delenv('DISPLAY', raising=False)
+    assert Viewer.create(True) is None
+    assert capsys.readouterr().out == 'live view off: no DISPLAY\n'
+
+
+def test_viewer_with_an_unreachable_display_does_not_take_the_process_down(monkeypatch, capsys):
+    from pepper_interface_tests import viewer
+    if viewer.gui_support() is None:
+        pytest.skip('headless OpenCV: the display is never tried')
+    monkeypatch.setenv('DISPLAY', ':97')          # no X server there
+    assert Viewer.create(True) is None
+    assert capsys.readouterr().out.startswith('live view off: no window could be opened on DISPLAY=:97')
+
+
+def test_viewer_keeps_only_the_newest_frame_per_window():
+    v = Viewer()
+    a, b = np.zeros((4, 4, 3), np.uint8), np.ones((4, 4, 3), np.uint8)
+    v.post('frontCamera', a)
+    v.post('frontCamera', b)
+    v.post('depthCamera', a)
+    assert v._latest['frontCamera'] is b and v.posted == {'frontCamera': 2, 'depthCamera': 1}
+
+
+@pytest.mark.skipif(not recording.shutil.which('Xvfb'), reason='Xvfb not installed')
+def test_viewer_shows_windows_on_a_real_display(tmp_path):
+    code = ("import numpy as np; from pepper_interface_tests.viewer import Viewer; v = Viewer.create(True); "
+            "assert v is not None; v.post('frontCamera', np.zeros((48, 64, 3), np.uint8)); v.pump(); "
+            "v.post('frontCamera', np.ones((48, 64, 3), np.uint8)); v.pump(); v.pump(); "
+            "print(v.shown, v.failed); v.close()")
+    read_fd, write_fd = os.pipe()                  # Xvfb picks a free display and tells us which
+    xvfb = subprocess.Popen(['Xvfb', '-displayfd', str(write_fd), '-screen', '0', '640x480x24'],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, pass_fds=(write_fd,))
+    os.close(write_fd)
+    try:
+        with os.fdopen(read_fd) as f:
+            display = ':' + f.readline().strip()
+        out = subprocess.run([sys.executable, '-c', code], env=dict(os.environ, DISPLAY=display),
+                             capture_output=True, text=True, timeout=60)
+    finally:
+        xvfb.terminate()
+        xvfb.wait(10)
+    assert out.returncode == 0, out.stderr
+    assert "{'frontCamera': 2} None" in out.stdout
+
+
+# ---------------------------------------------------------------- Ctrl-C in a real run
+
+def test_recordings_are_finished_when_sensor_test_is_interrupted(module_master, tmp_path):
+    out = os.path.join(str(tmp_path), 'out')
+    with Publishers(module_master, tmp_path) as pubs:
+        pubs.add('frontCamera', 'camera', '--rate', 10)
+        pubs.add('microphone', 'audio', '--fault', 'tone')
+        cmd = script('sensorTest') + ['--topics', topics_file(tmp_path), '--sensors', 'frontCamera,microphone',
+                                      '--duration', '60', '--wait', '8', '--output-dir', out, '--platform',
+                                      'robot', '--mode', 'parallel', '--no-show', '--no-history',
+                                      '--no-diagnostics', '--no-report']
+        proc = spawn(cmd, module_master.env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        deadline = time.time() + 40
+        lines = []
+        while time.time() < deadline:           # wait until both sensors are listening
+            line = proc.stdout.readline()
+            lines.append(line)
+            if 'start  microphone' in line or not line:
+                break
+        time.sleep(4.0)
+        os.killpg(proc.pid, signal.SIGINT)
+        rest, _ = proc.communicate(timeout=60)
+    assert proc.returncode == 130, ''.join(lines) + rest
+    res = load_results(out)
+    assert res is not None and res['interrupted'], ''.join(lines) + rest
+    front = res['by_name']['frontCamera']
+    frames, w, h, fps = video_info(os.path.join(out, 'frontCameraOutput.mp4'))
+    assert frames == front['messages'] >= 20 and (w, h) == (320, 240), (frames, front['messages'])
+    mic = res['by_name']['microphone']
+    info = soundfile.info(os.path.join(out, 'microphoneOutput.wav'))
+    assert info.channels == 4 and info.frames == mic['values']['samples_per_channel'] >= 20 * 4096
+    assert not [f for f in os.listdir(out) if f.startswith('.')]
