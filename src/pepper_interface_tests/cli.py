@@ -195,9 +195,17 @@ def execute(plan, source, clock, source_name):
     from .sensors.base import RunContext
     from .terminal import Terminal
     from . import outputs
+    from .history import RunFolder
+    try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
+        folder = RunFolder.create(plan.output_dir, keep=plan.options.history is not False)
+    except OSError as e:
+        raise ConfigError('cannot create a run folder in %s: %s' % (plan.output_dir, e.strerror or e),
+                          fix='choose a writable folder with --output-dir, or run with --no-history')
+    plan = settings.replace(plan, output_dir=folder.path)
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
-    observers = outputs.observers_for(plan, ctx, source_name)
+    observers = outputs.observers_for(plan, ctx, source_name, folder)
     runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock)
+    runner.run.run_id = folder.run_id
     runner.run.source = source_name
     runner.run.options = {k: v for k, v in plan.options.__dict__.items() if v is not None}
     run = runner.execute()

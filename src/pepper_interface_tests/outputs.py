@@ -69,9 +69,22 @@ class SpeechHearing:
             self.monitor.stop()
 
 
-def observers_for(plan, ctx, source_name):
+def observers_for(plan, ctx, source_name, folder=None):
+    """The run's observers, in the order they are called. `plan.output_dir` is where this run's
+    files go; `folder` (history.RunFolder) says whether that is a run folder under
+    <output_dir>/runs, whose files are then also published into the output folder."""
+    opts = plan.options
     obs = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
+        if opts.diagnostics is not False:
+            from .diagnostics import LiveDiagnostics
+            obs.append(LiveDiagnostics(plan))
     obs.append(ResultFiles(plan.output_dir))
+    if opts.report is not False:
+        from .report import HtmlReport
+        obs.append(HtmlReport(plan.output_dir))
+    if folder is not None and folder.kept:
+        from .history import LatestRun
+        obs.append(LatestRun(folder))     # last: publishes the files the others wrote
     return obs

@@ -1,0 +1,430 @@
+"""Run history: every run in its own folder, the latest run at the spec's paths, past runs read back.
+
+Layout of an output folder (`--output-dir`, default data/ of the package):
+
+    <output_dir>/sensorTestOutput.dat          appended by every run, as the spec says
+    <output_dir>/sensorTestResults.json, .xml  \\
+    <output_dir>/sensorTestReport.html          > the latest run's files (hard links, else copies)
+    <output_dir>/frontCameraOutput.mp4, ...    /
+    <output_dir>/runs/<run id>/                 one folder per run with all of its files,
+                                                including its own sensorTestOutput.dat
+
+A run id is the local start time, YYYYmmdd-HHMMSS, suffixed -2, -3, ... when that folder is
+taken (two runs in the same second, or two machines writing to one share): the folder is
+created with mkdir, which is atomic, so two runs never get the same folder.
+
+`RunFolder.create()` picks the folder before the run starts; the checks write their recordings
+straight into it. `LatestRun` (a runner observer) appends each finished sensor's block to
+<output_dir>/sensorTestOutput.dat while the run goes on, and after the run (also an interrupted
+one) links the run's files into <output_dir>. Files a previous run published there and this
+run did not produce (e.g. a camera video when the camera was not tested this time) are removed,
+but only when they are unchanged since they were published (same size and mtime, recorded in
+<output_dir>/.sensorTestLatest.json), so nothing a user put there is ever deleted.
+
+`list_runs()`, `resolve()` and `compare()` read the runs back for `sensorTestHistory`
+(see `main()` and docs/results.md).
+"""
+import argparse
+import itertools
+import json
+import os
+import shutil
+import sys
+import time
+from dataclasses import dataclass
+from typing import Optional
+
+from . import results
+
+RUNS_DIR = 'runs'
+ID_FORMAT = '%Y%m%d-%H%M%S'
+MANIFEST = '.sensorTestLatest.json'
+RATE_FLAG = 0.20        # relative rate change flagged by `compare`
+EXIT_OK, EXIT_USAGE = 0, 2
+
+
+class HistoryError(Exception):
+    """A problem a user can fix (unknown run id, no runs yet); sensorTestHistory exits 2."""
+
+
+# ---------------------------------------------------------------- the run's folder
+
+@dataclass(frozen=True)
+class RunFolder:
+    run_id: str
+    path: str          # where this run's files go
+    base: str          # the output folder the user chose
+    kept: bool         # True: path is <base>/runs/<run_id>; False (--no-history): path == base
+
+    @classmethod
+    def create(cls, output_dir, keep=True, now=None):
+        """A new run id and, with `keep`, its folder <output_dir>/runs/<run id> (created here).
+        Raises OSError when the folder cannot be made."""
+        base = os.path.abspath(output_dir)
+        stamp = time.strftime(ID_FORMAT, time.localtime(time.time() if now is None else now))
+        if not keep:
+            return cls(stamp, base, base, False)
+        runs = os.path.join(base, RUNS_DIR)
+        os.makedirs(runs, exist_ok=True)
+        for n in itertools.count(1):
+            run_id = stamp if n == 1 else '%s-%d' % (stamp, n)
+            try:
+                os.mkdir(os.path.join(runs, run_id))
+            except FileExistsError:
+                continue
+            return cls(run_id, os.path.join(runs, run_id), base, True)
+
+
+def _publish_file(src, dst):
+    """Make dst the same file as src: a hard link when the file system allows, else a copy.
+    Replaces dst atomically (never a half-written file at the spec's path)."""
+    folder = os.path.dirname(dst)
+    tmp = os.path.join(folder, '.%s.latest-%d' % (os.path.basename(dst), os.getpid()))
+    if os.path.lexists(tmp):
+        os.unlink(tmp)
+    try:
+        os.link(src, tmp)
+        how = 'link'
+    except OSError:
+        shutil.copy2(src, tmp)
+        how = 'copy'
+    os.replace(tmp, dst)
+    return how
+
+
+def _signature(path):
+    st = os.stat(path)
+    return [st.st_size, st.st_mtime_ns]
+
+
+class LatestRun:
+    """Runner observer: keeps <output_dir> holding the latest run while each run has its folder."""
+
+    def __init__(self, folder, out=None):
+        self.folder = folder
+        self.out = out
+        self.dat = None
+
+    def _stream(self):
+        return self.out or sys.stdout
+
+    def _warn(self, text):
+        s = self._stream()
+        s.write('sensorTest: warning: %s\n' % text)
+        s.flush()
+
+    def run_started(self, run, plan):
+        try:
+            self.dat = results.OutputFile(os.path.join(self.folder.base, results.OUTPUT_FILE))
+            self.dat.begin(run)
+        except OSError as e:
+            self.dat = None
+            self._warn('cannot append to %s: %s' % (results.OUTPUT_FILE, e))
+
+    def sensor_done(self, result):
+        if self.dat is not None:
+            try:
+                self.dat.sensor(result)
+            except OSError as e:
+                self._warn('cannot append to %s: %s' % (results.OUTPUT_FILE, e))
+                self.dat = None
+
+    def run_ended(self, run):
+        try:
+            if self.dat is not None:
+                self.dat.end(run)
+                self.dat.close()
+            published = publish_latest(self.folder)
+            s = self._stream()
+            s.write('run %s kept in %s; latest run also in %s (%d files)\n'
+                    % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
+            s.flush()
+        except (Exception, KeyboardInterrupt) as e:   # never fail the run over the copies
+            self._warn('latest run not copied to %s: %s' % (self.folder.base, e))
+
+
+def publish_latest(folder):
+    """Link (or copy) every file of the run's folder into the output folder; returns the names.
+
+    The run's own sensorTestOutput.dat is not published: the output folder's one is appended to.
+    """
+    names = sorted(n for n in os.listdir(folder.path)
+                   if not n.startswith('.') and n != results.OUTPUT_FILE
+                   and os.path.isfile(os.path.join(folder.path, n)))
+    manifest_path = os.path.join(folder.base, MANIFEST)
+    try:
+        with open(manifest_path, encoding='utf-8') as f:
+            previous = json.load(f).get('files', {})
+    except (OSError, ValueError, AttributeError):
+        previous = {}
+    published = {}
+    for name in names:
+        dst = os.path.join(folder.base, name)
+        _publish_file(os.path.join(folder.path, name), dst)
+        published[name] = _signature(dst)
+    for name, sig in previous.items():
+        if name in published or os.path.basename(name) != name or name == results.OUTPUT_FILE:
+            continue
+        path = os.path.join(folder.base, name)
+        try:
+            if _signature(path) == list(sig):     # still what an earlier run published
+                os.unlink(path)
+        except OSError:
+            pass
+    results._atomic_write(manifest_path, json.dumps(
+        {'run_id': folder.run_id, 'run_folder': os.path.relpath(folder.path, folder.base),
+         'files': published}, indent=1) + '\n')
+    return list(published)
+
+
+# ---------------------------------------------------------------- reading runs back
+
+@dataclass
+class RunInfo:
+    run_id: str
+    path: str
+    data: Optional[dict]       # the run's sensorTestResults.json, None when missing/unreadable
+    problem: str = ''          # why data is None
+
+    @property
+    def complete(self):
+        return self.data is not None
+
+    def sensors(self):
+        return {s['name']: s for s in (self.data or {}).get('sensors', [])}
+
+
+def _sort_key(run_id):
+    """Run ids sort by time, then by suffix as a number (-2 before -10)."""
+    parts = run_id.split('-')
+    suffix = parts[2] if len(parts) > 2 else ''
+    return ('-'.join(parts[:2]), int(suffix) if suffix.isdigit() else 0, run_id)
+
+
+def list_runs(output_dir):
+    """Every run folder under <output_dir>/runs, oldest first."""
+    runs_dir = os.path.join(os.path.abspath(output_dir), RUNS_DIR)
+    if not os.path.isdir(runs_dir):
+        return []
+    out = []
+    for run_id in sorted(os.listdir(runs_dir), key=_sort_key):
+        path = os.path.join(runs_dir, run_id)
+        if run_id.startswith('.') or not os.path.isdir(path):
+            continue
+        json_path = os.path.join(path, results.JSON_FILE)
+        data, problem = None, ''
+        if not os.path.exists(json_path):
+            problem = 'no %s (the run is still going, or was killed)' % results.JSON_FILE
+        else:
+            try:
+                data = results.load_json(json_path)
+            except (OSError, ValueError) as e:
+                problem = 'cannot read %s: %s' % (json_path, e)
+        out.append(RunInfo(run_id, path, data, problem))
+    return out
+
+
+def resolve(runs, ref):
+    """The run named by `ref`: an exact run id, a unique prefix of one, 'latest' (or 'last'),
+    or a negative index (-1 the latest, -2 the one before)."""
+    if not runs:
+        raise HistoryError('no runs recorded yet')
+    ids = [r.run_id for r in runs]
+    if ref in ('latest', 'last'):
+        return runs[-1]
+    if ref.startswith('-') and ref[1:].isdigit():
+        k = int(ref[1:])
+        if 1 <= k <= len(runs):
+            return runs[-k]
+        raise HistoryError('run %s: there are only %d runs' % (ref, len(runs)))
+    if ref in ids:
+        return runs[ids.index(ref)]
+    matches = [r for r in runs if r.run_id.startswith(ref)]
+    if len(matches) == 1:
+        return matches[0]
+    if matches:
+        raise HistoryError('run id "%s" is ambiguous: %s' % (ref, ', '.join(r.run_id for r in matches)))
+    shown = ', '.join(ids[-5:])
+    raise HistoryError('unknown run id "%s"; the latest runs are: %s (sensorTestHistory list shows all)'
+                       % (ref, shown))
+
+
+def _counts(data):
+    c = data.get('summary') or {}
+    return c.get(results.PASS, 0), c.get(results.FAIL, 0), c.get(results.SKIPPED, 0)
+
+
+def format_list(runs, base):
+    if not runs:
+        return 'no runs in %s\n' % os.path.join(base, RUNS_DIR)
+    rows = [('run id', 'start', 'platform', 'mode', 'source', 'pass', 'fail', 'skip', 'failed sensors')]
+    for r in runs:
+        if not r.complete:
+            rows.append((r.run_id, '-', '-', '-', '-', '-', '-', '-', 'incomplete: ' + r.problem))
+            continue
+        d = r.data
+        p, f, s = _counts(d)
+        failed = ', '.join(x['name'] for x in d.get('sensors', []) if x.get('verdict') == results.FAIL)
+        if d.get('interrupted'):
+            failed = (failed + '; ' if failed else '') + 'INTERRUPTED'
+        source = d.get('source') or '-'
+        rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform', '-'),
+                     d.get('mode', '-'), 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
+                     failed or '-'))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    lines = []
+    for row in rows:
+        cells = [row[i].rjust(widths[i]) if 5 <= i <= 7 else row[i].ljust(widths[i])
+                 for i in range(len(widths))]
+        lines.append('  '.join(cells + [row[-1]]).rstrip())
+    lines.append('%d run%s in %s' % (len(runs), '' if len(runs) == 1 else 's', os.path.join(base, RUNS_DIR)))
+    return '\n'.join(lines) + '\n'
+
+
+def compare(a, b, threshold=RATE_FLAG):
+    """What changed from run `a` to run `b`: one row per sensor of either run."""
+    for r in (a, b):
+        if not r.complete:
+            raise HistoryError('run %s cannot be compared: %s' % (r.run_id, r.problem))
+    sa, sb = a.sensors(), b.sensors()
+    names = list(sa) + [n for n in sb if n not in sa]
+    rows = []
+    for name in names:
+        x, y = sa.get(name), sb.get(name)
+        row = {'sensor': name, 'verdict_a': x['verdict'] if x else None,
+               'verdict_b': y['verdict'] if y else None,
+               'rate_a': x.get('rate_hz') if x else None, 'rate_b': y.get('rate_hz') if y else None,
+               'reasons_b': (y or {}).get('reasons') or []}
+        row['verdict_changed'] = row['verdict_a'] != row['verdict_b']
+        ra, rb = row['rate_a'], row['rate_b']
+        row['rate_change'] = (rb - ra) / ra if ra and rb is not None else None
+        row['rate_flag'] = row['rate_change'] is not None and abs(row['rate_change']) > threshold
+        if ra and rb is None and y is not None and y['verdict'] != results.SKIPPED:
+            row['rate_flag'] = True       # it had a rate, now nothing arrives
+        rows.append(row)
+    return rows
+
+
+def format_compare(a, b, rows, threshold=RATE_FLAG):
+    def rate(v):
+        return '%.2f' % v if v is not None else '-'
+
+    lines = ['compare %s (A) -> %s (B)' % (a.run_id, b.run_id)]
+    for tag, r in (('A', a), ('B', b)):
+        d = r.data
+        p, f, s = _counts(d)
+        lines.append('  %s: %s, %s, %s, %d passed, %d failed, %d skipped%s'
+                     % (tag, (d.get('start') or '-').replace('.', ' '), d.get('platform'), d.get('mode'), p, f, s,
+                        ', INTERRUPTED' if d.get('interrupted') else ''))
+    table = [('sensor', 'verdict A', 'verdict B', '', 'rate A Hz', 'rate B Hz', 'change')]
+    for row in rows:
+        change = '%+.1f%%' % (100 * row['rate_change']) if row['rate_change'] is not None else '-'
+        if row['rate_flag']:
+            change += ' !'
+        table.append((row['sensor'], row['verdict_a'] or '(absent)', row['verdict_b'] or '(absent)',
+                      '*' if row['verdict_changed'] else '', rate(row['rate_a']), rate(row['rate_b']), change))
+    widths = [max(len(t[i]) for t in table) for i in range(len(table[0]))]
+    lines.append('')
+    for t in table:
+        lines.append('  '.join(t[i].rjust(widths[i]) if i in (4, 5, 6) else t[i].ljust(widths[i])
+                               for i in range(len(t))).rstrip())
+    changed = [r for r in rows if r['verdict_changed']]
+    flagged = [r for r in rows if r['rate_flag']]
+    lines.append('')
+    if changed:
+        lines.append('%d verdict change%s: %s' % (len(changed), '' if len(changed) == 1 else 's', '; '.join(
+            '%s %s -> %s%s' % (r['sensor'], r['verdict_a'] or 'absent', r['verdict_b'] or 'absent',
+                               (' (' + '; '.join(r['reasons_b']) + ')') if r['reasons_b']
+                               and r['verdict_b'] == results.FAIL else '')
+            for r in changed)))
+    else:
+        lines.append('no verdict changed')
+    if flagged:
+        lines.append('%d rate change%s over %g%%: %s' % (
+            len(flagged), '' if len(flagged) == 1 else 's', 100 * threshold, ', '.join(
+                '%s %s -> %s' % (r['sensor'], rate(r['rate_a']) + ' Hz',
+                                 rate(r['rate_b']) + ' Hz' if r['rate_b'] is not None else 'no messages')
+                for r in flagged)))
+    else:
+        lines.append('no rate changed by more than %g%%' % (100 * threshold))
+    return '\n'.join(lines) + '\n'
+
+
+# ---------------------------------------------------------------- sensorTestHistory
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        self.print_usage(sys.stderr)
+        sys.stderr.write('%s: error: %s\n' % (self.prog, message))
+        sys.exit(EXIT_USAGE)
+
+
+def build_parser():
+    p = _Parser(prog='sensorTestHistory', formatter_class=argparse.RawDescriptionHelpFormatter,
+                description='List and compare past sensorTest runs kept in <output dir>/runs/.',
+                epilog='run ids: an exact id (20260121-091500), a unique prefix, "latest", or -1, -2, ...\n'
+                       'exit codes: 0 done, 2 unknown run id, no runs, or bad usage')
+    p.add_argument('--output-dir', metavar='DIR',
+                   help='the output folder sensorTest wrote to (default: sensorTest\'s default)')
+    sub = p.add_subparsers(dest='command', metavar='{list,compare,path}')
+    sub.required = True
+    ls = sub.add_parser('list', help='list past runs, oldest first')
+    ls.add_argument('--json', action='store_true', help='machine-readable output')
+    cmp_ = sub.add_parser('compare', help='sensors whose verdict or rate changed between two runs '
+                                          '(default: the last two; one id: that run vs the latest)')
+    cmp_.add_argument('a', nargs='?', metavar='A')
+    cmp_.add_argument('b', nargs='?', metavar='B')
+    cmp_.add_argument('--threshold', type=float, default=100 * RATE_FLAG, metavar='PERCENT',
+                      help='flag rate changes larger than this (default %(default)g %%)')
+    cmp_.add_argument('--json', action='store_true', help='machine-readable output')
+    path = sub.add_parser('path', help='print the folder of a run (default: the latest)')
+    path.add_argument('run', nargs='?', default='latest')
+    return p
+
+
+def main(argv=None, out=None):
+    out = out or sys.stdout
+    args = build_parser().parse_args(argv)
+    if args.output_dir:
+        base = os.path.abspath(os.path.expanduser(args.output_dir))
+    else:
+        from .settings import default_output_dir
+        base = default_output_dir()
+    try:
+        runs = list_runs(base)
+        if args.command == 'list':
+            if args.json:
+                out.write(json.dumps([{'run_id': r.run_id, 'path': r.path, 'complete': r.complete,
+                                       'problem': r.problem,
+                                       'platform': (r.data or {}).get('platform'),
+                                       'mode': (r.data or {}).get('mode'),
+                                       'summary': (r.data or {}).get('summary'),
+                                       'failed': [s['name'] for s in (r.data or {}).get('sensors', [])
+                                                  if s.get('verdict') == results.FAIL]}
+                                      for r in runs], indent=1) + '\n')
+            else:
+                out.write(format_list(runs, base))
+            return EXIT_OK
+        if args.command == 'path':
+            out.write(resolve(runs, args.run).path + '\n')
+            return EXIT_OK
+        # compare
+        if args.a is None:
+            if len(runs) < 2:
+                raise HistoryError('compare needs two runs; %s has %d' % (os.path.join(base, RUNS_DIR), len(runs)))
+            a, b = runs[-2], runs[-1]
+        else:
+            a = resolve(runs, args.a)
+            b = resolve(runs, args.b) if args.b is not None else runs[-1]
+        threshold = args.threshold / 100.0
+        rows = compare(a, b, threshold)
+        if args.json:
+            out.write(json.dumps({'a': a.run_id, 'b': b.run_id, 'threshold': threshold, 'sensors': rows},
+                                 indent=1) + '\n')
+        else:
+            out.write(format_compare(a, b, rows, threshold))
+        return EXIT_OK
+    except HistoryError as e:
+        sys.stderr.write('sensorTestHistory: error: %s\n' % e)
+        return EXIT_USAGE
+

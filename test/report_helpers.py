@@ -1,0 +1,46 @@
+"""Test helpers shared by test_report.py, test_diagnostics.py and test_history.py: start
+test/core_publisher.py publishers against a real master, run scripts/sensorTest as a user
+would (a subprocess), and read what it printed."""
+import os
+import re
+import subprocess
+import sys
+import time
+
+from rosmaster import kill_group, script, spawn
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PUBLISHER = os.path.join(HERE, 'core_publisher.py')
+
+
+def start_publishers(master, specs, settle=1.0):
+    """specs: [(kind, topic, extra args...)]; returns the processes once each publishes."""
+    procs = []
+    for kind, topic, *extra in specs:
+        p = spawn([sys.executable, PUBLISHER, kind, topic] + list(extra), master.env(),
+                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        procs.append(p)
+    for p in procs:
+        line = p.stdout.readline()
+        assert line.strip() in ('publishing', 'listening'), 'publisher did not start: %r' % line
+    time.sleep(settle)          # registrations reach the master
+    return procs
+
+
+def stop(procs):
+    for p in procs:
+        kill_group(p)
+        if p.stdout:
+            p.stdout.close()
+
+
+def sensor_test(master, args, timeout=120):
+    """Run scripts/sensorTest to its end; returns the CompletedProcess (text output)."""
+    return subprocess.run(script('sensorTest') + ['--no-show'] + list(args), env=master.env(),
+                          capture_output=True, text=True, timeout=timeout, start_new_session=True)
+
+
+def printed_path(stdout, label):
+    """The path sensorTest printed after `label:` (e.g. 'report'), or None."""
+    m = re.search(r'^%s: (\S+)' % re.escape(label), stdout, re.M)
+    return m.group(1) if m else None

@@ -1,0 +1,190 @@
+"""Run history (history.py, scripts/sensorTestHistory): every run in its own folder, the latest
+run at the spec's paths, listing and comparing runs. sensorTest runs as a subprocess against a
+real master and test/core_publisher.py publishers."""
+import json
+import os
+import signal
+import subprocess
+import time
+
+import pytest
+
+from rosmaster import kill_group, script, spawn
+from report_helpers import printed_path, sensor_test, start_publishers, stop
+
+BACK, LASER = '/naoqi_driver/sonar/back', '/naoqi_driver/laser'
+
+
+def history(*args):
+    return subprocess.run(script('sensorTestHistory') + list(args), capture_output=True, text=True, timeout=60)
+
+
+def load(path):
+    with open(path, encoding='utf-8') as f:
+        return json.load(f)
+
+
+@pytest.fixture(scope='module')
+def two_runs(module_master, tmp_path_factory):
+    """Run 1: back sonar at 10 Hz and the laser; run 2: back sonar at 5 Hz, laser gone."""
+    out = tmp_path_factory.mktemp('history') / 'out'
+    args = ['--sensors', 'backSonar,laser', '--mode', 'parallel', '--duration', '2.5', '--wait', '1.5',
+            '--output-dir', str(out)]
+    pubs = start_publishers(module_master, [('range', BACK), ('laser', LASER)])
+    try:
+        first = sensor_test(module_master, args)
+    finally:
+        stop(pubs)
+    snapshot = {n: open(os.path.join(out, n), 'rb').read() for n in ('sensorTestResults.json',)}
+    pubs = start_publishers(module_master, [('range', BACK, '--rate', '5')])
+    try:
+        second = sensor_test(module_master, args)
+    finally:
+        stop(pubs)
+    return out, first, second, snapshot
+
+
+def test_each_run_has_its_folder_and_the_latest_is_in_the_output_dir(two_runs):
+    out, first, second, snapshot = two_runs
+    assert first.returncode == 0, first.stdout + first.stderr
+    assert second.returncode == 1, second.stdout + second.stderr
+    runs = sorted(os.listdir(out / 'runs'))
+    assert len(runs) == 2 and runs[0] < runs[1]
+    for run_id in runs:
+        folder = out / 'runs' / run_id
+        for name in ('sensorTestResults.json', 'sensorTestResults.xml', 'sensorTestOutput.dat',
+                     'sensorTestReport.html'):
+            assert (folder / name).exists(), (run_id, name)
+        data = load(folder / 'sensorTestResults.json')
+        assert data['run_id'] == run_id and data['output_dir'] == str(folder)
+        assert (folder / 'sensorTestOutput.dat').read_text().count('[START TIME]') == 1
+    # run 1's own files were not touched by run 2
+    assert (out / 'runs' / runs[0] / 'sensorTestResults.json').read_bytes() == snapshot['sensorTestResults.json']
+    # the spec's paths hold the latest run; the output file is appended by both runs
+    latest = load(out / 'sensorTestResults.json')
+    assert latest['run_id'] == runs[1]
+    assert (out / 'sensorTestResults.xml').read_bytes() == (out / 'runs' / runs[1] / 'sensorTestResults.xml').read_bytes()
+    assert 'run <b>%s</b>' % runs[1] in (out / 'sensorTestReport.html').read_text()
+    dat = (out / 'sensorTestOutput.dat').read_text()
+    assert dat.count('[START TIME]') == 2 and dat.count('run id ' + runs[0]) == 1 and dat.count('run id ' + runs[1]) == 1
+    # the printed paths point into the run folder
+    assert printed_path(second.stdout, 'report') == str(out / 'runs' / runs[1] / 'sensorTestReport.html')
+    assert 'run %s kept in' % runs[1] in second.stdout
+
+
+def test_list_shows_every_run(two_runs):
+    out, *_ = two_runs
+    runs = sorted(os.listdir(out / 'runs'))
+    p = history('--output-dir', str(out), 'list')
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert lines[0].split()[:5] == ['run', 'id', 'start', 'platform', 'mode']
+    row1 = next(line for line in lines if line.startswith(runs[0]))
+    row2 = next(line for line in lines if line.startswith(runs[1]))
+    assert 'robot' in row1 and 'parallel' in row1 and 'live' in row1
+    assert row1.split()[-4:] == ['2', '0', '0', '-']                  # pass fail skip, no failed sensor
+    assert row2.split()[-4:] == ['1', '1', '0', 'laser']
+    data = json.loads(history('--output-dir', str(out), 'list', '--json').stdout)
+    assert [d['run_id'] for d in data] == runs and data[1]['failed'] == ['laser']
+
+
+def test_compare_shows_verdict_and_rate_changes(two_runs):
+    out, *_ = two_runs
+    runs = sorted(os.listdir(out / 'runs'))
+    p = history('--output-dir', str(out), 'compare')            # default: the last two
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith('compare %s (A) -> %s (B)' % (runs[0], runs[1]))
+    laser = next(line for line in p.stdout.splitlines() if line.startswith('laser '))
+    assert laser.split()[1:4] == ['PASS', 'FAIL', '*']
+    back = next(line for line in p.stdout.splitlines() if line.startswith('backSonar '))
+    assert back.endswith('!') and '-5' in back                     # about -50 %, flagged
+    assert '1 verdict change: laser PASS -> FAIL' in p.stdout
+    assert 'rate change' in p.stdout and 'over 20%' in p.stdout
+    explicit = history('--output-dir', str(out), 'compare', runs[0], runs[1], '--json')
+    rows = {r['sensor']: r for r in json.loads(explicit.stdout)['sensors']}
+    assert rows['laser']['verdict_changed'] and rows['backSonar']['rate_flag']
+    assert -0.6 < rows['backSonar']['rate_change'] < -0.4
+    same = json.loads(history('--output-dir', str(out), 'compare', runs[1], runs[1], '--json').stdout)
+    assert not any(r['verdict_changed'] or r['rate_flag'] for r in same['sensors'])
+
+
+def test_unknown_run_ids_exit_2(two_runs, tmp_path):
+    out, *_ = two_runs
+    p = history('--output-dir', str(out), 'compare', '19990101-000000')
+    assert p.returncode == 2 and 'unknown run id "19990101-000000"' in p.stderr, p.stderr
+    assert history('--output-dir', str(out), 'path', 'nope').returncode == 2
+    empty = history('--output-dir', str(tmp_path), 'compare')
+    assert empty.returncode == 2 and 'needs two runs' in empty.stderr
+    assert history('--output-dir', str(out), 'frobnicate').returncode == 2
+
+
+def test_interrupted_run_is_kept_and_published(module_master, tmp_path):
+    out = tmp_path / 'out'
+    pubs = start_publishers(module_master, [('range', BACK)])
+    try:
+        proc = spawn(script('sensorTest') + ['--no-show', '--sensors', 'backSonar,laser', '--duration', '30',
+                                             '--output-dir', str(out)],
+                     module_master.env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        line = ''
+        deadline = time.monotonic() + 30
+        while 'start  backSonar' not in line and time.monotonic() < deadline:
+            line = proc.stdout.readline()
+        time.sleep(2.0)
+        rc = kill_group(proc, signal.SIGINT, timeout=60)
+        stdout = line + proc.stdout.read()
+        proc.stdout.close()
+        proc.stderr.close()
+    finally:
+        stop(pubs)
+    assert rc == 130, stdout
+    (run_id,) = os.listdir(out / 'runs')
+    data = load(out / 'runs' / run_id / 'sensorTestResults.json')
+    assert data['interrupted'] and data['run_id'] == run_id
+    assert load(out / 'sensorTestResults.json')['run_id'] == run_id
+    assert 'Interrupted' in (out / 'sensorTestReport.html').read_text()
+    assert '[INTERRUPTED]' in (out / 'sensorTestOutput.dat').read_text()
+    p = history('--output-dir', str(out), 'list')
+    assert 'INTERRUPTED' in p.stdout
+
+
+def test_no_history_writes_straight_into_the_output_dir(module_master, tmp_path):
+    pubs = start_publishers(module_master, [('range', BACK)])
+    try:
+        proc = sensor_test(module_master, ['--sensors', 'backSonar', '--duration', '1.5', '--no-history',
+                                           '--no-report', '--output-dir', str(tmp_path)])
+    finally:
+        stop(pubs)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert not (tmp_path / 'runs').exists()
+    data = load(tmp_path / 'sensorTestResults.json')
+    assert data['run_id'] and data['output_dir'] == str(tmp_path)
+    assert not (tmp_path / 'sensorTestReport.html').exists()
+
+
+def test_run_ids_are_unique_within_a_second(tmp_path):
+    from pepper_interface_tests.history import RunFolder, list_runs
+    now = time.time()
+    folders = [RunFolder.create(str(tmp_path), now=now) for _ in range(11)]
+    ids = [f.run_id for f in folders]
+    assert len(set(ids)) == 11 and ids[1] == ids[0] + '-2' and ids[10] == ids[0] + '-11'
+    assert all(os.path.isdir(f.path) for f in folders)
+    assert [r.run_id for r in list_runs(str(tmp_path))] == ids           # -2 before -10
+
+
+def test_publishing_removes_only_unchanged_files_of_the_previous_run(tmp_path):
+    from pepper_interface_tests.history import RunFolder, publish_latest
+    a = RunFolder.create(str(tmp_path), now=1.7e9)
+    for name in ('sensorTestResults.json', 'frontCameraOutput.mp4', 'bottomCameraOutput.mp4'):
+        (tmp_path / 'runs' / a.run_id / name).write_text('run a ' + name)
+    assert sorted(publish_latest(a)) == ['bottomCameraOutput.mp4', 'frontCameraOutput.mp4', 'sensorTestResults.json']
+    (tmp_path / 'bottomCameraOutput.mp4').unlink()
+    (tmp_path / 'bottomCameraOutput.mp4').write_text('edited by a user, longer than before')
+    (tmp_path / 'notes.txt').write_text('mine')
+    b = RunFolder.create(str(tmp_path), now=1.7e9 + 60)
+    (tmp_path / 'runs' / b.run_id / 'sensorTestResults.json').write_text('run b')
+    publish_latest(b)
+    assert (tmp_path / 'sensorTestResults.json').read_text() == 'run b'
+    assert not (tmp_path / 'frontCameraOutput.mp4').exists()                 # run a's, unchanged: gone
+    assert (tmp_path / 'bottomCameraOutput.mp4').read_text().startswith('edited')   # changed: kept
+    assert (tmp_path / 'notes.txt').read_text() == 'mine'
+    assert (tmp_path / 'runs' / a.run_id / 'frontCameraOutput.mp4').exists()  # history intact

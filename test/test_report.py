@@ -1,0 +1,176 @@
+"""The HTML report (report.py), rendered in real headless Chromium.
+
+* a live run (real roscore, test/core_publisher.py publishers, one of them faulty, one sensor
+  without a publisher, one skipped) writes sensorTestReport.html; Chromium loads it without
+  console errors or failed resources, every sensor of the run has its section, and the verdicts
+  and reasons shown are the run's;
+* a run built in-process from the real camera, depth, microphone and core checks (real mp4,
+  JPEG and WAV files) shows its media: the videos and the WAV play in Chromium, frames load;
+* a recording above the embedding limit is linked, not embedded, and still plays; an MPEG-4
+  part 2 video is linked with a note instead of a player that cannot play it;
+* a report that cannot be written is one warning line, never an exception.
+
+Screenshots of the pages are kept in build/test-report/ for a person to look at.
+"""
+import json
+import os
+import re
+import shutil
+
+import pytest
+
+import report_fixtures
+from report_chromium import chromium_binary, render_page
+from report_helpers import printed_path, sensor_test, start_publishers, stop
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SHOTS = os.path.join(ROOT, 'build', 'test-report')
+
+pytestmark = pytest.mark.skipif(chromium_binary() is None,
+                                reason='chromium not installed (tools/setup.sh --test installs it)')
+
+
+def keep_screenshot(png, name):
+    os.makedirs(SHOTS, exist_ok=True)
+    shutil.copy(png, os.path.join(SHOTS, name))
+
+
+def no_external_resources(text):
+    """Nothing the page loads comes from the network."""
+    return re.findall(r'(?:src|href)\s*=\s*"(?:https?:)?//[^"]*"|@import|url\(\s*["\']?https?:', text)
+
+
+def section(dom, name):
+    m = re.search(r'<section[^>]*id="sensor-%s".*?</section>' % re.escape(name), dom, re.S)
+    assert m, 'no section for %s' % name
+    return m.group(0)
+
+
+def test_live_run_report_loads_and_shows_every_sensor(module_master, tmp_path):
+    pubs = start_publishers(module_master, [
+        ('range', '/naoqi_driver/sonar/back'),
+        ('range', '/naoqi_driver/sonar/front', '--fault', 'nan'),     # fails: NaN ranges
+        ('laser', '/naoqi_driver/laser'),
+        ('joints', '/joint_states', '--rate', '50'),
+        ('odometry', '/naoqi_driver/odom', '--rate', '15'),
+        ('imu', '/naoqi_driver/imu/base'),
+    ])
+    out = tmp_path / 'out'
+    sensors = ['backSonar', 'frontSonar', 'laser', 'jointState', 'odometry', 'imu',
+               'frontCamera',            # no publisher: fails
+               'realsenseRGBCamera']     # skipped by --cameras pepper
+    try:
+        proc = sensor_test(module_master, ['--sensors', ','.join(sensors), '--cameras', 'pepper',
+                                           '--mode', 'parallel', '--duration', '3', '--wait', '2',
+                                           '--output-dir', str(out)])
+    finally:
+        stop(pubs)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    path = printed_path(proc.stdout, 'report')
+    assert path and os.path.exists(path), proc.stdout
+    assert os.path.dirname(path).startswith(str(out / 'runs')), path
+    assert os.path.exists(out / 'sensorTestReport.html')           # the latest run's copy
+    assert 'HTML report not written' not in proc.stdout
+    data = json.loads((out / 'sensorTestResults.json').read_text())
+    verdicts = {s['name']: s['verdict'] for s in data['sensors']}
+    assert verdicts['frontSonar'] == 'FAIL' and verdicts['frontCamera'] == 'FAIL'
+    assert verdicts['backSonar'] == 'PASS' and verdicts['realsenseRGBCamera'] == 'SKIPPED'
+
+    text = open(path, encoding='utf-8').read()
+    assert not no_external_resources(text)
+    png = str(tmp_path / 'live.png')
+    page = render_page(path, png)
+    keep_screenshot(png, 'live-run.png')
+    assert page.problems() == []
+    assert page.state['sections'] == ['sensor-' + s for s in sensors]
+    for s in data['sensors']:       # each section shows the run's verdict and reasons
+        sec = section(page.dom, s['name'])
+        assert 'badge %s' % s['verdict'] in sec
+        for reason in s['reasons']:
+            assert reason.replace('"', '&quot;') in sec or reason in sec, (s['name'], reason)
+    assert 'range is NaN' in section(page.dom, 'frontSonar')
+    assert 'Last scan' in section(page.dom, 'laser')
+    assert 'Joints (20)' in section(page.dom, 'jointState')
+    assert page.state['height'] > 2000
+    assert os.path.getsize(png) > 50000
+    assert all(i['width'] > 100 for i in page.state['imgs'])      # the plots are real images
+
+
+def test_media_sections_play_in_chromium(tmp_path):
+    folder = str(tmp_path / 'run')
+    run = report_fixtures.media_run(folder)
+    by_name = {r.name: r for r in run.sensors}
+    assert by_name['frontCamera'].artifacts.get('video'), by_name['frontCamera'].warnings
+    assert by_name['microphone'].artifacts.get('audio')
+    from pepper_interface_tests import report
+    path = report.write_report(run)
+    png = str(tmp_path / 'media.png')
+    page = render_page(path, png)
+    keep_screenshot(png, 'media-run.png')
+    assert page.problems() == []
+    assert page.state['sections'] == ['sensor-' + r.name for r in run.sensors]
+    media = page.state['media']
+    videos = [m for m in media if m['tag'] == 'video']
+    audios = [m for m in media if m['tag'] == 'audio']
+    assert len(videos) == 3 and len(audios) == 1
+    assert all(m['ready'] >= 1 and m['duration'] > 1 for m in media), media   # decodable, not empty
+    assert all(m['src'].startswith('data:') for m in media)                  # embedded
+    assert {v['width'] for v in videos} == {320, 640}
+    cam = section(page.dom, 'frontCamera')
+    assert cam.count('<img class="frame"') == 2 and 'longest run of identical frames' in cam
+    depth = section(page.dom, 'depthCamera')
+    assert 'Depth histogram' in depth and 'colour-mapped' in depth and 'depth colour scale' in depth
+    mic = section(page.dom, 'microphone')
+    for ch in ('rearLeft', 'rearRight', 'frontLeft', 'frontRight'):
+        assert ch in mic
+    assert 'Waveform' in mic and 'heard by the microphones: <b>yes</b>' in mic
+    assert 'heard by the microphones' in section(page.dom, 'speech')
+    for name, title in (('odometry', 'Position over time'), ('imu', 'Over time'),
+                        ('backSonar', 'Range over time'), ('laser', 'Last scan')):
+        assert title in section(page.dom, name)
+    assert len(page.state['imgs']) >= 16
+
+
+def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_path):
+    import cv2
+    import numpy as np
+    from pepper_interface_tests import report
+    from pepper_interface_tests.results import PASS, RunResult, SensorResult
+    folder = str(tmp_path)
+    video, wav = report_fixtures.handmade_media(folder)
+    old = os.path.join(folder, 'old.mp4')      # MPEG-4 part 2: browsers cannot decode it
+    w = cv2.VideoWriter(old, cv2.VideoWriter_fourcc(*'mp4v'), 10, (64, 48))
+    for i in range(10):
+        w.write(np.full((48, 64, 3), i * 20, np.uint8))
+    w.release()
+    cams = [SensorResult(name='frontCamera', title='FRONT CAMERA', topic='/front', msg_type='sensor_msgs/Image',
+                         verdict=PASS, messages=20, artifacts={'video': os.path.basename(video)}),
+            SensorResult(name='bottomCamera', title='BOTTOM CAMERA', topic='/bottom', msg_type='sensor_msgs/Image',
+                         verdict=PASS, messages=10, artifacts={'video': 'old.mp4'},
+                         values={'video': {'codec': 'mp4v'}}),
+            SensorResult(name='microphone', title='MICROPHONE', topic='/audio',
+                         msg_type='pepper_interface_tests/AudioCustomMsg', verdict=PASS, messages=20,
+                         artifacts={'audio': os.path.basename(wav)})]
+    run = RunResult(platform='robot', mode='sequential', start=1.7e9, end=1.7e9 + 5, output_dir=folder,
+                    run_id='linked', sensors=cams)
+    path = report.write_report(run, max_embed=1000)
+    text = open(path, encoding='utf-8').read()
+    assert os.path.getsize(path) < 200000            # nothing big inside
+    assert 'src="clip.mp4"' in text and 'src="clip.wav"' in text
+    assert 'browsers cannot play this codec' in section(text, 'bottomCamera')
+    assert '<video' not in section(text, 'bottomCamera')
+    page = render_page(path, None)
+    assert page.problems() == []
+    assert [m['src'].startswith('file://') for m in page.state['media']] == [True, True]
+    assert all(m['ready'] >= 1 for m in page.state['media'])
+
+
+def test_report_error_is_one_warning_line(tmp_path):
+    import io
+    from pepper_interface_tests.report import HtmlReport
+    from pepper_interface_tests.results import RunResult
+    run = RunResult(platform='robot', mode='sequential', start=1.7e9, end=1.7e9 + 1)
+    out = io.StringIO()
+    HtmlReport(str(tmp_path / 'missing' / 'folder'), out=out).run_ended(run)   # cannot be written
+    lines = out.getvalue().splitlines()
+    assert len(lines) == 1 and lines[0].startswith('sensorTest: warning: HTML report not written'), lines
