@@ -188,6 +188,9 @@ def _atomic_write(path, text):
     fd, tmp = tempfile.mkstemp(prefix='.tmp-', dir=folder)
     with os.fdopen(fd, 'w', encoding='utf-8') as f:
         f.write(text)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)   # mkstemp creates 0600; results are ordinary files
     os.replace(tmp, path)
 
 

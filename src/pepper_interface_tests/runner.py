@@ -12,6 +12,7 @@ SensorRun under its lock. The main loop ticks every 50 ms; a window ends on time
 once the verdict is settled, when no message came within --wait, or on Ctrl-C.
 """
 import sys
+import sys
 import threading
 import time
 

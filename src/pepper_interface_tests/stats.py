@@ -109,7 +109,14 @@ class StreamStats:
         for t in self.recv:
             i = min(n_bins - 1, max(0, int((t - self.start) / bin_s)))
             counts[i] += 1
-        return [(round((i + 0.5) * bin_s, 3), c / bin_s) for i, c in enumerate(counts)]
+        span = last - self.start
+        out = []
+        for i, c in enumerate(counts):
+            width = min(bin_s, span - i * bin_s) if i == n_bins - 1 else bin_s
+            if width <= 0.05 * bin_s:       # a sliver at the end says nothing about the rate
+                continue
+            out.append((round(i * bin_s + width / 2, 3), c / width))
+        return out
 
     def summary(self):
         def r(x, nd=3):
