@@ -722,6 +722,37 @@ def test_runner_interrupt_finishes_the_files(tmp_path):
     assert 'INTERRUPTED: interrupted by Ctrl-C' in term
 
 
+def test_runner_simulator_cameras_one_at_a_time_in_parallel_mode(tmp_path):
+    """Gazebo cannot render several cameras at once at full rate: in parallel mode the simulator's
+    cameras share one lane, while the other sensors still run at the same time."""
+    bag = write_bag(tmp_path / 'sim.bag', {'/laser': scan, '/back': sonar})
+    d = tmp_path / 'files'
+    d.mkdir()
+    (d / 'config.ini').write_text('platform simulator\nmode parallel\n')
+    (d / 'topics.dat').write_text('laserSensor /laser\nbackSonar /back\nfrontCamera /front_cam\n'
+                                  'bottomCamera /bottom_cam\ndepthCamera /depth_cam\n')
+    out = tmp_path / 'out'
+    out.mkdir()
+    plan = settings.load_plan(Options(config=str(d / 'config.ini'), topics=str(d / 'topics.dat'),
+                                      sensors=('frontCamera', 'laser', 'bottomCamera', 'backSonar',
+                                               'depthCamera', 'imu'),
+                                      output_dir=str(out), duration=2, wait=1, record=False, show=False))
+    source = BagSource(bag)
+    runner = Runner(plan, RunContext(plan.output_dir, plan.platform, plan.options), source,
+                    clock=source.clock, observers=[ResultFiles(str(out), out=io.StringIO())])
+    run = runner.execute()
+    r = {s.name: s for s in run.sensors}
+    assert [s.name for s in run.sensors] == [p.name for p in plan.sensors]
+    cams = [r['frontCamera'], r['bottomCamera'], r['depthCamera']]
+    for a, b in zip(cams, cams[1:]):
+        assert b.started_at >= a.ended_at                 # one camera at a time
+    assert r['laser'].started_at == 0.0 and r['backSonar'].started_at == 0.0
+    assert r['laser'].ended_at > r['bottomCamera'].started_at       # overlapping the cameras
+    assert (r['laser'].verdict, r['backSonar'].verdict) == (PASS, PASS)
+    assert r['imu'].verdict == SKIPPED
+    assert all(c.reasons == ['topic %s is not in the bag' % c.topic] for c in cams)
+
+
 def test_a_failing_observer_does_not_stop_the_run(tmp_path, capsys):
     run, out, _ = run_bag(tmp_path, 'parallel', ['backSonar', 'laser'], [Broken()])
     assert [s.verdict for s in run.sensors] == [PASS, PASS]

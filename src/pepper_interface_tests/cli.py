@@ -134,9 +134,14 @@ def main(argv=None):
         argv = rospy.myargv(sys.argv)[1:]
     try:
         cli = options_from_args(build_parser().parse_args(argv))
-        plan = settings.load_plan(cli)
     except ConfigError as e:
         return _fatal(str(e))
+    try:
+        plan, plan_error = settings.load_plan(cli), None
+    except ConfigError as e:
+        if cli.bag:
+            return _fatal(str(e))
+        plan, plan_error = None, e   # private ROS params may still set it right: see run_live
     # Ctrl-C and SIGTERM end the run cleanly even when started with SIGINT ignored
     # (background jobs of a non-interactive shell inherit that).
     signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -144,7 +149,7 @@ def main(argv=None):
     try:
         if cli.bag:
             return run_bag(plan, cli)
-        return run_live(plan, cli)
+        return run_live(plan, cli, plan_error)
     except ConfigError as e:
         return _fatal(str(e))
     except KeyboardInterrupt:
@@ -152,9 +157,11 @@ def main(argv=None):
         return results.EXIT_INTERRUPTED
 
 
-def run_live(plan, cli):
+def run_live(plan, cli, plan_error=None):
     from . import live
     uri = live.master_uri()
+    if plan_error is not None and not live.master_reachable(uri, timeout=1.0):
+        raise plan_error    # no master: no private params that could change the files either
     deadline = time.monotonic() + 4.0
     while not live.master_reachable(uri, timeout=1.0):
         if time.monotonic() > deadline:
@@ -166,6 +173,8 @@ def run_live(plan, cli):
     params = options_from_params(rospy.get_param)
     if any(v is not None for v in params.__dict__.values()):
         plan = settings.load_plan(params.merged(cli))
+    elif plan_error is not None:
+        raise plan_error
     check_output_dir(plan.output_dir)
     source = live.LiveSource(rospy.get_name())
     try:

@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""rostest node for sensor_test_core.test: waits until the sensorTest node has written its
+results into ~output_dir, then checks every verdict, the order and the three output files."""
+import json
+import os
+import sys
+import time
+import unittest
+import xml.etree.ElementTree as ET
+
+import rosgraph
+import rospy
+import rostest
+
+PKG = 'pepper_interface_tests'
+NAMES = ['backSonar', 'frontSonar', 'laser', 'odometry', 'speech']
+FILES = ('sensorTestOutput.dat', 'sensorTestResults.json', 'sensorTestResults.xml')
+
+
+def sensor_test_running():
+    """True while the /sensorTest node is registered with the master."""
+    try:
+        state = rosgraph.Master('/sensor_test_verdicts').getSystemState()   # publishers, subscribers, services
+    except Exception:
+        return False
+    return any('/sensorTest' in nodes for group in state for _, nodes in group)
+
+
+class SensorTestVerdicts(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('sensor_test_verdicts')
+        cls.out = rospy.get_param('~output_dir')
+        timeout = float(rospy.get_param('~timeout', 100))
+        paths = [os.path.join(cls.out, f) for f in FILES]
+        deadline = time.time() + timeout
+        # the results are complete once all three files exist and sensorTest has left
+        while time.time() < deadline:
+            if all(os.path.isfile(p) for p in paths) and not sensor_test_running():
+                break
+            time.sleep(0.5)
+        cls.missing = [p for p in paths if not os.path.isfile(p)]
+        if not cls.missing:
+            with open(paths[1]) as f:
+                cls.data = json.load(f)
+            with open(paths[0]) as f:
+                cls.dat = f.read()
+            cls.junit = ET.parse(paths[2]).getroot()
+            cls.sensors = {s['name']: s for s in cls.data['sensors']}
+
+    def setUp(self):
+        self.assertEqual(self.missing, [], 'sensorTest did not write its results')
+
+    def test_params_chose_sensors_and_order(self):
+        self.assertEqual([s['name'] for s in self.data['sensors']], NAMES)
+        self.assertEqual(self.data['mode'], 'sequential')
+        for name in NAMES[:-1]:
+            self.assertLess(self.sensors[name]['window_s'], 4.0, name)   # ~duration 2 s
+        for a, b in zip(NAMES, NAMES[1:]):
+            self.assertGreaterEqual(self.sensors[b]['started_at'], self.sensors[a]['ended_at'] - 0.01)
+
+    def test_good_sensors_pass(self):
+        for name in ('backSonar', 'laser', 'odometry'):
+            s = self.sensors[name]
+            self.assertEqual(s['verdict'], 'PASS', '%s: %s' % (name, s['reasons']))
+            self.assertGreater(s['messages'], 5)
+
+    def test_faulty_sonar_fails_with_its_reason(self):
+        s = self.sensors['frontSonar']
+        self.assertEqual(s['verdict'], 'FAIL')
+        self.assertTrue(any('range outside [0.25, 2.55] m' in r for r in s['reasons']), s['reasons'])
+        self.assertEqual(self.data['exit_code'], 1)
+
+    def test_speech_delivered_to_the_listener(self):
+        s = self.sensors['speech']
+        self.assertEqual(s['verdict'], 'PASS', s['reasons'])
+        self.assertTrue(any('speech_listener' in n for n in s['values']['subscribers']), s['values'])
+
+    def test_output_files(self):
+        run = self.dat.split('[TESTING] ############ SENSORS ############')[-1]
+        for title in ('BACK SONAR', 'FRONT SONAR', 'LASER', 'ODOMETRY', 'SPEECH'):
+            self.assertIn('[TESTING] ---- %s ----' % title, run)
+        self.assertIn('[RESULT] FAIL: range outside', run)
+        self.assertIn('[END TIME] ', run)
+        cases = self.junit.findall('testcase')
+        self.assertEqual([c.get('name') for c in cases], NAMES)
+        failed = [c.get('name') for c in cases if c.find('failure') is not None]
+        self.assertEqual(failed, ['frontSonar'])
+
+
+if __name__ == '__main__':
+    rostest.rosrun(PKG, 'sensor_test_verdicts', SensorTestVerdicts, sys.argv)
