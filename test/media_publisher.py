@@ -30,16 +30,10 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import Image
 
+from media_tools import pattern   # noqa: E402  (test/ is this script's own folder)
+
 TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
-
-
-def pattern(w, h, i):
-    yy, xx = np.mgrid[0:h, 0:w]
-    r = (xx * 2 + 5 * i) % 256
-    g = (yy * 3 + 3 * i) % 256
-    b = ((xx + yy) + 7 * i) % 256
-    return np.dstack([r, g, b]).astype(np.uint8)
 
 
 def image(w, h, encoding, data, step, frame_id):

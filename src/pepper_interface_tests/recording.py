@@ -37,6 +37,8 @@ import time
 
 import numpy as np
 
+from .stats import _rate
+
 CODEC_CHOICES = ('auto', 'avc1', 'mp4v')
 DEFAULT_BUDGET = 0.5
 QUEUE_BYTES = 32 * 1024 * 1024
@@ -202,7 +204,10 @@ class VideoRecorder:
             self._closed = True
             thread = self._thread
         if thread is not None:
-            self._queue.put(None)
+            try:
+                self._queue.put(None, timeout=timeout)
+            except queue.Full:
+                pass
             thread.join(timeout)
             if thread.is_alive():
                 self.error = 'video writer did not finish within %.0f s' % timeout
@@ -214,42 +219,47 @@ class VideoRecorder:
 
     # ---- writer thread -----------------------------------------------------------------
     def _run(self):
+        while True:
+            item = self._queue.get()
+            if item is None:
+                break
+            self._step(item)
+        if self._writer is None and self._buffer and not self.error:
+            self._step(None)
+        self._finish()
+
+    def _step(self, item):
+        """Buffer, open or write; after an error the remaining frames are counted as dropped."""
+        if self.error:
+            self._count_dropped(1)
+            return
         try:
-            while True:
-                item = self._queue.get()
-                if item is None:
-                    break
-                if self.error:
-                    continue
-                if self._writer is None:
+            if self._writer is None:
+                if item is not None:
                     self._buffer.append(item)
-                    if self._ready():
-                        self._open()
-                else:
-                    self._write(*item)
-            if self._writer is None and self._buffer and not self.error:
-                self._open()
+                if item is None or self._ready():
+                    self._open()
+            else:
+                self._write(*item)
         except Exception as e:  # an encoder error must not kill the run
             self.error = 'video writer failed: %s' % e
-        finally:
-            self._finish()
+            self._count_dropped(len(self._buffer) + (1 if self._writer is not None else 0))
+            self._buffer = []
+
+    def _count_dropped(self, n):
+        with self._lock:
+            self.dropped += n
 
     def _ready(self):
         span = self._buffer[-1][1] - self._buffer[0][1]
         n = len(self._buffer)
         return (span >= RATE_SPAN and n >= RATE_MIN_FRAMES) or span >= RATE_MAX_WAIT or n >= RATE_MAX_FRAMES
 
-    @staticmethod
-    def _rate(times):
-        if len(times) >= 2 and times[-1] > times[0]:
-            return (len(times) - 1) / (times[-1] - times[0])
-        return None
-
     def _open(self):
         cv2 = _cv2()
         first = self._buffer[0][0]
         self.size = (first.shape[1], first.shape[0])
-        fps = self._rate([t for _, t in self._buffer]) or self.fallback_fps
+        fps = _rate([t for _, t in self._buffer]) or self.fallback_fps
         self.fps = round(min(max(fps, 0.5), self.max_fps), 3)
         os.makedirs(os.path.dirname(self.path) or '.', exist_ok=True)
         for stale in (self.path, self.tmp_path):
@@ -265,6 +275,7 @@ class VideoRecorder:
             writer = cv2.VideoWriter(self.tmp_path, cv2.VideoWriter_fourcc(*'mp4v'), self.fps, self.size)
         if not writer.isOpened():
             self.error = 'cannot open a video writer for %s' % self.path
+            self._count_dropped(len(self._buffer))
             self._buffer = []
             return
         self._writer = writer
@@ -347,18 +358,25 @@ class VideoRecorder:
         self._times.append(t)
 
     def _finish(self):
+        BUDGET.give(self._load)
+        self._load = 0.0
+        try:
+            self._finalise()
+        except Exception as e:   # e.g. the disk is full: report, never raise from the writer thread
+            self.error = self.error or 'cannot finish %s: %s' % (os.path.basename(self.path), e)
+
+    def _finalise(self):
         if self._writer is not None:
             self._writer.release()
             self._writer = None
-        BUDGET.give(self._load)
-        self._load = 0.0
         if not os.path.exists(self.tmp_path):
             return
-        if self.error or not self.written:
+        if not self.written:
             os.unlink(self.tmp_path)
             return
+        # after an encoder error the frames written so far are kept
         self.final_fps = self.fps
-        measured = self._rate(self._times)
+        measured = _rate(self._times)
         if measured and abs(measured - self.fps) / measured > REMUX_TOLERANCE:
             if self._remux(self.fps / measured):
                 self.notes.append('frame rate corrected from %.2f (first second) to %.2f fps '
@@ -388,7 +406,7 @@ class VideoRecorder:
 
     # ---- results ------------------------------------------------------------------------
     def summary(self):
-        return {'file': os.path.basename(self.path) if self.written and not self.error else None,
+        return {'file': os.path.basename(self.path) if os.path.exists(self.path) and self.written else None,
                 'codec': self.codec, 'fps': self.final_fps or self.fps,
                 'width': self.size[0] if self.size else None,
                 'height': self.size[1] if self.size else None,

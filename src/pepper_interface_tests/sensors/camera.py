@@ -170,7 +170,7 @@ class ImageCheck(Check):
         if rec.error:
             self.warn(rec.error)
         if rec.dropped:
-            self.warn('%d of %d frames not recorded (the video encoder could not keep up)'
+            self.warn('%d of %d frames not recorded (the video writer fell behind or failed)'
                       % (rec.dropped, rec.received))
         if rec.resized:
             self.warn('%d frames of another size resized to %dx%d for the video'
@@ -195,7 +195,6 @@ class CameraCheck(ImageCheck):
         self.bad_share = float(self.expect.get('bad_frame_share', 0.5))
         self.brightness, self.spread = Acc(), Acc()
         self.black = self.constant = 0
-        self.first_bad = None
         self.last_sig = None
         self.run = 1
         self.longest_run = 0
@@ -228,8 +227,6 @@ class CameraCheck(ImageCheck):
         elif std < self.min_spread:
             self.constant += 1
             bad = 'constant'
-        if bad and self.first_bad is None:
-            self.first_bad = (bad, round(t, 2), mean, std)
         self._frozen(bgr, t)
         if self.stereo and not bad and msg.width % 2 == 0:
             half = bgr.shape[1] // 2
