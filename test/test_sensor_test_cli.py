@@ -17,7 +17,7 @@ import xml.etree.ElementTree as ET
 import pytest
 import rosgraph
 
-from rosmaster import Master, free_port, kill_group, script, spawn
+from rosmaster import Master, kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PUBLISHER = [sys.executable, os.path.join(HERE, 'core_publisher.py')]
@@ -569,20 +569,22 @@ def test_bad_files_and_values_exit_2_with_the_place(module_master, tmp_path, cas
 
 # ------------------------------------------------------------------ interrupted: exit 130
 
-def test_ctrl_c_mid_run(module_master, good, tmp_path):
+@pytest.mark.parametrize('sig', [signal.SIGINT, signal.SIGTERM], ids=['ctrl_c', 'sigterm'])
+def test_interrupted_mid_run(module_master, good, tmp_path, sig):
+    """Ctrl-C (SIGINT to the process, as a terminal sends it), or SIGTERM (kill, roslaunch)."""
     out = tmp_path / 'out'
     run = Running(['--topics', good.topics, '--sensors', 'backSonar,laser', '--mode', 'sequential',
                    '--duration', '30', '--wait', '2', '--output-dir', str(out)], module_master.env(), out)
     run.wait_for('start  backSonar')
     time.sleep(2.0)
     sent = time.monotonic()
-    run.proc.send_signal(signal.SIGINT)
+    run.proc.send_signal(sig)
     r = run.finish(30)
     stopped_after = time.monotonic() - sent
     assert r.rc == 130, r
     assert stopped_after < 3.0, 'took %.1f s to stop' % stopped_after
     last = r.dat.split('[TESTING] ############ SENSORS ############')[-1]
-    assert '[INTERRUPTED] interrupted by Ctrl-C' in last
+    assert '[INTERRUPTED] interrupted' in last
     assert last.index('[INTERRUPTED]') < last.index('[END TIME] ')
     data = r.json
     assert data['interrupted'] is True and data['exit_code'] == 130
