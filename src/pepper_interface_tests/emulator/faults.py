@@ -1,0 +1,158 @@
+"""Fault injection: the `~faults` string -> {sensor name: Faults}.
+
+Format (documented in docs/emulator.md)::
+
+    sensor:fault[=value][,fault[=value]...][;sensor:...]
+
+e.g. ``frontCamera:frozen;laser:nan;imu:broken_quaternion;jointState:die_after=3``.
+Sensor names are the canonical names (any spelling the catalog knows, case-insensitive);
+fault names are case-insensitive. Every mistake raises FaultError naming the valid choices.
+"""
+from dataclasses import dataclass
+from typing import Optional
+
+from .. import catalog
+from .profiles import MIC_CHANNELS
+
+# fault name -> (takes a value?, sensor kinds it applies to; None = every kind)
+IMAGE = ('camera', 'stereo', 'depth')
+FAULTS = {
+    'silent': (False, None),
+    'rate': (True, None),
+    'die_after': (True, None),
+    'wrong_type': (False, None),
+    'frozen': (False, IMAGE),
+    'black': (False, IMAGE),
+    'wrong_encoding': (False, IMAGE),
+    'wrong_step': (False, IMAGE),
+    'nan': (False, ('laser', 'sonar', 'joints', 'odometry', 'imu')),
+    'out_of_range': (False, ('laser', 'sonar', 'joints')),
+    'broken_quaternion': (False, ('imu', 'odometry')),
+    'silent_channel': (True, ('audio',)),
+}
+
+# canonical sensor name -> kind, for validation before a profile is built
+SENSOR_KINDS = {
+    'backSonar': 'sonar', 'frontSonar': 'sonar', 'frontCamera': 'camera',
+    'bottomCamera': 'camera', 'depthCamera': 'depth', 'stereoCamera': 'stereo',
+    'realsenseRGBCamera': 'camera', 'realsenseDepthCamera': 'depth', 'laser': 'laser',
+    'microphone': 'audio', 'jointState': 'joints', 'odometry': 'odometry', 'imu': 'imu',
+}
+
+
+class FaultError(ValueError):
+    """A malformed or unknown fault specification."""
+
+
+@dataclass(frozen=True)
+class Faults:
+    """The faults of one sensor. Defaults = healthy."""
+    silent: bool = False
+    rate: float = 1.0
+    die_after: Optional[float] = None
+    wrong_type: bool = False
+    frozen: bool = False
+    black: bool = False
+    wrong_encoding: bool = False
+    wrong_step: bool = False
+    nan: bool = False
+    out_of_range: bool = False
+    broken_quaternion: bool = False
+    silent_channel: tuple = ()
+
+    def describe(self):
+        out = []
+        for name in FAULTS:
+            value = getattr(self, name)
+            default = getattr(HEALTHY, name)
+            if value != default:
+                out.append(name if value is True else '%s=%s' % (
+                    name, ','.join(value) if isinstance(value, tuple) else value))
+        return ','.join(out)
+
+
+HEALTHY = Faults()
+
+
+def valid_sensors():
+    return ', '.join(SENSOR_KINDS)
+
+
+def valid_faults(kind=None):
+    return ', '.join(n + ('=VALUE' if FAULTS[n][0] else '') for n in FAULTS
+                     if kind is None or FAULTS[n][1] is None or kind in FAULTS[n][1])
+
+
+def _number(sensor, fault, value, positive_only=True):
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        number = float('nan')
+    if not number == number or number in (float('inf'), float('-inf')) or \
+            (positive_only and number <= 0) or (not positive_only and number < 0):
+        raise FaultError('%s:%s=%s: the value must be a %s number' % (
+            sensor, fault, value, 'positive' if positive_only else 'non-negative'))
+    return number
+
+
+def parse_faults(text):
+    """Parse a fault string into {canonical sensor name: Faults}. Empty/None -> {}."""
+    if text is None:
+        return {}
+    text = str(text).strip()
+    found = {}
+    for entry in (e.strip() for e in text.replace('\n', ';').split(';')):
+        if not entry:
+            continue
+        if ':' not in entry:
+            raise FaultError('"%s" is not "sensor:fault"; example: frontCamera:frozen;laser:nan'
+                             % entry)
+        sensor_text, fault_text = (p.strip() for p in entry.split(':', 1))
+        name = catalog.canonical(sensor_text)
+        if name not in SENSOR_KINDS:
+            raise FaultError('unknown sensor "%s" in faults; valid sensors: %s'
+                             % (sensor_text, valid_sensors()))
+        kind = SENSOR_KINDS[name]
+        values = dict(found.get(name, {}))
+        for item in (i.strip() for i in fault_text.split(',')):
+            if not item:
+                continue
+            fault, _, value = item.partition('=')
+            fault = fault.strip().lower()
+            value = value.strip()
+            if fault not in FAULTS:
+                raise FaultError('unknown fault "%s" for %s; valid faults: %s'
+                                 % (fault, name, valid_faults(kind)))
+            takes_value, kinds = FAULTS[fault]
+            if kinds is not None and kind not in kinds:
+                raise FaultError('fault "%s" does not apply to %s; valid faults for it: %s'
+                                 % (fault, name, valid_faults(kind)))
+            if takes_value and not value:
+                raise FaultError('fault "%s" of %s needs a value, e.g. %s'
+                                 % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3',
+                                                  'silent_channel': 'silent_channel=rearRight'}[fault]))
+            if not takes_value and value:
+                raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
+            if fault == 'rate':
+                values['rate'] = _number(name, fault, value)
+            elif fault == 'die_after':
+                values['die_after'] = _number(name, fault, value, positive_only=False)
+            elif fault == 'silent_channel':
+                channels = list(values.get('silent_channel', ()))
+                for ch in (c.strip() for c in value.replace('+', '|').split('|')):
+                    match = [c for c in MIC_CHANNELS if c.lower() == ch.lower()]
+                    if not match:
+                        raise FaultError('unknown microphone channel "%s"; valid channels: %s'
+                                         % (ch, ', '.join(MIC_CHANNELS)))
+                    if match[0] not in channels:
+                        channels.append(match[0])
+                values['silent_channel'] = tuple(channels)
+            else:
+                values[fault] = True
+        found[name] = values
+    return {name: Faults(**values) for name, values in found.items()}
+
+
+def format_faults(faults):
+    """Inverse of parse_faults (canonical spelling)."""
+    return ';'.join('%s:%s' % (name, f.describe()) for name, f in faults.items() if f.describe())

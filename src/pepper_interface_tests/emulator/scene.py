@@ -1,0 +1,249 @@
+"""A small synthetic world that every emulated sensor observes, so the streams agree.
+
+The robot drives slowly in a circle inside a rectangular room; a person walks to and fro along
+the far wall; a pillar stands in a corner. From the same state at time t come:
+
+- the odometry pose and twist, the IMU orientation, rates and accelerations,
+- laser and sonar ranges (ray casting against the walls, the person and the pillar),
+- depth images (per image column the same ray cast, the floor plane below the horizon, a
+  bouncing ball in front, a few invalid 0 pixels),
+- colour images (a room panorama panned with the robot's heading, the person drawn where the
+  laser sees it, a bouncing ball, a frame counter), and the stereo pair (two shifted views).
+
+Everything is a pure function of t (plus a seeded noise generator per caller), cheap enough for
+all cameras at their nominal rates: see docs/emulator.md for the measured cost.
+"""
+import math
+
+import cv2
+import numpy as np
+
+# ---------------------------------------------------------------- world
+
+ROOM = (-2.2, 2.6, -1.6, 2.4)          # x_min, x_max, y_min, y_max (m)
+CIRCLE_RADIUS = 0.5                    # m
+ANGULAR_SPEED = 0.15                   # rad/s, counter-clockwise
+LINEAR_SPEED = CIRCLE_RADIUS * ANGULAR_SPEED
+PILLAR = (1.9, -0.9, 0.15)             # x, y, radius
+PERSON_Y, PERSON_RADIUS = 1.8, 0.22
+PERSON_X = (-1.4, 1.8)
+PERSON_SPEED = 0.35                    # m/s
+GRAVITY = 9.80665
+
+
+def robot_pose(t):
+    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x."""
+    a = ANGULAR_SPEED * t
+    return (CIRCLE_RADIUS * math.sin(a), CIRCLE_RADIUS * (1.0 - math.cos(a)),
+            math.atan2(math.sin(a), math.cos(a)))
+
+
+def person_position(t):
+    lo, hi = PERSON_X
+    span = hi - lo
+    s = (PERSON_SPEED * t) % (2 * span)
+    return (lo + (s if s < span else 2 * span - s), PERSON_Y)
+
+
+def yaw_quaternion(yaw):
+    """(x, y, z, w) of a rotation about z."""
+    return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
+
+
+def raycast(x, y, angles, t):
+    """Distances from (x, y) along world angles to the first wall, person or pillar."""
+    angles = np.asarray(angles, dtype=np.float64)
+    dx, dy = np.cos(angles), np.sin(angles)
+    x0, x1, y0, y1 = ROOM
+    with np.errstate(divide='ignore', invalid='ignore'):
+        tx = np.where(dx > 0, (x1 - x) / dx, np.where(dx < 0, (x0 - x) / dx, np.inf))
+        ty = np.where(dy > 0, (y1 - y) / dy, np.where(dy < 0, (y0 - y) / dy, np.inf))
+    dist = np.minimum(tx, ty)
+    px, py = person_position(t)
+    for cx, cy, r in ((px, py, PERSON_RADIUS), PILLAR):
+        ox, oy = cx - x, cy - y
+        along = ox * dx + oy * dy
+        perp2 = ox * ox + oy * oy - along * along
+        hit = (along > 0) & (perp2 < r * r)
+        d = along - np.sqrt(np.maximum(r * r - perp2, 0.0))
+        dist = np.where(hit & (d < dist), d, dist)
+    return dist
+
+
+# ---------------------------------------------------------------- colour images
+
+def _hsv_colour(h, s=200, v=220):
+    px = np.uint8([[[int(h) % 180, s, v]]])
+    return tuple(int(c) for c in cv2.cvtColor(px, cv2.COLOR_HSV2RGB)[0, 0])
+
+
+class _Panorama:
+    """A 360-degree strip of the room for one view size, panned by the robot's heading."""
+
+    def __init__(self, width, height, hfov, floor_view=False):
+        self.width, self.height = width, height
+        self.full = max(int(round(width * 2 * math.pi / hfov)), width + 1)
+        # the gradients change in bands of rows (like a lightly compressed video): flat bands
+        # keep recorded bags small (lz4 finds the repeated rows) and cost nothing to render
+        band = max(2, height // 30)
+        rows = ((np.arange(height) // band * band) / float(max(height - 1, 1))).astype(np.float32)[:, None]
+        horizon = 0.15 if floor_view else 0.55
+        strip = np.zeros((height, self.full + width, 3), np.uint8)
+        # wall: warm vertical gradient with hue drifting around the room
+        cols = np.linspace(0.0, 1.0, self.full, endpoint=False, dtype=np.float32)[None, :]
+        wall_r = 150 + 60 * (1 - rows) + 20 * np.sin(2 * np.pi * cols)
+        wall_g = 140 + 50 * (1 - rows) + 20 * np.sin(2 * np.pi * cols + 2)
+        wall_b = 120 + 40 * (1 - rows) + 20 * np.sin(2 * np.pi * cols + 4)
+        wall = np.stack(np.broadcast_arrays(wall_r, wall_g, wall_b), axis=-1)
+        # floor: darker, wooden stripes
+        stripes = 0.5 + 0.5 * np.sin(2 * np.pi * cols * 90)
+        floor = np.stack(np.broadcast_arrays(90 + 30 * rows + 15 * stripes,
+                                             60 + 20 * rows + 10 * stripes,
+                                             40 + 10 * rows + 0 * stripes), axis=-1)
+        is_floor = rows >= horizon
+        room = np.where(is_floor[..., None], floor, wall)
+        strip[:, :self.full] = np.clip(room, 0, 255).astype(np.uint8)
+        # doors and pictures at fixed headings
+        for k, (pos, hue, tall) in enumerate(((0.08, 10, 0.7), (0.3, 100, 0.3), (0.47, 60, 0.4),
+                                              (0.66, 140, 0.65), (0.85, 25, 0.3))):
+            cx = int(pos * self.full)
+            half = max(2, int(width * 0.06))
+            top = int(height * (horizon - tall))
+            bottom = int(height * horizon) if tall > 0.5 else int(height * (horizon - 0.12))
+            if bottom > top >= -height:
+                cv2.rectangle(strip, (cx - half, max(top, 0)), (cx + half, bottom),
+                              _hsv_colour(hue, 160, 200), -1)
+                cv2.rectangle(strip, (cx - half, max(top, 0)), (cx + half, bottom),
+                              (40, 40, 40), max(1, width // 160))
+        strip[:, self.full:] = strip[:, :width]
+        self.strip = strip
+        self.horizon_row = int(height * horizon)
+
+    def view(self, yaw, shift=0):
+        offset = int(round((-yaw / (2 * math.pi)) * self.full + shift)) % self.full
+        return np.ascontiguousarray(self.strip[:, offset:offset + self.width])
+
+
+class ColourCamera:
+    """rgb8 frames of one camera (front, bottom, realsense) at one size."""
+
+    def __init__(self, width, height, hfov, view='front', seed=0):
+        self.width, self.height, self.hfov, self.view_name = width, height, hfov, view
+        self.pano = _Panorama(width, height, hfov, floor_view=(view == 'bottom'))
+        self.focal = (width / 2.0) / math.tan(hfov / 2.0)
+        self.frame = 0
+        self.hue = {'front': 0, 'bottom': 45, 'realsense': 90, 'stereo': 130}.get(view, 0)
+
+    def render(self, t, shift=0, disparity_scale=0.0):
+        x, y, yaw = robot_pose(t)
+        img = self.pano.view(yaw, shift)
+        w, h = self.width, self.height
+        # the person, where the laser sees it
+        if self.view_name != 'bottom':
+            px, py = person_position(t)
+            dx, dy = px - x, py - y
+            dist = math.hypot(dx, dy)
+            bearing = math.atan2(dy, dx) - yaw
+            bearing = math.atan2(math.sin(bearing), math.cos(bearing))
+            if abs(bearing) < self.hfov / 2 + 0.2 and dist > 0.3:
+                u = int(w / 2 - self.focal * math.tan(bearing) + disparity_scale / dist)
+                half = max(2, int(self.focal * PERSON_RADIUS / dist))
+                tall = int(self.focal * 1.2 / dist)
+                base = self.pano.horizon_row + int(self.focal * 0.9 / dist)
+                cv2.rectangle(img, (u - half, base - tall), (u + half, base), (40, 70, 150), -1)
+                cv2.circle(img, (u, base - tall - half), half, (220, 180, 150), -1)
+        # a ball bouncing through the picture
+        period = 4.0 + self.hue / 60.0
+        phase = (t % period) / period
+        sweep = 2 * phase if phase < 0.5 else 2 * (1.0 - phase)
+        bx = int(w * (0.1 + 0.8 * sweep))
+        by = int(h * (0.85 - 0.45 * abs(math.sin(math.pi * 2 * t / 1.7))))
+        r = max(3, w // 24)
+        cv2.circle(img, (bx + int(disparity_scale / 1.5), by), r, _hsv_colour(self.hue + 100), -1)
+        # frame counter and clock
+        self.frame += 1
+        scale = max(0.3, w / 640.0)
+        cv2.putText(img, '%s %05d t=%.1f' % (self.view_name, self.frame, t), (4, int(14 * scale * 1.5)),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.5 * scale, (255, 255, 255), 1, cv2.LINE_AA)
+        return img
+
+
+class StereoCamera:
+    """Pepper's stereo camera: two views side by side (each half the width), slightly shifted."""
+
+    BASELINE_PX = 6
+
+    def __init__(self, width, height, hfov):
+        self.half = width // 2
+        self.width, self.height = width, height
+        self.left = ColourCamera(self.half, height, hfov, view='stereo')
+
+    def render(self, t):
+        out = np.empty((self.height, self.width, 3), np.uint8)
+        out[:, :self.half] = self.left.render(t, shift=0, disparity_scale=0.0)
+        self.left.frame -= 1
+        out[:, self.half:] = self.left.render(t, shift=self.BASELINE_PX,
+                                              disparity_scale=-self.BASELINE_PX * 3.0)
+        return out
+
+
+# ---------------------------------------------------------------- depth images
+
+class DepthCamera:
+    """16UC1 depth in millimetres: walls and obstacles by ray casting, floor plane, a ball,
+    and a few invalid (0) pixels, as a structured-light sensor gives."""
+
+    HEIGHT_M = 1.0        # camera height above the floor
+    MIN_MM, MAX_MM = 400, 6000
+
+    def __init__(self, width, height, hfov, seed=0):
+        self.width, self.height = width, height
+        self.focal = (width / 2.0) / math.tan(hfov / 2.0)
+        cols = np.arange(width, dtype=np.float64)
+        self.col_angles = np.arctan((width / 2.0 - cols) / self.focal)   # left of centre = +
+        self.cos_cols = np.cos(self.col_angles)
+        self.horizon = int(height * 0.35)
+        rows = np.arange(height, dtype=np.float64)
+        below = rows - self.horizon
+        with np.errstate(divide='ignore'):
+            floor = np.where(below > 0, self.HEIGHT_M * self.focal / np.maximum(below, 1e-9), np.inf)
+        self.floor_mm = (floor * 1000.0).astype(np.float32)[:, None]
+        self.rng = np.random.default_rng(seed)
+        self.n_invalid = max(1, width * height // 300)
+
+    def render(self, t):
+        x, y, yaw = robot_pose(t)
+        dist = raycast(x, y, yaw + self.col_angles, t)
+        wall_mm = (dist * self.cos_cols * 1000.0).astype(np.float32)[None, :]
+        depth = np.minimum(self.floor_mm, wall_mm)
+        img = np.clip(depth, 0, self.MAX_MM).astype(np.uint16)
+        # a ball bouncing 1.2 m in front
+        w, h = self.width, self.height
+        bx = int(w * (0.5 + 0.35 * math.sin(2 * math.pi * t / 5.0)))
+        by = int(h * (0.6 - 0.25 * abs(math.sin(math.pi * t / 1.7))))
+        cv2.circle(img, (bx, by), max(3, w // 16), 1200, -1)
+        img[img < self.MIN_MM] = 0
+        # speckle of invalid pixels
+        idx = self.rng.integers(0, w * h, self.n_invalid)
+        img.reshape(-1)[idx] = 0
+        return img
+
+
+# ---------------------------------------------------------------- range sensors
+
+def laser_ranges(t, angle_min, increment, n, blind_mask, range_min, range_max, rng):
+    x, y, yaw = robot_pose(t)
+    angles = yaw + angle_min + increment * np.arange(n)
+    d = raycast(x, y, angles, t) + rng.normal(0.0, 0.01, n)
+    d = np.clip(d, range_min, range_max)
+    d[np.asarray(blind_mask)] = -1.0
+    return d.astype(np.float32)
+
+
+def sonar_range(t, back, range_min, range_max, rng):
+    x, y, yaw = robot_pose(t)
+    heading = yaw + (math.pi if back else 0.0)
+    # the cone sees the nearest of a few rays
+    d = float(np.min(raycast(x, y, heading + np.array([-0.2, 0.0, 0.2]), t)))
+    d += float(rng.normal(0.0, 0.01))
+    return float(min(max(d, range_min), range_max))
