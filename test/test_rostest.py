@@ -26,10 +26,9 @@ def test_rostest_sensor_test_core(tmp_path):
     results = tmp_path / 'test_results'
     env = dict(os.environ)
     env['ROS_HOME'] = str(tmp_path / 'ros_home')       # logs of this launch stay here
-    # the full path, as add_rostest passes it ("rostest PKG FILE" also searches the package
-    # folder, which finds the file several times through the workspace's build/src symlink)
-    cmd = ['rostest', '--package=pepper_interface_tests', '--pkgdir=' + PKG_DIR,
-           '--results-base-dir', str(results), TEST_FILE, 'output_dir:=%s' % out]
+    # as a user types it: rostest finds the file in the package
+    cmd = ['rostest', '--results-base-dir', str(results), 'pepper_interface_tests',
+           os.path.basename(TEST_FILE), 'output_dir:=%s' % out]
     p = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                        timeout=200, start_new_session=True)
     assert p.returncode == 0, p.stdout[-6000:]

@@ -584,7 +584,8 @@ def test_interrupted_mid_run(module_master, good, tmp_path, sig):
     assert r.rc == 130, r
     assert stopped_after < 3.0, 'took %.1f s to stop' % stopped_after
     last = r.dat.split('[TESTING] ############ SENSORS ############')[-1]
-    assert '[INTERRUPTED] interrupted' in last
+    why = 'interrupted by Ctrl-C' if sig == signal.SIGINT else 'terminated (SIGTERM)'
+    assert '[INTERRUPTED] ' + why in last
     assert last.index('[INTERRUPTED]') < last.index('[END TIME] ')
     data = r.json
     assert data['interrupted'] is True and data['exit_code'] == 130

@@ -125,7 +125,8 @@ def _fatal(message):
 
 
 def _on_sigterm(signum, frame):
-    raise KeyboardInterrupt
+    from .runner import Terminated
+    raise Terminated()
 
 
 def main(argv=None):

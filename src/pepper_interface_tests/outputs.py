@@ -69,6 +69,31 @@ class SpeechHearing:
             self.monitor.stop()
 
 
+class LiveView:
+    """One window per camera, drawn from the main thread (the runner's tick), when a display
+    and OpenCV GUI support exist; otherwise one line says why and the run goes on."""
+
+    def __init__(self, ctx):
+        self.ctx = ctx
+        self.viewer = None
+
+    def run_started(self, run, plan):
+        from .viewer import Viewer
+        self.viewer = Viewer.create(enabled=plan.options.show is not False)
+        if self.viewer is not None:
+            self.ctx.services['viewer'] = self.viewer
+
+    def tick(self, runs, now):
+        if self.viewer is not None:
+            self.viewer.pump()
+
+    def run_ended(self, run):
+        if self.viewer is not None:
+            self.ctx.services.pop('viewer', None)
+            self.viewer.close()
+            self.viewer = None
+
+
 def observers_for(plan, ctx, source_name, folder=None):
     """The run's observers, in the order they are called. `plan.output_dir` is where this run's
     files go; `folder` (history.RunFolder) says whether that is a run folder under
@@ -77,6 +102,8 @@ def observers_for(plan, ctx, source_name, folder=None):
     obs = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
+        if any(s.sensor.family in ('camera', 'depth') for s in plan.active):
+            obs.append(LiveView(ctx))
         if opts.diagnostics is not False:
             from .diagnostics import LiveDiagnostics
             obs.append(LiveDiagnostics(plan))

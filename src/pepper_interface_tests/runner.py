@@ -12,7 +12,6 @@ SensorRun under its lock. The main loop ticks every 50 ms; a window ends on time
 once the verdict is settled, when no message came within --wait, or on Ctrl-C.
 """
 import sys
-import sys
 import threading
 import time
 
@@ -349,6 +348,8 @@ class Runner:
                         self._start_next(i, self.clock())
                 self.observers.call('tick', [r for r in self.current if r], now)
                 self.source.sleep(TICK)
+        except Terminated:
+            self.interrupt('terminated (SIGTERM)')
         except KeyboardInterrupt:
             self.interrupt('interrupted by Ctrl-C')
         except SourceLost as e:
@@ -379,6 +380,10 @@ class Runner:
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         self.run.end = self.wall()
         self.observers.call('run_ended', self.run)
+
+
+class Terminated(KeyboardInterrupt):
+    """Raised in the main thread by the SIGTERM handler: ends the run like Ctrl-C."""
 
 
 class SourceLost(Exception):

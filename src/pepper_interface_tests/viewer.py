@@ -11,6 +11,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import threading
 
 MAX_WIDTH = 1280   # wider frames (large stereo modes) are shown scaled down
@@ -61,6 +62,10 @@ class Viewer:
 
     @classmethod
     def create(cls, enabled=True):
+        if not os.environ.get('XDG_RUNTIME_DIR'):   # Qt complains on every start without it
+            runtime = os.path.join(tempfile.gettempdir(), 'runtime-%d' % os.getuid())
+            os.makedirs(runtime, mode=0o700, exist_ok=True)
+            os.environ['XDG_RUNTIME_DIR'] = runtime
         reason = unavailable_reason(enabled)
         if reason:
             print('live view off: ' + reason, flush=True)
@@ -84,6 +89,8 @@ class Viewer:
             for name, image in frames.items():
                 if name not in self._windows:
                     cv2.namedWindow(name, cv2.WINDOW_AUTOSIZE)
+                    column, row = len(self._windows) % 3, len(self._windows) // 3
+                    cv2.moveWindow(name, 20 + column * (MAX_WIDTH // 2 + 20), 20 + row * 300)
                     self._windows.append(name)
                 if image.shape[1] > MAX_WIDTH:
                     scale = MAX_WIDTH / float(image.shape[1])

@@ -358,6 +358,11 @@ def _check_host(host):
     return host
 
 
+def without_remappings(argv):
+    """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
+    return [a for a in argv if ':=' not in a]
+
+
 def parse_args(argv):
     p = OneLineParser(
         prog='naoqiAudio', description='Forward NAOqi ALAudioDevice buffers to a websocket '
@@ -390,7 +395,7 @@ def parse_args(argv):
 
 
 def main(argv=None):
-    args = parse_args(sys.argv[1:] if argv is None else argv)
+    args = parse_args(without_remappings(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(level=logging.INFO, stream=sys.stderr,
                         format='naoqiAudio: %(levelname)s: %(message)s')
     try:

@@ -231,6 +231,11 @@ def _port(value):
     return port
 
 
+def without_remappings(argv):
+    """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
+    return [a for a in argv if ':=' not in a]
+
+
 def parse_args(argv):
     p = OneLineParser(prog='naoqiEndpoint', description=__doc__.split('\n')[0])
     p.add_argument('--port', type=_port, default=9559, help='TCP port (default 9559)')
@@ -257,7 +262,7 @@ def _start_qi(url):
 
 
 def main(argv=None):
-    args = parse_args(sys.argv[1:] if argv is None else argv)
+    args = parse_args(without_remappings(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(level=logging.INFO, stream=sys.stderr,
                         format='naoqiEndpoint: %(levelname)s: %(message)s')
     url = 'tcp://%s:%d' % (args.host, args.port)

@@ -83,16 +83,8 @@ class AudioCheck(Check):
         self.gaps = []              # (t, pause)
         self.writers = {}
         self.player = None
-        self._end_warnings = []
         for name in CHANNELS:
             self.series['level_dbfs_' + name] = []
-
-    def warn(self, text):
-        """A warning found once, at the end (not counted per message), like Check.fail."""
-        self._end_warnings.append(text)
-
-    def warning_reasons(self):
-        return super().warning_reasons() + self._end_warnings
 
     # ---- set-up -------------------------------------------------------------------------
     def window(self, duration):

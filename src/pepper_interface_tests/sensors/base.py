@@ -116,6 +116,7 @@ class Check:
         self.artifacts = OrderedDict()  # kind -> file name in the output folder
         self.first_fields = None    # [(label, text)] of the first message, the spec's fields
         self._extra_fail = []       # reasons found at the end (finish)
+        self._end_warnings = []     # warnings found at the end
         self._finished = False
 
     # --- called by the runner -----------------------------------------------------------
@@ -164,12 +165,16 @@ class Check:
         """A failure found once, at the end (not counted per message)."""
         self._extra_fail.append(text)
 
+    def warn(self, text):
+        """A warning found once, at the end (not counted per message)."""
+        self._end_warnings.append(text)
+
     # --- results ---------------------------------------------------------------------------
     def failure_reasons(self):
         return self.failures.reasons(self.count) + self._extra_fail
 
     def warning_reasons(self):
-        return self.warnings.reasons(self.count)
+        return self.warnings.reasons(self.count) + self._end_warnings
 
 
 def header_fields(header):

@@ -67,14 +67,6 @@ class ImageCheck(Check):
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
         self.sizes = {}             # (w, h, encoding) -> count, when it changes
-        self._end_warnings = []
-
-    def warn(self, text):
-        """A warning found once, at the end (not counted per message), like Check.fail."""
-        self._end_warnings.append(text)
-
-    def warning_reasons(self):
-        return super().warning_reasons() + self._end_warnings
 
     def fields(self, msg):
         return [('Image Width', msg.width), ('Image Height', msg.height),
