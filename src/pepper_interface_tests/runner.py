@@ -52,6 +52,7 @@ class SensorRun:
         self.cls = message_class(self.sensor.msg_type)
         self.stats = None
         self.t0 = None
+        self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
         self.closed = False
         self.result = None
         self.header_issues = Tally()
@@ -70,7 +71,7 @@ class SensorRun:
     def feed_raw(self, type_name, buff, t_recv, ros_now):
         """One message as it came off the wire (or out of a bag)."""
         with self.lock:
-            if self.closed or self.t0 is None:
+            if self.stopped_at is not None or self.t0 is None:
                 return
             if not catalog.accepts_type(self.sensor, type_name):
                 self.wrong_types[type_name] = self.wrong_types.get(type_name, 0) + 1
@@ -126,18 +127,25 @@ class SensorRun:
             self.publisher_lost_at = now - self.t0
 
     # ---------------------------------------------------------------- closing
+    def stop(self, now, reason):
+        """End the window at `now`: nothing is fed after this. Cheap; close() does the rest."""
+        with self.lock:
+            if self.stopped_at is None:
+                self.stopped_at, self.end_reason = now, reason
+
     def close(self, now, reason, lookup=None):
-        """End the window, close the check, build the result. `lookup(topic)` asks the master."""
+        """End the window (if stop() has not), close the check, build the result.
+        `lookup(topic)` asks the master about a silent topic. Closing twice returns the same result."""
+        self.stop(now, reason)
         with self.lock:
             if self.closed:
                 return self.result
             self.closed = True
-        self.end_reason = reason
         try:
             self.check.close()
         except Exception as e:  # a writer failing must not lose the verdict
             self.check.fail('could not finish the check: %s' % e)
-        self.result = self._judge(now, reason, lookup)
+        self.result = self._judge(self.stopped_at, self.end_reason, lookup)
         return self.result
 
     def _judge(self, now, reason, lookup):
@@ -297,6 +305,7 @@ class Runner:
         self.lanes = []
         self.current = []      # per lane: the running SensorRun or None
         self.results = {}      # sensor name -> SensorResult
+        self.closing = []      # [(SensorRun, Thread)]: windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
 
     def _start_next(self, i, now):
@@ -320,11 +329,34 @@ class Runner:
         self.observers.call('sensor_done', result)
 
     def _finish(self, i, now, reason):
+        """End lane i's window at `now` and close its check in the background (video files
+        take a moment to finalise; other windows must not wait for that)."""
         run = self.current[i]
+        run.stop(now, reason)
         self.source.detach(run)
-        result = run.close(now, reason, self.source.lookup)
         self.current[i] = None
-        self._done(result)
+        thread = threading.Thread(target=self._close_run, args=(run, now), daemon=True,
+                                  name='close-' + run.sensor.name)
+        thread.start()
+        self.closing.append((run, thread))
+
+    def _close_run(self, run, now):
+        try:
+            run.close(now, run.end_reason, self.source.lookup)
+        except Exception as e:  # judging must not lose the sensor: report it as a failure
+            run.result = SensorResult(name=run.sensor.name, title=run.sensor.title,
+                                      topic=run.plan.topic, msg_type=run.sensor.msg_type,
+                                      verdict=FAIL, reasons=['internal error while judging: %s' % e],
+                                      messages=run.stats.count)
+
+    def _collect(self, wait=False):
+        """Report the sensors whose closing has finished (all of them with wait=True)."""
+        for run, thread in list(self.closing):
+            if wait:
+                thread.join()
+            if not thread.is_alive():
+                self.closing.remove((run, thread))
+                self._done(run.result)
 
     def execute(self):
         """Run every lane to its end (or to an interrupt). Returns the RunResult."""
@@ -335,17 +367,22 @@ class Runner:
         try:
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
-            while any(self.current):
+            while any(self.current) or self.closing:
                 now = self.clock()
+                due = []
                 for i, run in enumerate(self.current):
                     if run is None:
                         continue
                     self.source.poll(run, now)
                     run.poll(now)
                     reason = run.due(now)
-                    if reason:
-                        self._finish(i, now, reason)
-                        self._start_next(i, self.clock())
+                    if reason:   # every window due now ends now; closing writers comes after
+                        run.stop(now, reason)
+                        due.append(i)
+                for i in due:
+                    self._finish(i, now, '')
+                    self._start_next(i, self.clock())
+                self._collect()
                 self.observers.call('tick', [r for r in self.current if r], now)
                 self.source.sleep(TICK)
         except Terminated:
@@ -371,6 +408,7 @@ class Runner:
                     self._finish(i, now, 'interrupted')
                 except Exception as e:  # keep closing the others
                     self.run.interrupt_reason += '; %s: %s' % (run.sensor.name, e)
+        self._collect(wait=True)
         for lane in self.lanes:
             for plan in lane:
                 r = skipped_result(plan, self.start, now)
