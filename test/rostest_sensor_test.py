@@ -1,29 +1,18 @@
 #!/usr/bin/env python3
 """rostest node for sensor_test_core.test: waits until the sensorTest node has written its
 results into ~output_dir, then checks every verdict, the order and the three output files."""
-import json
 import os
 import sys
-import time
 import unittest
-import xml.etree.ElementTree as ET
 
-import rosgraph
 import rospy
 import rostest
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from rostest_results import wait_for_results  # noqa: E402
+
 PKG = 'pepper_interface_tests'
 NAMES = ['backSonar', 'frontSonar', 'laser', 'odometry', 'speech']
-FILES = ('sensorTestOutput.dat', 'sensorTestResults.json', 'sensorTestResults.xml')
-
-
-def sensor_test_running():
-    """True while the /sensorTest node is registered with the master."""
-    try:
-        state = rosgraph.Master('/sensor_test_verdicts').getSystemState()   # publishers, subscribers, services
-    except Exception:
-        return False
-    return any('/sensorTest' in nodes for group in state for _, nodes in group)
 
 
 class SensorTestVerdicts(unittest.TestCase):
@@ -32,22 +21,10 @@ class SensorTestVerdicts(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('sensor_test_verdicts')
         cls.out = rospy.get_param('~output_dir')
-        timeout = float(rospy.get_param('~timeout', 100))
-        paths = [os.path.join(cls.out, f) for f in FILES]
-        deadline = time.time() + timeout
-        # the results are complete once all three files exist and sensorTest has left
-        while time.time() < deadline:
-            if all(os.path.isfile(p) for p in paths) and not sensor_test_running():
-                break
-            time.sleep(0.5)
-        cls.missing = [p for p in paths if not os.path.isfile(p)]
-        if not cls.missing:
-            with open(paths[1]) as f:
-                cls.data = json.load(f)
-            with open(paths[0]) as f:
-                cls.dat = f.read()
-            cls.junit = ET.parse(paths[2]).getroot()
-            cls.sensors = {s['name']: s for s in cls.data['sensors']}
+        cls.missing, found = wait_for_results(cls.out, float(rospy.get_param('~timeout', 100)))
+        if found:
+            cls.data, cls.dat, cls.junit, cls.sensors = (found['json'], found['dat'], found['junit'],
+                                                         found['sensors'])
 
     def setUp(self):
         self.assertEqual(self.missing, [], 'sensorTest did not write its results')

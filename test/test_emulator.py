@@ -9,6 +9,7 @@ that changes, the 61-beam laser layout, unit quaternions; then every fault, bad 
 import json
 import math
 import os
+import pathlib
 import subprocess
 import sys
 import time
@@ -423,13 +424,10 @@ def test_speech_without_naoqi_endpoint_warns_once(module_master, tmp_path):
 
 # ---------------------------------------------------------------- recordTestBags
 
-def test_record_test_bags(tmp_path):
+def test_record_test_bags(recorded_bags):
     """recordTestBags writes small, complete bags (own roscore) that rosbag opens."""
     import rosbag
-    out_dir = tmp_path / 'bags'
-    run = subprocess.run(script('recordTestBags') + ['--out', str(out_dir), '--seconds', '3'],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=240)
-    assert run.returncode == 0, run.stdout
+    out_dir = pathlib.Path(os.path.dirname(recorded_bags['robot_good']))
     names = sorted(os.listdir(out_dir))
     assert not [n for n in names if n.endswith('.active')], names
     for name in ('robot_good.bag', 'simulator_good.bag', 'robot_faulty.bag'):

@@ -10,6 +10,8 @@ from .settings import ConfigError
 
 
 class BagSource:
+    live = False
+
     def __init__(self, path):
         import rosbag
         if not os.path.exists(path):

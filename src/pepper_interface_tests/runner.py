@@ -260,13 +260,17 @@ def skipped_result(plan, run_start, now):
                         started_at=round(now - run_start, 3), ended_at=round(now - run_start, 3))
 
 
-def lanes_for(plan):
-    """Which sensors run one after another: a list of lanes, each a list of SensorPlans."""
+def lanes_for(plan, live=True):
+    """Which sensors run one after another: a list of lanes, each a list of SensorPlans.
+
+    Gazebo fails when several cameras stream at once, so live simulator cameras share one lane
+    even in parallel mode; a bag replay has no such limit."""
     if plan.mode == 'sequential':
         return [list(plan.sensors)]
     lanes, cameras = [], []
+    serial_cameras = live and plan.platform == 'simulator'
     for s in plan.sensors:
-        if plan.platform == 'simulator' and s.sensor.family in ('camera', 'depth') and s.skip_reason is None:
+        if serial_cameras and s.sensor.family in ('camera', 'depth') and s.skip_reason is None:
             if not cameras:
                 lanes.append(cameras)   # keeps the position of the first camera
             cameras.append(s)
@@ -361,7 +365,7 @@ class Runner:
     def execute(self):
         """Run every lane to its end (or to an interrupt). Returns the RunResult."""
         self.start = self.clock()
-        self.lanes = [list(l) for l in lanes_for(self.plan)]
+        self.lanes = [list(l) for l in lanes_for(self.plan, live=getattr(self.source, 'live', True))]
         self.current = [None] * len(self.lanes)
         self.observers.call('run_started', self.run, self.plan)
         try:

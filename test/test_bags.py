@@ -1,0 +1,92 @@
+"""Recorded bags: `sensorTest --bag` (offline, no master) and rostest playback
+(test/bag_playback.test: rosbag play on simulated time + the sensorTest node) give PASS on the
+good bags and the named failures on the faulty ones. Bags come from recordTestBags
+(the `recorded_bags` fixture in conftest.py)."""
+import json
+import os
+import subprocess
+
+import pytest
+
+from rosmaster import script
+
+ROBOT = ['backSonar', 'frontSonar', 'frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera',
+         'realsenseRGBCamera', 'realsenseDepthCamera', 'laser', 'microphone', 'jointState',
+         'odometry', 'imu']
+SIMULATOR = ['backSonar', 'frontSonar', 'frontCamera', 'bottomCamera', 'depthCamera', 'laser',
+             'jointState', 'odometry']
+# the faults recordTestBags injects (emulator/bags.py VARIANTS), and how sensorTest names them
+FAILURES = {
+    'robot_good': {},
+    'robot_faulty': {'frontCamera': 'frozen', 'laser': 'beams are invalid',
+                     'imu': 'not a unit quaternion', 'backSonar': 'is not in the bag',
+                     'microphone': 'rearRight is silent'},
+    'simulator_good': {},
+    'simulator_faulty': {'depthCamera': 'bytes per pixel',   # 16UC1 data labelled 32FC1 'laser': 'beams are invalid',
+                         'odometry': 'rate 6.00 Hz outside', 'frontSonar': 'is not in the bag'},
+}
+
+
+def sensors_of(variant):
+    return ROBOT if variant.startswith('robot') else SIMULATOR
+
+
+def run_offline(bag, variant, out):
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', variant.split('_')[0],
+                                  '--sensors', ','.join(sensors_of(variant)), '--output-dir', str(out),
+                                  '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))   # no master needed
+    with open(str(out / 'sensorTestResults.json')) as f:
+        return p, json.load(f)
+
+
+@pytest.mark.parametrize('variant', sorted(FAILURES))
+def test_offline_bag_verdicts(recorded_bags, variant, tmp_path):
+    p, data = run_offline(recorded_bags[variant], variant, tmp_path)
+    failures = FAILURES[variant]
+    assert p.returncode == (1 if failures else 0), p.stdout
+    assert data['source'] == os.path.abspath(recorded_bags[variant])
+    for s in data['sensors']:
+        if s['name'] in failures:
+            assert s['verdict'] == 'FAIL', (s['name'], s['reasons'])
+            assert any(failures[s['name']] in r for r in s['reasons']), (s['name'], s['reasons'])
+        else:
+            assert s['verdict'] == 'PASS', (s['name'], s['reasons'])
+            assert s['messages'] >= 10, s
+            # rates come from the recorded times: the emulator's nominal rates
+            assert s['rate_hz'] and s['expected_rate_hz'][0] <= s['rate_hz'] <= s['expected_rate_hz'][1]
+
+
+def test_offline_bag_errors(tmp_path):
+    for bag, words in (('/nonexistent.bag', 'bag file not found'),):
+        p = subprocess.run(script('sensorTest') + ['--bag', bag, '--output-dir', str(tmp_path)],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+        assert p.returncode == 2 and words in p.stdout, p.stdout
+    not_a_bag = tmp_path / 'notes.bag'
+    not_a_bag.write_text('this is not a bag\n')
+    p = subprocess.run(script('sensorTest') + ['--bag', str(not_a_bag), '--output-dir', str(tmp_path)],
+                       stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+    assert p.returncode == 2 and 'cannot open the bag' in p.stdout and 'Traceback' not in p.stdout
+
+
+@pytest.mark.parametrize('variant', ['robot_good', 'robot_faulty', 'simulator_good'])
+def test_rostest_bag_playback(recorded_bags, variant, tmp_path):
+    # played live, a topic missing from the bag has no publisher at all
+    failures = {n: r.replace('is not in the bag', 'no publisher') for n, r in FAILURES[variant].items()}
+    names = sensors_of(variant)
+    if variant == 'simulator_good':   # live simulator cameras run one after another: keep it short
+        names = [n for n in names if n not in ('bottomCamera', 'depthCamera')]
+    expect = ';'.join('%s=%s' % (n, 'FAIL:' + failures[n] if n in failures else 'PASS') for n in names)
+    from pepper_interface_tests import settings
+    plan = settings.load_plan(settings.Options(platform=variant.split('_')[0], sensors=tuple(names)))
+    topics = ' '.join(s.topic for s in plan.sensors)
+    env = dict(os.environ, ROS_HOME=str(tmp_path / 'ros_home'))
+    cmd = ['rostest', '--results-base-dir', str(tmp_path / 'results'), 'pepper_interface_tests',
+           'bag_playback.test', 'bag:=' + recorded_bags[variant], 'sensors:=' + ','.join(names),
+           'platform:=' + variant.split('_')[0], 'expect:=' + expect, 'topics:=' + topics,
+           'output_dir:=' + str(tmp_path / 'out')]
+    p = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                       timeout=200, start_new_session=True)
+    assert p.returncode == 0 and '* RESULT: SUCCESS' in p.stdout, p.stdout[-5000:]
+    assert '* TESTS: 2' in p.stdout
