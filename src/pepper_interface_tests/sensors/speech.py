@@ -59,9 +59,15 @@ class SpeechCheck(Check):
             elif elapsed >= self.subscriber_wait:
                 self._done = True
             return
-        wait_after = self.listen_after if self._monitor() is not None else 0.3
-        if time.monotonic() - self.sent_at >= wait_after:
+        monitor = self._monitor()
+        since = time.monotonic() - self.sent_at
+        if monitor is None:
+            self._done = since >= 0.3          # let the message leave before unregistering
+        elif since >= self.listen_after:
             self._done = True
+        elif self.ctx.options.quick and since >= 0.3 and \
+                monitor.heard(self.sent_at, time.monotonic()).get('heard'):
+            self._done = True                  # --quick: heard is settled, no need to listen on
 
     def done(self):
         return self._done
