@@ -22,7 +22,8 @@ FAILURES = {
                      'imu': 'not a unit quaternion', 'backSonar': 'is not in the bag',
                      'microphone': 'rearRight is silent'},
     'simulator_good': {},
-    'simulator_faulty': {'depthCamera': 'bytes per pixel',   # 16UC1 data labelled 32FC1 'laser': 'beams are invalid',
+    # depthCamera: 16UC1 data labelled 32FC1
+    'simulator_faulty': {'depthCamera': 'bytes per pixel', 'laser': 'beams are invalid',
                          'odometry': 'rate 6.00 Hz outside', 'frontSonar': 'is not in the bag'},
 }
 

@@ -738,6 +738,7 @@ def test_runner_simulator_cameras_one_at_a_time_in_parallel_mode(tmp_path):
                                                'depthCamera', 'imu'),
                                       output_dir=str(out), duration=2, wait=1, record=False, show=False))
     source = BagSource(bag)
+    source.live = True   # replayed as if live: the lanes of a live simulator run
     runner = Runner(plan, RunContext(plan.output_dir, plan.platform, plan.options), source,
                     clock=source.clock, observers=[ResultFiles(str(out), out=io.StringIO())])
     run = runner.execute()
@@ -751,6 +752,15 @@ def test_runner_simulator_cameras_one_at_a_time_in_parallel_mode(tmp_path):
     assert (r['laser'].verdict, r['backSonar'].verdict) == (PASS, PASS)
     assert r['imu'].verdict == SKIPPED
     assert all(c.reasons == ['topic %s is not in the bag' % c.topic] for c in cams)
+    # a real bag replay (sensorTest --bag) has no Gazebo behind it: all cameras at once
+    out2 = tmp_path / 'out2'
+    out2.mkdir()
+    plan2 = settings.replace(plan, output_dir=str(out2))
+    source = BagSource(bag)
+    run = Runner(plan2, RunContext(plan2.output_dir, plan2.platform, plan2.options), source,
+                 clock=source.clock, observers=[ResultFiles(str(out2), out=io.StringIO())]).execute()
+    assert {s.name: s.started_at for s in run.sensors if s.name.endswith('Camera')} == \
+        {'frontCamera': 0.0, 'bottomCamera': 0.0, 'depthCamera': 0.0}
 
 
 def test_a_failing_observer_does_not_stop_the_run(tmp_path, capsys):

@@ -543,16 +543,18 @@ class _Renderer:
         codec = (r.values.get('video') or {}).get('codec') if isinstance(r.values.get('video'), dict) else None
         return self.media('video', name, 'video/mp4', codec)
 
-    def family_camera(self, r):
-        v = r.values
-        cells = self._frames(r)
+    def _frames_and_video(self, r, cells):
+        """The 'Frames and video' row: `cells` (frame thumbnails, ...) plus the video player."""
         video = self._video(r)
         if video:
             cells.append(video)
-        out = []
-        if cells:
-            out.append('<h3>Frames and video</h3><div class="row">%s</div>' % ''.join(cells))
-        elif r.messages:
+        return ['<h3>Frames and video</h3><div class="row">%s</div>' % ''.join(cells)] if cells else []
+
+    def family_camera(self, r):
+        v = r.values
+        cells = self._frames(r)
+        out = self._frames_and_video(r, cells)
+        if not cells and r.messages:
             out.append('<p>no frames or video recorded (recording off, or no frame could be converted)</p>')
         rows = []
         if 'width' in v:
@@ -595,12 +597,7 @@ class _Renderer:
         cells = self._frames(r, ' (colour-mapped)')
         if cells:
             cells.append(self.colour_scale(lo_hi))
-        video = self._video(r)
-        if video:
-            cells.append(video)
-        out = []
-        if cells:
-            out.append('<h3>Frames and video</h3><div class="row">%s</div>' % ''.join(cells))
+        out = self._frames_and_video(r, cells)
         rows = []
         if 'width' in v:
             rows.append(('image', '%sx%s %s' % (v.get('width'), v.get('height'), esc(v.get('encoding')))))

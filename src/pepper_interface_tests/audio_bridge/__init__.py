@@ -1,8 +1,9 @@
 """NAOqi-to-ROS audio bridge: capture side (``capture``, Python 2.7/3), wire format (``frame``)
 and the ROS publisher (``publisher``, Python 3). See docs/audio-bridge.md.
 
-This file also holds the small helpers both sides share (a log rate limiter and a one-line
-usage-error parser); it stays Python 2.7 compatible because the capture side imports it.
+This file also holds the small helpers both sides and the emulator's NAOqi endpoint share (a
+log rate limiter, a one-line usage-error parser, a TCP port argument, dropping roslaunch's
+remapping arguments); it stays Python 2.7 compatible because the capture side imports it.
 """
 import argparse
 import threading
@@ -40,3 +41,19 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message):
         self.exit(2, '%s: error: %s (see --help)\n' % (self.prog, message))
+
+
+def port_arg(value):
+    """argparse type: a TCP port number (1..65535)."""
+    try:
+        port = int(value)
+    except ValueError:
+        port = -1
+    if not 1 <= port <= 65535:
+        raise argparse.ArgumentTypeError('%r is not a TCP port (1..65535)' % value)
+    return port
+
+
+def without_remappings(argv):
+    """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
+    return [a for a in argv if ':=' not in a]

@@ -26,7 +26,8 @@ import sys
 import threading
 import time
 
-from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter
+from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, port_arg,
+                                                 without_remappings)
 from pepper_interface_tests.audio_bridge.frame import FrameError, TOKEN_HEADER, encode_frame
 
 LOG = logging.getLogger('naoqiAudio')
@@ -334,16 +335,6 @@ def _one_line(exc):
     return (text.splitlines()[0] if text else exc.__class__.__name__)[:200]
 
 
-def _port(value):
-    try:
-        port = int(value)
-    except ValueError:
-        port = -1
-    if not 1 <= port <= 65535:
-        raise argparse.ArgumentTypeError('%r is not a TCP port (1..65535)' % value)
-    return port
-
-
 def _check_host(host):
     """An IPv4 address or a resolvable host name; UsageError otherwise."""
     if host and all(part.isdigit() for part in host.split('.')):
@@ -358,17 +349,12 @@ def _check_host(host):
     return host
 
 
-def without_remappings(argv):
-    """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
-    return [a for a in argv if ':=' not in a]
-
-
 def parse_args(argv):
     p = OneLineParser(
         prog='naoqiAudio', description='Forward NAOqi ALAudioDevice buffers to a websocket '
         '(the ROS side is naoqiAudioPublisher).')
     p.add_argument('--ip', default='127.0.0.1', help='NAOqi address (default 127.0.0.1)')
-    p.add_argument('--port', type=_port, default=9559, help='NAOqi port (default 9559)')
+    p.add_argument('--port', type=port_arg, default=9559, help='NAOqi port (default 9559)')
     p.add_argument('--ws', default='ws://127.0.0.1:9090',
                    help='websocket URL of naoqiAudioPublisher (default ws://127.0.0.1:9090)')
     p.add_argument('--token', default=os.environ.get(TOKEN_ENV, ''),

@@ -30,7 +30,8 @@ import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter
+from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, port_arg,
+                                                 without_remappings)
 from pepper_interface_tests.emulator.audio_source import AudioSource, CHANNEL_NAMES
 
 LOG = logging.getLogger('naoqiEndpoint')
@@ -221,24 +222,9 @@ def _host(value):
     return value
 
 
-def _port(value):
-    try:
-        port = int(value)
-    except ValueError:
-        port = -1
-    if not 1 <= port <= 65535:
-        raise argparse.ArgumentTypeError('%r is not a TCP port (1..65535)' % value)
-    return port
-
-
-def without_remappings(argv):
-    """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
-    return [a for a in argv if ':=' not in a]
-
-
 def parse_args(argv):
     p = OneLineParser(prog='naoqiEndpoint', description=__doc__.split('\n')[0])
-    p.add_argument('--port', type=_port, default=9559, help='TCP port (default 9559)')
+    p.add_argument('--port', type=port_arg, default=9559, help='TCP port (default 9559)')
     p.add_argument('--host', type=_host, default='127.0.0.1',
                    help='address to listen on (default 127.0.0.1)')
     p.add_argument('--pattern', choices=('tones', 'counter'), default='tones',
