@@ -110,12 +110,18 @@ class StreamStats:
             i = min(n_bins - 1, max(0, int((t - self.start) / bin_s)))
             counts[i] += 1
         span = last - self.start
-        out = []
-        for i, c in enumerate(counts):
-            width = min(bin_s, span - i * bin_s) if i == n_bins - 1 else bin_s
-            if width <= 0.05 * bin_s:       # a sliver at the end says nothing about the rate
-                continue
-            out.append((round(i * bin_s + width / 2, 3), c / width))
+        widths = [bin_s] * n_bins
+        widths[-1] = max(0.0, min(bin_s, span - (n_bins - 1) * bin_s))
+        if n_bins > 1 and widths[-1] < 0.5 * bin_s:
+            # a short last bin says little about the rate on its own: fold it into the one before
+            extra_count, extra_width = counts.pop(), widths.pop()
+            counts[-1] += extra_count
+            widths[-1] += extra_width
+        out, start = [], 0.0
+        for c, width in zip(counts, widths):
+            if width > 0:
+                out.append((round(start + width / 2, 3), c / width))
+            start += width
         return out
 
     def summary(self):
