@@ -24,7 +24,8 @@ def record(path, frames, rate, codec='mp4v', **kw):
     return rec
 
 
-def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path):
+def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path, monkeypatch):
+    monkeypatch.setenv('SENSORTEST_VIDEO_TRANSCODE', '0')     # the mp4v file as OpenCV wrote it
     path = tmp_path / 'frontCameraOutput.mp4'
     rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
     time.sleep(0.5)
@@ -35,6 +36,19 @@ def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(t
     assert abs(fps - 12.0) < 0.05 and summary['fps'] == 12.0
     assert summary['frames_written'] == 36 and summary['frames_dropped'] == 0
     assert video_codec(str(path)) == 'mpeg4'
+    assert not [p for p in os.listdir(tmp_path) if p.startswith('.')]
+
+
+def test_mp4v_recordings_are_transcoded_to_h264_frame_for_frame(tmp_path):
+    if not recording.shutil.which('ffmpeg'):
+        pytest.skip('ffmpeg not installed')
+    path = tmp_path / 'bottomCameraOutput.mp4'
+    rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
+    summary = rec.close()
+    frames, w, h, fps = video_info(str(path))
+    assert (frames, w, h) == (36, 160, 120) and abs(fps - 12.0) < 0.05
+    assert video_codec(str(path)) == 'h264' and summary['codec'] == 'avc1'
+    assert any('transcoded to H.264' in n for n in rec.notes), rec.notes
     assert not [p for p in os.listdir(tmp_path) if p.startswith('.')]
 
 
@@ -53,7 +67,8 @@ def test_auto_codec_follows_the_encoding_budget(tmp_path, monkeypatch):
     monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '0')
     rec = record(tmp_path / 'a.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
     rec.close()
-    assert rec.codec == 'mp4v' and any('mp4v chosen' in n for n in rec.notes), rec.notes
+    assert any('mp4v chosen' in n for n in rec.notes), rec.notes
+    assert rec.codec == 'avc1' and any('transcoded to H.264' in n for n in rec.notes), rec.notes
     monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '50')
     rec = record(tmp_path / 'b.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
     rec.close()
@@ -61,9 +76,11 @@ def test_auto_codec_follows_the_encoding_budget(tmp_path, monkeypatch):
     assert recording.BUDGET.committed == 0.0       # a closed recorder gives its share back
 
 
-def test_rate_is_corrected_when_the_stream_slows_down(tmp_path):
+@pytest.mark.parametrize('transcode', ['1', '0'], ids=['transcoded', 'stream_copy'])
+def test_rate_is_corrected_when_the_stream_slows_down(tmp_path, monkeypatch, transcode):
     if not recording.shutil.which('ffmpeg'):
         pytest.skip('ffmpeg not installed')
+    monkeypatch.setenv('SENSORTEST_VIDEO_TRANSCODE', transcode)
     path = tmp_path / 'depthCameraOutput.mp4'
     rec = VideoRecorder(str(path), codec='mp4v')
     times = [i / 30.0 for i in range(31)] + [1.0 + i / 10.0 for i in range(1, 41)]   # 30 Hz, then 10 Hz

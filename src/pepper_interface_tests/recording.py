@@ -17,6 +17,11 @@ VideoRecorder
     whole process together stay within a budget of wall-clock encoding time (default 0.5:
     encoding may take half of real time). Other streams get mp4v. The environment variables
     SENSORTEST_VIDEO_CODEC (auto|avc1|mp4v) and SENSORTEST_VIDEO_BUDGET override this.
+    A file written as mp4v is transcoded to H.264 once the recording has ended (ffmpeg's
+    libx264, preset ultrafast; rate correction in the same pass), so every video plays in a
+    browser, at a cost paid after the listening window, not during it. The original mp4v file
+    is kept when ffmpeg is missing or fails (said in the notes). SENSORTEST_VIDEO_TRANSCODE=0
+    turns this off.
   * Frames of another size than the first are resized to the first size (counted); grey
     frames are converted to BGR.
   * The file is written under a temporary name (".<name>.writing.mp4") and renamed to its
@@ -377,27 +382,45 @@ class VideoRecorder:
         # after an encoder error the frames written so far are kept
         self.final_fps = self.fps
         measured = _rate(self._times)
+        scale = None
         if measured and abs(measured - self.fps) / measured > REMUX_TOLERANCE:
-            if self._remux(self.fps / measured):
-                self.notes.append('frame rate corrected from %.2f (first second) to %.2f fps '
-                                  '(whole recording)' % (self.fps, measured))
-                self.final_fps = round(measured, 3)
+            scale = self.fps / measured
+        transcode = self.codec == 'mp4v' and os.environ.get('SENSORTEST_VIDEO_TRANSCODE', '1') != '0'
+        if transcode:
+            # -r before -i re-times every frame at the final rate (none dropped or repeated)
+            started = time.monotonic()
+            rate = measured if scale is not None else self.fps
+            if self._ffmpeg(['-r', '%.6f' % rate], ['-c:v', 'libx264', '-preset', 'ultrafast',
+                                                    '-pix_fmt', 'yuv420p', '-movflags', '+faststart'],
+                            'transcoding to H.264'):
+                self.notes.append('written as mp4v, transcoded to H.264 after the window (%.1f s)'
+                                  % (time.monotonic() - started))
+                self.codec = 'avc1'
+            else:
+                transcode = False
+        if scale is not None and not transcode:
+            transcode = self._ffmpeg(['-itsscale', '%.6f' % scale], ['-c', 'copy'], 'rate correction')
+        if scale is not None and transcode:
+            self.notes.append('frame rate corrected from %.2f (first second) to %.2f fps '
+                              '(whole recording)' % (self.fps, measured))
+            self.final_fps = round(measured, 3)
         os.replace(self.tmp_path, self.path)
 
-    def _remux(self, scale):
+    def _ffmpeg(self, input_args, codec_args, what):
+        """Rewrite the temporary file with ffmpeg (input options, codec options). True when
+        done; on failure the file stays as it was and a note says why."""
         if not shutil.which('ffmpeg'):
-            self.notes.append('ffmpeg not found: frame rate left at the first second\'s estimate')
+            self.notes.append('ffmpeg not found: no %s' % what)
             return False
-        fixed = self.tmp_path[:-4] + '.rate.mp4'
+        fixed = self.tmp_path[:-4] + '.ffmpeg.mp4'
+        cmd = ['ffmpeg', '-v', 'error', '-y'] + input_args + ['-i', self.tmp_path] + codec_args + ['-an', fixed]
         try:
-            done = subprocess.run(['ffmpeg', '-v', 'error', '-y', '-itsscale', '%.6f' % scale,
-                                   '-i', self.tmp_path, '-c', 'copy', '-an', fixed],
-                                  capture_output=True, text=True, timeout=60)
+            done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
         except (OSError, subprocess.SubprocessError) as e:
-            self.notes.append('rate correction failed: %s' % e)
+            self.notes.append('%s failed: %s' % (what, e))
             return False
         if done.returncode != 0 or not os.path.exists(fixed):
-            self.notes.append('rate correction failed: %s' % done.stderr.strip()[:200])
+            self.notes.append('%s failed: %s' % (what, done.stderr.strip()[:200]))
             if os.path.exists(fixed):
                 os.unlink(fixed)
             return False
