@@ -181,7 +181,13 @@ def run_live(plan, cli, plan_error=None):
     try:
         return execute(plan, source, time.monotonic, 'live')
     finally:
-        rospy.signal_shutdown('sensorTest finished')
+        # rospy's shutdown first unregisters the node from the master (its hooks), then joins
+        # its threads and sleeps (~0.6 s): wait for the first part only
+        import threading
+        done = threading.Thread(target=rospy.signal_shutdown, args=('sensorTest finished',),
+                                daemon=True)
+        done.start()
+        done.join(0.25)
 
 
 def run_bag(plan, cli):

@@ -56,6 +56,12 @@ class HtmlReport:
         self.out = out
         self.max_embed = max_embed
 
+    def run_started(self, run, plan):
+        # import matplotlib now, in the background, so that writing the report at the end
+        # (also after Ctrl-C) does not wait for it
+        import threading
+        threading.Thread(target=_warm_up, daemon=True, name='report-warm-up').start()
+
     def run_ended(self, run):
         stream = self.out or sys.stdout
         t0 = time.monotonic()
@@ -70,6 +76,15 @@ class HtmlReport:
             stream.write('sensorTest: warning: HTML report not written: %s%s\n'
                          % (type(e).__name__, (': ' + text) if text else ''))
         stream.flush()
+
+
+def _warm_up():
+    try:
+        import matplotlib
+        from matplotlib.figure import Figure  # noqa: F401
+        from matplotlib.backends import backend_agg  # noqa: F401
+    except Exception:  # the report says what went wrong when it is written
+        pass
 
 
 def write_report(run, folder=None, max_embed=MAX_EMBED_BYTES):
