@@ -18,9 +18,9 @@ from .settings import ConfigError, Options
 PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
           'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
           'play_audio', 'delete_file', 'mic_mode', 'require_heard', 'history', 'diagnostics',
-          'report')
+          'report', 'debug')
 BOOL_PARAMS = ('quick', 'record', 'show', 'play_audio', 'delete_file', 'require_heard',
-               'history', 'diagnostics', 'report')
+               'history', 'diagnostics', 'report', 'debug')
 
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
@@ -58,6 +58,7 @@ def build_parser():
     r.add_argument('--cameras', metavar='WHICH', help='pepper, realsense or both (default both)')
     r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
+    r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
     m = p.add_argument_group('media')
     m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write videos and WAV files')
     m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras (default: when a display exists)')
@@ -122,6 +123,10 @@ def check_output_dir(path):
 def _fatal(message):
     sys.stderr.write('sensorTest: error: %s\n' % message)
     return EXIT_CANNOT_START
+
+
+def _debug_line(text):
+    sys.stderr.write('[debug] %s\n' % text)
 
 
 def _on_sigterm(signum, frame):
@@ -219,6 +224,8 @@ def execute(plan, source, clock, source_name):
                           fix='choose a writable folder with --output-dir, or run with --no-history')
     plan = settings.replace(plan, output_dir=folder.path)
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
+    if plan.options.debug:
+        ctx.services['debug'] = _debug_line
     observers = outputs.observers_for(plan, ctx, source_name, folder)
     runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock)
     runner.run.run_id = folder.run_id

@@ -91,6 +91,11 @@ class SensorRun:
                     self.header_issues.add('frame', 'frame_id is "%s", expected "%s"'
                                            % (header.frame_id, want))
             self.check.feed(msg, t_recv - self.t0)
+            debug = self.ctx.services.get('debug')
+            if debug is not None:
+                debug('%s #%d t=%.3f s%s' % (
+                    self.sensor.name, self.stats.count, t_recv - self.t0,
+                    ' stamp %.3f frame "%s"' % (stamp, header.frame_id) if header is not None else ''))
 
     # ---------------------------------------------------------------- deciding when to stop
     def due(self, now):

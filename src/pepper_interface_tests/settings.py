@@ -86,6 +86,7 @@ class Options:
     history: Optional[bool] = None
     diagnostics: Optional[bool] = None
     report: Optional[bool] = None
+    debug: Optional[bool] = None
 
     def merged(self, other):
         """Values of `other` where given, else ours."""

@@ -43,7 +43,7 @@ class Terminal:
         self.line('sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
                   % (n, '' if n == 1 else 's', 'simulator' if plan.platform == 'simulator'
                      else ('robot' if run.source == 'live' else 'bag ' + run.source),
-                     plan.mode, 'quick' if plan.quick else '%g s each' % plan.duration,
+                     plan.mode, 'quick' if plan.quick else '%g s each' % round(plan.duration, 1),
                      plan.output_dir))
 
     def sensor_started(self, sensor_run):
@@ -51,7 +51,7 @@ class Terminal:
         if sensor_run.check.active:
             self.line('  start  %-22s publishing on %s' % (p.name, p.topic))
         else:
-            self.line('  start  %-22s listening on %s for %g s' % (p.name, p.topic, sensor_run.window))
+            self.line('  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(sensor_run.window, 1)))
 
     def sensor_done(self, r):
         text = '  %-6s %-22s' % (r.verdict.lower() if r.verdict != FAIL else 'FAIL', r.name)
