@@ -8,14 +8,14 @@ A SensorRun is fed raw messages (type name, serialized bytes, receive time, ROS 
 rospy.AnyMsg subscription or by a bag reader; it checks the type, deserializes, runs the
 generic stream checks (stats.StreamStats) and hands the message to the sensor's Check.
 Everything runs in the main thread except subscriber callbacks, which touch only their own
-SensorRun under its lock. The main loop ticks every 50 ms; a window ends on time, on --quick
-once the verdict is settled, when no message came within --wait, or on Ctrl-C.
+SensorRun under its lock, and the closing of a check whose window has ended (finishing a video
+takes a moment), which runs in a thread of its own. The main loop ticks every 50 ms; a window
+ends on time, on --quick once the verdict is settled, when no message came within --wait, or on
+Ctrl-C.
 """
 import sys
 import threading
 import time
-
-import genpy
 
 from . import catalog
 from .results import FAIL, PASS, SKIPPED, RunResult, SensorResult
@@ -78,7 +78,7 @@ class SensorRun:
                 return
             try:
                 msg = self.cls().deserialize(buff)
-            except (genpy.DeserializationError, Exception) as e:  # a corrupt message is a finding
+            except Exception as e:  # a corrupt message is a finding, not a crash
                 self.bad_messages += 1
                 self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
                 return
@@ -90,7 +90,11 @@ class SensorRun:
                 if want and header.frame_id != want:
                     self.header_issues.add('frame', 'frame_id is "%s", expected "%s"'
                                            % (header.frame_id, want))
-            self.check.feed(msg, t_recv - self.t0)
+            try:
+                self.check.feed(msg, t_recv - self.t0)
+            except Exception as e:  # a message the check cannot handle fails the sensor, by name
+                self.header_issues.add('check', 'a message could not be checked (%s: %s)'
+                                       % (type(e).__name__, str(e)[:120]))
             debug = self.ctx.services.get('debug')
             if debug is not None:
                 debug('%s #%d t=%.3f s%s' % (
