@@ -886,3 +886,16 @@ def test_junit_xml(tmp_path):
     assert skipped.find('skipped').get('message') == 'not available in the simulator'
     props = {p.get('name'): p.get('value') for p in root.find('properties')}
     assert props == {'platform': 'robot', 'mode': 'sequential', 'source': 'live', 'interrupted': 'false'}
+
+
+def test_a_check_that_raises_fails_its_sensor_by_name(tmp_path):
+    """A message a check cannot handle must not die silently in the subscriber thread."""
+    run = make_run('backSonar', tmp_path)
+
+    def broken(msg, t):
+        raise ValueError('cannot handle this reading')
+    run.check.on_message = broken
+    feed(run, [sonar(i) for i in range(20)])
+    r = close(run)
+    assert r.verdict == FAIL and r.messages == 20
+    assert any('could not be checked (ValueError: cannot handle this reading)' in x for x in r.reasons), r.reasons
