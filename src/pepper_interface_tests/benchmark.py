@@ -24,15 +24,15 @@ import json
 import os
 import shutil
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
 import threading
 import time
-import xmlrpc.client
 
 import numpy as np
+
+from .rosmaster import MasterError, PrivateMaster, stop_group
 
 STREAMS = [
     # sensor, topic, kind, width, height, rate
@@ -45,12 +45,6 @@ STREAMS = [
     ('microphone', '/bench/audio', 'audio', 4096, 4, 48000.0 / 4096),
 ]
 RING = 24   # distinct frames per stream, cycled (no two consecutive frames identical)
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
 
 
 # ---------------------------------------------------------------- publisher process
@@ -158,20 +152,6 @@ def _expectations(duration):
     return '\n'.join(lines) + '\n'
 
 
-def _wait_master(uri, timeout=20.0):
-    proxy = xmlrpc.client.ServerProxy(uri)
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            code, _, state = proxy.getSystemState('/bench')
-            if code == 1 and any(t == '/rosout' for t, _ in state[1]):
-                return True
-        except OSError:
-            pass
-        time.sleep(0.1)
-    return False
-
-
 def _sample_rss(pid, peak, stop):
     try:
         import psutil
@@ -219,10 +199,8 @@ def run(args):
         f.writelines('%s true\n' % s[0] for s in STREAMS)
     with open(expect, 'w') as f:
         f.write(_expectations(args.duration))
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:%d' % port, ROS_IP='127.0.0.1',
-               PYTHONUNBUFFERED='1', ROS_HOME=os.path.join(tmp, 'ros_home'))
-    env.pop('ROS_HOSTNAME', None)
+    master = PrivateMaster('/bench', ros_home=os.path.join(tmp, 'ros_home'))
+    env = master.env()
     if args.codec:
         env['SENSORTEST_VIDEO_CODEC'] = args.codec
     publish_s = args.publish if args.publish else max(1.0, args.duration - 2.0)
@@ -233,11 +211,11 @@ def run(args):
     print('sensorTestBenchmark: %d CPUs, load average %s; output in %s'
           % (os.cpu_count(), ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
     print('command: ' + ' '.join(cmd[1:]).replace(root + '/', ''))
-    roscore = subprocess.Popen(['roscore', '-p', str(port)], env=env, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL, start_new_session=True)
-    procs = [roscore]
+    procs = []
     try:
-        if not _wait_master(env['ROS_MASTER_URI']):
+        try:
+            master.start(timeout=20.0)
+        except MasterError:
             print('roscore did not start')
             return 2
         pub = subprocess.Popen([sys.executable, os.path.abspath(sys.argv[0]), '--publisher',
@@ -285,15 +263,8 @@ def run(args):
         return 0 if ok else 1
     finally:
         for p in reversed(procs):
-            if p.poll() is None:
-                try:
-                    os.killpg(p.pid, signal.SIGINT)
-                    p.wait(10)
-                except (ProcessLookupError, subprocess.TimeoutExpired):
-                    try:
-                        os.killpg(p.pid, signal.SIGKILL)
-                    except ProcessLookupError:
-                        pass
+            stop_group(p, timeout=10.0)
+        master.stop()
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)
 

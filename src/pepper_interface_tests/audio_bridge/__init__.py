@@ -43,14 +43,18 @@ class OneLineParser(argparse.ArgumentParser):
         self.exit(2, '%s: error: %s (see --help)\n' % (self.prog, message))
 
 
+class PortError(argparse.ArgumentTypeError, ValueError):
+    """Not a TCP port: argparse reports it as a usage error; elsewhere it is a ValueError."""
+
+
 def port_arg(value):
-    """argparse type: a TCP port number (1..65535)."""
+    """A TCP port number (1..65535) from a command-line or param value; PortError otherwise."""
     try:
         port = int(value)
-    except ValueError:
+    except (TypeError, ValueError):
         port = -1
     if not 1 <= port <= 65535:
-        raise argparse.ArgumentTypeError('%r is not a TCP port (1..65535)' % value)
+        raise PortError('port %r is not a TCP port (1..65535)' % (value,))
     return port
 
 

@@ -28,7 +28,7 @@ import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter
+from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, port_arg
 from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_HEADER,
                                                        decode_frame)
 
@@ -214,16 +214,6 @@ def _peer(connection):
         return 'unknown peer'
 
 
-def _port(value):
-    try:
-        port = int(value)
-    except (TypeError, ValueError):
-        port = -1
-    if not 1 <= port <= 65535:
-        raise ValueError('port %r is not a TCP port (1..65535)' % (value,))
-    return port
-
-
 def parse_args(argv):
     p = OneLineParser(prog=NODE, description='Publish NAOqi audio frames received '
                                 'over a websocket as AudioCustomMsg.')
@@ -238,7 +228,7 @@ def _options(args, rospy):
     for name, default in DEFAULTS.items():
         cli = getattr(args, name)
         opts[name] = cli if cli is not None else rospy.get_param('~' + name, default)
-    opts['port'] = _port(opts['port'])
+    opts['port'] = port_arg(opts['port'])
     opts['token'] = str(opts['token'])
     return opts
 

@@ -15,8 +15,6 @@ Exit codes: 0 all bags written, 1 a recording failed, 2 bad usage or no master.
 import argparse
 import os
 import shutil
-import signal
-import socket
 import subprocess
 import sys
 import time
@@ -24,6 +22,7 @@ from collections import OrderedDict
 
 import rosgraph
 
+from ..rosmaster import MasterError, PrivateMaster, stop_group
 from .faults import parse_faults
 from .profiles import RESOLUTIONS, build_profile
 
@@ -41,60 +40,6 @@ EXCLUDED = ('/speech', '/rosout', '/rosout_agg', '/diagnostics')
 
 class RecordError(RuntimeError):
     pass
-
-
-def _free_port():
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
-
-
-def _stop_group(proc, timeout=20.0):
-    """SIGINT to the process group, then SIGKILL if it does not end."""
-    if proc is None or proc.poll() is not None:
-        return proc.returncode if proc else None
-    try:
-        os.killpg(proc.pid, signal.SIGINT)
-        return proc.wait(timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, signal.SIGKILL)
-        return proc.wait()
-    except ProcessLookupError:
-        return proc.wait()
-
-
-class PrivateMaster(object):
-    """A roscore of our own on a free port."""
-
-    def __init__(self):
-        self.port = _free_port()
-        self.uri = 'http://127.0.0.1:%d' % self.port
-        self.proc = None
-
-    def env(self):
-        env = dict(os.environ)
-        env.update(ROS_MASTER_URI=self.uri, ROS_IP='127.0.0.1', PYTHONUNBUFFERED='1')
-        env.pop('ROS_HOSTNAME', None)
-        return env
-
-    def __enter__(self):
-        self.proc = subprocess.Popen(['roscore', '-p', str(self.port)], env=self.env(),
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                     start_new_session=True)
-        master = rosgraph.Master('/recordTestBags', master_uri=self.uri)
-        deadline = time.time() + 30
-        while time.time() < deadline:
-            try:
-                if any(t == '/rosout' for t, _ in master.getSystemState()[1]):
-                    return self
-            except Exception:
-                pass
-            time.sleep(0.1)
-        _stop_group(self.proc)
-        raise RecordError('roscore did not start on port %d' % self.port)
-
-    def __exit__(self, *exc):
-        _stop_group(self.proc)
 
 
 def _published(uri):
@@ -139,8 +84,8 @@ def record_variant(name, out_dir, env, seconds, resolution, compression, log):
             time.sleep(0.1)
         time.sleep(0.7 + seconds)                    # subscriptions connect, then the window
     finally:
-        _stop_group(rec)
-        _stop_group(emu)
+        stop_group(rec)
+        stop_group(emu)
     if os.path.exists(path + '.active'):
         raise RecordError('%s: %s.active remains: rosbag record was not stopped cleanly'
                           % (name, path))
@@ -192,7 +137,10 @@ def main(argv=None):
                     return 2
                 master = None
             else:
-                master = PrivateMaster().__enter__()
+                try:
+                    master = PrivateMaster('/recordTestBags').start()
+                except MasterError as e:
+                    raise RecordError(str(e))
                 env = master.env()
             try:
                 for name in variants:
@@ -201,7 +149,7 @@ def main(argv=None):
                                                   a.compression, log))
             finally:
                 if master is not None:
-                    master.__exit__(None, None, None)
+                    master.stop()
         except RecordError as e:
             print('recordTestBags: error: %s (details in %s)' % (e, log_path), file=sys.stderr)
             return 1
