@@ -6,6 +6,9 @@ setup(**generate_distutils_setup(
     packages=['pepper_interface_tests',
               'pepper_interface_tests.sensors',
               'pepper_interface_tests.audio_bridge',
-              'pepper_interface_tests.emulator'],
+              'pepper_interface_tests.emulator',
+              'pepper_interface_tests.report',
+              'pepper_interface_tests.report.views'],
     package_dir={'': 'src'},
+    package_data={'pepper_interface_tests.report': ['templates/*']},
 ))

@@ -1,0 +1,254 @@
+"""Every matplotlib figure of the report, as a PNG data: URI.
+
+Figures use the Agg canvas directly (no pyplot state, no display). Sizes are chosen for a
+1400-px-wide browser window at 100 % zoom: pages are about 1350 px wide inside their margins,
+so the widest figure is 13 in x 100 dpi = 1300 px and is shown at its natural size, where
+11 pt text is about 15 px, as large as the page's own text. `bbox_inches='tight'` keeps
+legends placed outside the axes inside the image.
+"""
+import base64
+import io
+import math
+
+DPI = 100
+FONT_PT = 11
+BLUE, RED, GREEN, GREY, AMBER, PURPLE = '#0969da', '#cf222e', '#2da44e', '#8c959f', '#9a6700', '#8250df'
+CHANNEL_COLOURS = ('#1f77b4', '#ff7f0e', '#2ca02c', '#d62728')
+T_LABEL = 's since listening began'
+
+
+def figure(w, h, **kw):
+    import matplotlib
+    matplotlib.rcParams.update({'font.size': FONT_PT, 'axes.titlesize': FONT_PT, 'axes.labelsize': FONT_PT,
+                                'xtick.labelsize': FONT_PT - 1, 'ytick.labelsize': FONT_PT - 1,
+                                'legend.fontsize': FONT_PT - 1})
+    from matplotlib.figure import Figure
+    return Figure(figsize=(w, h), dpi=DPI, layout='constrained', **kw)
+
+
+def uri(fig):
+    buf = io.BytesIO()
+    fig.savefig(buf, format='png', dpi=DPI, bbox_inches='tight', pad_inches=0.08)
+    return 'data:image/png;base64,' + base64.b64encode(buf.getvalue()).decode('ascii')
+
+
+def _grid(*axes):
+    for a in axes:
+        a.grid(True, alpha=0.3)
+
+
+def rates(rows, t_end):
+    """rows: [RateRow] (page.py): one strip per sensor, coloured by its rate's own verdict."""
+    fig = figure(13, 0.62 * len(rows) + 1.0)
+    axes = fig.subplots(len(rows), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, r in zip(axes, rows):
+        colour = {True: BLUE, False: RED}.get(r.in_band, GREY)
+        top = max(r.rates + [1.0])
+        if r.band:
+            ax.fill_between([r.start, r.end], [r.band[0]] * 2, [r.band[1]] * 2, color=GREEN, alpha=0.18, lw=0)
+            top = max(top, r.band[1])
+        if r.nominal:
+            ax.hlines(r.nominal, r.start, r.end, colors=GREEN, linestyles='dashed', lw=0.9)
+        if r.rates:
+            ax.stairs(r.rates, r.edges, color=colour, lw=1.8, baseline=None)
+        if not r.rates or max(r.rates) == 0:
+            ax.text(0.5, 0.5, 'no messages', transform=ax.transAxes, ha='center', va='center', color=RED)
+        ax.text(1.005, 0.5, r.label, transform=ax.transAxes, ha='left', va='center', color=colour,
+                fontweight='bold' if r.in_band is False else 'normal')
+        ax.set_ylim(0, top * 1.2)
+        ax.set_ylabel(r.name, rotation=0, ha='right', va='center')
+        ax.set_xlim(0, max(t_end, 1.0))
+        ax.yaxis.set_major_locator(_locator(3))
+        _grid(ax)
+    axes[-1].set_xlabel('seconds since the start of the run')
+    fig.suptitle('messages per second (1 s bins). Green band: expected rate, dashed: nominal. '
+                 'Line blue: rate in band, red: rate outside its band, grey: no band', fontsize=FONT_PT)
+    return uri(fig)
+
+
+def _locator(n):
+    from matplotlib.ticker import MaxNLocator
+    return MaxNLocator(n)
+
+
+def range_over_time(s, lo, hi):
+    fig = figure(8, 2.6)
+    ax = fig.subplots()
+    ax.plot(s.t, s.v, '.-', color=BLUE, ms=4, lw=1)
+    for y, label in ((lo, 'min_range'), (hi, 'max_range')):
+        if y is not None:
+            ax.axhline(y, color=AMBER, ls='--', lw=0.9)
+            ax.text(s.t[0], y, ' ' + label, va='bottom', color=AMBER)
+    bad = [t for t, v in zip(s.t, s.v) if v != v]
+    if bad:
+        ax.plot(bad, [0] * len(bad), 'x', color=RED, label='no finite range (inf/NaN)')
+        ax.legend(loc='upper right')
+    ax.set_xlabel(T_LABEL)
+    ax.set_ylabel('range (m)')
+    _grid(ax)
+    return uri(fig)
+
+
+def laser_scan(scan):
+    import numpy as np
+    angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
+    rng = np.array(scan.ranges, dtype=float)
+    blind = scan.blind_value
+    is_blind = np.array([blind is not None and v == blind for v in scan.ranges], dtype=bool)
+    valid = np.isfinite(rng) & (rng >= scan.range_min) & (rng <= scan.range_max) & ~is_blind
+    invalid = ~valid & ~is_blind
+    hi = scan.range_max
+    fig = figure(8, 5.2)
+    ax = fig.add_subplot(projection='polar')
+    ax.set_theta_zero_location('N')      # forward (x) up, left (+y) to the left, as in ROS
+    ax.set_theta_direction(1)
+    if len(angles) and math.degrees(angles.max() - angles.min()) < 359:
+        ax.set_thetamin(math.degrees(angles.min()))
+        ax.set_thetamax(math.degrees(angles.max()))
+    ax.plot(angles[valid], rng[valid], '.', color=BLUE, ms=6, label='valid (%d)' % valid.sum())
+    if is_blind.any():
+        ax.plot(angles[is_blind], np.full(is_blind.sum(), hi), 'x', color=GREY, ms=6,
+                label='blind beams = %g (%d)' % (blind, is_blind.sum()))
+    if invalid.any():
+        ax.plot(angles[invalid], np.full(invalid.sum(), hi), 'x', color=RED, ms=7,
+                label='invalid: NaN, inf or outside\n[%g, %g] m (%d)' % (scan.range_min, hi, invalid.sum()))
+    ax.set_rmax(hi * 1.05)
+    ax.set_rmin(0)
+    ax.plot([0], [0], marker='^', color='k', ms=7)
+    ax.legend(loc='center left', bbox_to_anchor=(1.02, 0.5), frameon=False)
+    ax.set_title('last scan (m); forward is up')
+    return uri(fig)
+
+
+def brightness(s):
+    fig = figure(8, 2.2)
+    ax = fig.subplots()
+    ax.plot(s.t, s.v, '.-', ms=4, lw=1, color=BLUE)
+    ax.set_ylim(0, 255)
+    ax.set_ylabel('brightness')
+    ax.set_xlabel(T_LABEL)
+    _grid(ax)
+    return uri(fig)
+
+
+def depth_over_time(median, valid):
+    fig = figure(8, 3.2)
+    a1, a2 = fig.subplots(2, 1, sharex=True)
+    a1.plot(median.t, median.v, '.-', ms=4, lw=1, color=BLUE)
+    a1.set_ylabel('median (m)')
+    a2.plot(valid.t, [100 * y for y in valid.v], '.-', ms=4, lw=1, color=PURPLE)
+    a2.set_ylabel('valid %')
+    a2.set_ylim(0, 105)
+    a2.set_xlabel(T_LABEL)
+    _grid(a1, a2)
+    return uri(fig)
+
+
+def colour_scale(lo, hi):
+    import matplotlib
+    fig = figure(1.5, 3.0)
+    ax = fig.subplots()
+    norm = matplotlib.colors.Normalize(vmin=float(lo), vmax=float(hi))
+    fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap='jet'), cax=ax, label='depth (m)')
+    return uri(fig)
+
+
+def histogram(h):
+    fig = figure(8, 2.4)
+    ax = fig.subplots()
+    if len(h.edges) == len(h.counts) + 1:
+        ax.stairs(h.counts, h.edges, fill=True, color=BLUE, alpha=0.7)
+    else:
+        width = (h.edges[1] - h.edges[0]) if len(h.edges) > 1 else 1.0
+        ax.bar(h.edges, h.counts, width=width * 0.9, color=BLUE, alpha=0.7)
+    ax.set_xlabel(h.unit)
+    ax.set_ylabel('pixels')
+    _grid(ax)
+    return uri(fig)
+
+
+def levels_per_channel(channels):
+    """One strip per microphone channel on a shared time and dB axis; a silent channel is
+    drawn on a red background with 'silent' written across it, so it cannot hide."""
+    fig = figure(8, 0.95 * len(channels) + 0.9)
+    axes = fig.subplots(len(channels), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
+    finite = [v for c in channels for v in c.level.v if v == v and math.isfinite(v)]
+    lo = min(finite + [-60.0]) - 5
+    for i, (ax, c) in enumerate(zip(axes, channels)):
+        if c.level:
+            ax.plot(c.level.t, c.level.v, lw=1.3, color=CHANNEL_COLOURS[i % 4])
+        if c.silent:
+            ax.set_facecolor('#ffebe9')
+            ax.text(0.5, 0.5, 'silent', transform=ax.transAxes, ha='center', va='center', color=RED,
+                    fontweight='bold')
+        ax.set_ylabel(c.name, rotation=0, ha='right', va='center')
+        ax.yaxis.set_major_locator(_locator(3))
+        _grid(ax)
+    axes[0].set_ylim(lo, 3)
+    axes[-1].set_xlabel(T_LABEL)
+    fig.suptitle('RMS per buffer (dBFS), one row per channel', fontsize=FONT_PT)
+    return uri(fig)
+
+
+def waveform(path, name, max_seconds=300.0, bins=900):
+    """Min/max envelope of every channel of a WAV file, one row per channel, each at its own
+    scale with its peak written. Returns the URI, or raises what soundfile raised."""
+    import numpy as np
+    import soundfile
+    with soundfile.SoundFile(path) as f:
+        rate, nch = f.samplerate, f.channels
+        data = f.read(frames=int(max_seconds * rate), dtype='int16', always_2d=True)
+    if not len(data):
+        return None
+    from .values import CHANNELS
+    names = list(CHANNELS) if nch == 4 else ['channel %d' % (i + 1) for i in range(nch)]
+    k = max(1, len(data) // bins)
+    m = (len(data) // k) * k
+    t = np.arange(m // k) * k / float(rate)
+    fig = figure(8, 0.95 * nch + 0.7)
+    axes = fig.subplots(nch, 1, sharex=True, squeeze=False)[:, 0]
+    for i, ax in enumerate(axes):
+        block = data[:m, i].reshape(-1, k) / 32768.0
+        ax.fill_between(t, block.min(axis=1), block.max(axis=1), color=CHANNEL_COLOURS[i % 4], lw=0.3)
+        peak = float(np.abs(block).max()) if block.size else 0.0
+        ax.set_ylim(-max(peak, 1e-4) * 1.1, max(peak, 1e-4) * 1.1)   # each channel at its own scale
+        ax.text(0.995, 0.92, 'peak %s dBFS' % ('%.1f' % (20 * math.log10(peak)) if peak > 0 else '-inf (silent)'),
+                transform=ax.transAxes, ha='right', va='top', color=RED if peak == 0 else '#1f2328',
+                bbox={'facecolor': 'white', 'alpha': 0.8, 'edgecolor': 'none', 'pad': 1})
+        ax.set_ylabel(names[i], rotation=0, ha='right', va='center')
+        ax.set_yticks([])
+        _grid(ax)
+    axes[-1].set_xlabel('s (%s, %d Hz, %d channel%s)' % (name, rate, nch, '' if nch == 1 else 's'))
+    return uri(fig)
+
+
+def odometry(x, y):
+    fig = figure(10, 3.0)
+    a1, a2 = fig.subplots(1, 2, gridspec_kw={'width_ratios': [2.2, 1]})
+    a1.plot(x.t, x.v, lw=1.4, label='x')
+    if len(y.v) == len(x.t):
+        a1.plot(x.t, y.v, lw=1.4, label='y')
+        a2.plot(x.v, y.v, '.-', ms=3, lw=1, color=PURPLE)
+        a2.plot(x.v[:1], y.v[:1], 'o', color=GREEN, ms=6)
+        a2.set_xlabel('x (m)')
+        a2.set_ylabel('y (m)')
+        a2.set_aspect('equal', adjustable='datalim')
+        a2.set_title('path (start: green dot)')
+        _grid(a2)
+    a1.set_xlabel(T_LABEL)
+    a1.set_ylabel('position (m)')
+    a1.legend()
+    _grid(a1)
+    return uri(fig)
+
+
+def imu(acc, gyro):
+    fig = figure(8, 3.2)
+    a1, a2 = fig.subplots(2, 1, sharex=True)
+    a1.plot(acc.t, acc.v, lw=1.3, color=BLUE)
+    a1.set_ylabel('|a| (m/s²)')
+    a2.plot(gyro.t, gyro.v, lw=1.3, color='#bf3989')
+    a2.set_ylabel('|ω| (rad/s)')
+    a2.set_xlabel(T_LABEL)
+    _grid(a1, a2)
+    return uri(fig)
