@@ -7,7 +7,9 @@ websocket-client package), because one browser session then gives everything at 
     resource") and failed requests (Network.loadingFailed, HTTP status >= 400);
   * the state of every <img> (loaded, natural size) and every <video>/<audio> (metadata loaded,
     duration, MediaError code) after the page has loaded;
-  * the DOM as rendered (document.documentElement.outerHTML), so section ids can be checked;
+  * the DOM as rendered (document.documentElement.outerHTML), so section ids can be checked,
+    the page's visible text (document.body.innerText), every link's href and media src, and
+    the number of <script> elements;
   * a PNG screenshot of the whole page (the viewport is resized to the page's height).
 `--dump-dom` and `--screenshot` would each need their own Chromium start and say nothing about
 console errors or broken media.
@@ -40,7 +42,11 @@ PAGE_STATE_JS = r'''
       error: m.error ? m.error.code : null, width: m.videoWidth || 0,
       src: (m.currentSrc || '').slice(0, 40)}));
   const sections = [...document.querySelectorAll('section[id]')].map(s => s.id);
-  return JSON.stringify({imgs, media, sections, title: document.title,
+  const hrefs = [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href'));
+  const mediaSrcs = [...document.querySelectorAll('video, audio')].map(m => m.getAttribute('src') || '');
+  return JSON.stringify({imgs, media, sections, title: document.title, hrefs, mediaSrcs,
+                         scripts: document.querySelectorAll('script').length,
+                         text: document.body.innerText, alltext: document.body.textContent,
                          height: document.documentElement.scrollHeight});
 })()
 '''

@@ -208,3 +208,28 @@ def handmade_media(folder, name='clip.mp4', wav='clip.wav', seconds=2.0, fps=10)
     wav_path = os.path.join(folder, wav)
     soundfile.write(wav_path, data, rate, subtype='PCM_16')
     return path, wav_path
+
+
+def rate_series(rate, seconds):
+    """A check's 1 s rate bins: [(bin centre s, messages in that bin)]."""
+    return [[k + 0.5, rate] for k in range(int(seconds))]
+
+
+def sensor(name, verdict='PASS', **kw):
+    """A SensorResult of the catalog's sensor `name` with plausible defaults, for report tests."""
+    from pepper_interface_tests import catalog
+    from pepper_interface_tests.results import SensorResult
+    s = catalog.SENSORS[name]
+    fields = dict(name=name, title=name.upper(), topic='/t/' + name, msg_type=s.msg_type, verdict=verdict,
+                  messages=30, rate_hz=10.0, expected_rate_hz=[4.0, 16.0], window_s=3.0, started_at=0.0,
+                  ended_at=3.0, stopped_because='window ended')
+    fields.update(kw)
+    if 'series' not in kw and fields['rate_hz'] is not None:
+        fields['series'] = {'rate_hz': rate_series(fields['rate_hz'], fields['window_s'])}
+    return SensorResult(**fields)
+
+
+def run_of(folder, sensors, **kw):
+    from pepper_interface_tests.results import RunResult
+    return RunResult(platform='robot', mode='parallel', start=1.7e9, end=1.7e9 + 4, output_dir=folder,
+                     run_id=kw.pop('run_id', 'handmade'), sensors=list(sensors), **kw)

@@ -1,14 +1,19 @@
-"""The HTML report (report.py), rendered in real headless Chromium.
+"""The HTML report (the report package), rendered in real headless Chromium.
 
 * a live run (real roscore, test/core_publisher.py publishers, one of them faulty, one sensor
   without a publisher, one skipped) writes sensorTestReport.html; Chromium loads it without
   console errors or failed resources, every sensor of the run has its section, and the verdicts
   and reasons shown are the run's;
 * a run built in-process from the real camera, depth, microphone and core checks (real mp4,
-  JPEG and WAV files) shows its media: the videos and the WAV play in Chromium, frames load;
+  JPEG and WAV files) shows its media: the short videos are embedded, the WAV (above the
+  embedding limit) is linked, all play in Chromium, frames load, every link resolves;
 * a recording above the embedding limit is linked, not embedded, and still plays; an MPEG-4
   part 2 video is linked with a note instead of a player that cannot play it;
-* a report that cannot be written is one warning line, never an exception.
+* a report that cannot be written is one warning line, never an exception;
+* hostile strings (<script>, control characters) are shown as text; no 'None' reaches the page;
+  a verdict the report does not know is shown neutrally; the rates figure colours each line by
+  the rate's own verdict; a camera without a video says why; a silent microphone channel has
+  its own marked level plot.
 
 Screenshots of the pages are kept in build/test-report/ for a person to look at.
 """
@@ -38,6 +43,17 @@ def keep_screenshot(png, name):
 def no_external_resources(text):
     """Nothing the page loads comes from the network."""
     return re.findall(r'(?:src|href)\s*=\s*"(?:https?:)?//[^"]*"|@import|url\(\s*["\']?https?:', text)
+
+
+NONE = re.compile(r'\bNone\b')
+
+
+def assert_links_resolve(page, folder):
+    """Every relative link and media src of the page names a file next to the report."""
+    for ref in page.state['hrefs'] + page.state['mediaSrcs']:
+        if ref.startswith(('#', 'data:')):
+            continue
+        assert os.path.exists(os.path.join(folder, ref)), ref
 
 
 def section(dom, name):
@@ -114,7 +130,9 @@ def test_media_sections_play_in_chromium(tmp_path):
     audios = [m for m in media if m['tag'] == 'audio']
     assert len(videos) == 3 and len(audios) == 1
     assert all(m['ready'] >= 1 and m['duration'] > 1 for m in media), media   # decodable, not empty
-    assert all(m['src'].startswith('data:') for m in media)                  # embedded
+    assert all(v['src'].startswith('data:') for v in videos)     # short clips: inside the page
+    assert all(a['src'].startswith('file://') for a in audios)    # the 1 MB WAV: linked, next to it
+    assert os.path.getsize(path) < 1.5e6
     assert {v['width'] for v in videos} == {320, 640}
     cam = section(page.dom, 'frontCamera')
     assert cam.count('<img class="frame"') == 2 and 'longest run of identical frames' in cam
@@ -129,6 +147,9 @@ def test_media_sections_play_in_chromium(tmp_path):
                         ('backSonar', 'Range over time'), ('laser', 'Last scan')):
         assert title in section(page.dom, name)
     assert len(page.state['imgs']) >= 16
+    assert 'microphone level over time, one plot per channel' in [i['alt'] for i in page.state['imgs']]
+    assert not NONE.search(page.state['alltext']), NONE.search(page.state['alltext'])
+    assert_links_resolve(page, folder)
 
 
 def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_path):
@@ -163,6 +184,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
     assert page.problems() == []
     assert [m['src'].startswith('file://') for m in page.state['media']] == [True, True]
     assert all(m['ready'] >= 1 for m in page.state['media'])
+    assert_links_resolve(page, folder)
 
 
 def test_report_error_is_one_warning_line(tmp_path):
@@ -174,3 +196,98 @@ def test_report_error_is_one_warning_line(tmp_path):
     HtmlReport(str(tmp_path / 'missing' / 'folder'), out=out).run_ended(run)   # cannot be written
     lines = out.getvalue().splitlines()
     assert len(lines) == 1 and lines[0].startswith('sensorTest: warning: HTML report not written'), lines
+
+
+def test_hostile_strings_are_text_and_no_none_reaches_the_page(tmp_path):
+    from pepper_interface_tests import report
+    from report_fixtures import run_of, sensor
+    folder = str(tmp_path)
+    evil = '<script>alert(1)</script>'
+    sonar = sensor('frontSonar', 'FAIL', title=evil, topic='/sonar/<b>x</b>',
+                   reasons=['frame_id "%s" is not SonarFront_frame \x1b[31mred\x00' % evil],
+                   warnings=['<img src=x onerror=alert(2)>'], notes=['rearRight None / None'],
+                   fields=[['Frame id', evil], ['Range', None]], values={'frame_id': evil, 'limits': None},
+                   stats={'delay_s': {'mean': None, 'max': None}, 'zero_stamps': None}, stamp_rate_hz=None)
+    odd = sensor('laser', 'INTERRUPTED', reasons=['run interrupted before the window ended'])
+    run = run_of(folder, [sonar, odd], interrupted=True, interrupt_reason='Ctrl-C <now>')
+    path = report.write_report(run)
+    page = render_page(path, None)
+    assert page.problems() == []               # the <img onerror> did not become an image
+    assert page.state['scripts'] == 0 and '<img src=x' not in page.dom
+    text = page.state['alltext']
+    assert evil in text and '<img src=x onerror=alert(2)>' in text and 'Ctrl-C <now>' in text
+    assert '\\x1b[31mred\\x00' in text and '\x1b' not in text and '\x00' not in text
+    assert not NONE.search(text), NONE.search(text)
+    assert 'rearRight - / -' in text
+    sec = section(page.dom, 'laser')                       # an unknown verdict: neutral badge
+    assert 'badge OTHER' in sec and 'INTERRUPTED' in sec
+    assert '1 INTERRUPTED' in text and '1 failed' in text
+
+
+def _rates_pixels(html_text, rgb):
+    """How many pixels of the rates figure have colour `rgb` (0-255 each, +-12)."""
+    import base64
+    import io
+    import matplotlib.image
+    import numpy as np
+    m = re.search(r'alt="rate of every sensor over the run" src="data:image/png;base64,([^"]+)"', html_text)
+    img = matplotlib.image.imread(io.BytesIO(base64.b64decode(m.group(1))), format='png')[:, :, :3] * 255
+    return int((np.abs(img - np.array(rgb)).max(axis=2) <= 12).sum())
+
+
+def test_rates_lines_are_coloured_by_the_rates_own_verdict(tmp_path):
+    from pepper_interface_tests import report
+    from report_fixtures import run_of, sensor
+    red, blue = (0xcf, 0x22, 0x2e), (0x09, 0x69, 0xda)
+    # fails for NaN ranges, but its rate is in band: blue, no red anywhere in the figure
+    in_band = run_of(str(tmp_path), [sensor('frontSonar', 'FAIL', reasons=['range is NaN in 30 messages'])])
+    text = report.render(in_band)
+    assert _rates_pixels(text, red) == 0 and _rates_pixels(text, blue) > 200
+    # passes (say, a lenient run) with a rate outside its band: red
+    slow = run_of(str(tmp_path), [sensor('frontSonar', 'PASS', rate_hz=2.0)])
+    text = report.render(slow)
+    assert _rates_pixels(text, red) > 200 and '2.0 Hz out of band' not in text   # said in the figure
+
+
+def test_camera_without_video_says_why(tmp_path):
+    from pepper_interface_tests import report
+    from report_fixtures import run_of, sensor
+    failed = {'file': None, 'codec': None, 'fps': None, 'width': None, 'height': None, 'frames_received': 25,
+              'frames_written': 0, 'frames_dropped': 25, 'error': 'cannot open a video writer for /x/front.mp4'}
+    cams = [sensor('frontCamera', values={'video': failed, 'width': 320, 'height': 240, 'encoding': 'rgb8'}),
+            sensor('bottomCamera', values={'video': dict(failed, error=None, frames_received=0)}),
+            sensor('stereoCamera', notes=['recording off'])]
+    text = report.render(run_of(str(tmp_path), cams))
+    front = section(text, 'frontCamera')
+    assert 'No video written: cannot open a video writer for /x/front.mp4; none of the 25 frames' in front
+    assert '0 frames' not in front and 'codec -' not in front and 'None' not in front
+    assert 'No video written: no frame reached the video writer' in section(text, 'bottomCamera')
+    assert 'No video written: recording is off for this run' in section(text, 'stereoCamera')
+
+
+def test_silent_channel_has_its_own_marked_level_plot(tmp_path):
+    import base64
+    import io
+    import matplotlib.image
+    import numpy as np
+    from pepper_interface_tests import report
+    from report_fixtures import run_of, sensor
+    chans = {'rearLeft': -20.0, 'rearRight': None, 'frontLeft': -30.0, 'frontRight': -35.0}
+    series = {'level_dbfs_' + c: [[0.1 * k, None if v is None else v + k % 3] for k in range(30)]
+              for c, v in chans.items()}
+    values = {'channels': {c: {'rms_dbfs': v, 'peak_dbfs': None if v is None else v + 6, 'clipping_share': 0.0,
+                               'all_zero': v is None} for c, v in chans.items()}}
+    mic = sensor('microphone', 'FAIL', reasons=['microphone rearRight is silent: RMS -inf dBFS'],
+                 notes=['Levels (RMS / peak dBFS): rearLeft -20 / -14, rearRight None / None'],
+                 values=values, series=series)
+    text = report.render(run_of(str(tmp_path), [mic]))
+    sec = section(text, 'microphone')
+    assert not NONE.search(re.sub(r'data:[^"]+', '', sec))
+    assert re.search(r'<td>rearRight</td><td class="num">-inf</td><td class="num">-inf</td>.*?silent', sec)
+    m = re.search(r'alt="microphone level over time, one plot per channel" src="data:image/png;base64,([^"]+)"', sec)
+    img = matplotlib.image.imread(io.BytesIO(base64.b64decode(m.group(1))), format='png')[:, :, :3] * 255
+    pink = (np.abs(img - np.array((0xff, 0xeb, 0xe9))).max(axis=2) <= 3)
+    rows = np.nonzero(pink.any(axis=1))[0]
+    # the silent channel's strip (2nd of 4) is pink, and only that one
+    assert len(rows) > 20 and rows.min() > img.shape[0] * 0.2 and rows.max() < img.shape[0] * 0.55, \
+        (rows.min(), rows.max(), img.shape)

@@ -2,7 +2,7 @@
 
 Plots (matplotlib, Agg) and camera stills are inside the page as PNG/JPEG data: URIs; videos
 and WAV files are played from relative links to the files next to the report, except short
-clips within the embedding budget (files.py: at most 1 MB a file, 2 MB in all). Nothing is
+clips within the embedding budget (files.py: at most 512 kB a file, 1 MB in all). Nothing is
 loaded from the network, so the page opens offline.
 
 Layout of this package (docs/results.md, "sensorTestReport.html"):

@@ -34,6 +34,8 @@ def _video(r):
     v = r.values
     recording_off = 'recording off' in (r.notes or [])
     if not isinstance(v.get('video'), dict):
+        if r.artifacts.get('video'):
+            return VideoInfo(file=r.artifacts['video'])
         return VideoInfo(recording_off=True) if recording_off else None
     d = v['video']
     return VideoInfo(file=r.artifacts.get('video') or d.get('file'), codec=d.get('codec'), fps=number(d.get('fps')),

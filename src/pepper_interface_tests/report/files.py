@@ -2,19 +2,20 @@
 
 Size budget (docs/results.md, "sensorTestReport.html"): a JPEG still is always embedded (a
 frame is 10-60 kB); a video or WAV is embedded only while it is at most `max_embed` bytes
-(default 1 MB: a few seconds of a 320x240 H.264 clip) AND the media embedded so far stay within
-`budget` bytes (default 2 MB). Everything else is played from a relative link to the file,
+(default 512 kB: 10 s of a 320x240 H.264 clip from the emulator is 50-270 kB, a
+10 s 4-channel WAV 3.8 MB) AND the media embedded so far stay within
+`budget` bytes (default 1 MB). Everything else is played from a relative link to the file,
 which sits next to the report both in the run folder and in the output folder (history.py
-links every run file there). Base64 adds a third, so a report stays under about 3 MB plus its
-plots whatever the run recorded.
+links every run file there). Base64 adds a third, so media add at most 1.4 MB to a report,
+whatever the run recorded; the plots add about 1 MB for all fourteen robot sensors.
 """
 import base64
 import os
 
 from .blocks import Image, Media, Para, Span
 
-MAX_EMBED_BYTES = 1024 * 1024
-EMBED_BUDGET_BYTES = 2 * 1024 * 1024
+MAX_EMBED_BYTES = 512 * 1024
+EMBED_BUDGET_BYTES = 1024 * 1024
 BROWSER_CODECS = ('avc1', 'avc3', 'vp09', 'av01')
 
 

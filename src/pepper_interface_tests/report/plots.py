@@ -170,7 +170,7 @@ def histogram(h):
 def levels_per_channel(channels):
     """One strip per microphone channel on a shared time and dB axis; a silent channel is
     drawn on a red background with 'silent' written across it, so it cannot hide."""
-    fig = figure(8, 0.95 * len(channels) + 0.9)
+    fig = figure(6.2, 0.95 * len(channels) + 0.9)
     axes = fig.subplots(len(channels), 1, sharex=True, sharey=True, squeeze=False)[:, 0]
     finite = [v for c in channels for v in c.level.v if v == v and math.isfinite(v)]
     lo = min(finite + [-60.0]) - 5
@@ -186,7 +186,6 @@ def levels_per_channel(channels):
         _grid(ax)
     axes[0].set_ylim(lo, 3)
     axes[-1].set_xlabel(T_LABEL)
-    fig.suptitle('RMS per buffer (dBFS), one row per channel', fontsize=FONT_PT)
     return uri(fig)
 
 
@@ -205,7 +204,7 @@ def waveform(path, name, max_seconds=300.0, bins=900):
     k = max(1, len(data) // bins)
     m = (len(data) // k) * k
     t = np.arange(m // k) * k / float(rate)
-    fig = figure(8, 0.95 * nch + 0.7)
+    fig = figure(6.2, 0.95 * nch + 0.9)
     axes = fig.subplots(nch, 1, sharex=True, squeeze=False)[:, 0]
     for i, ax in enumerate(axes):
         block = data[:m, i].reshape(-1, k) / 32768.0

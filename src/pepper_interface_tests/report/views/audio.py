@@ -28,9 +28,10 @@ def render(r, v, ctx):
         rise = ', level rose %s dB' % num(v.level_rise_db, 1) if v.level_rise_db is not None else ''
         out.append(Para(['Test sentence heard by the microphones: ', heard_text(v.heard), rise + ' (see ',
                          Span('speech', href='#' + ctx.anchor('speech')), ')']))
+    figures = []
     if any(c.level for c in v.channels):
-        out += [Heading('Level over time'),
-                Image(plots.levels_per_channel(v.channels), 'microphone level over time, one plot per channel')]
+        figures.append(Image(plots.levels_per_channel(v.channels), 'microphone level over time, one plot per channel',
+                             caption='Level over time (RMS per buffer, dBFS), one plot per channel'))
     if v.wavs:
         try:
             wave = plots.waveform(ctx.files.path(v.wavs[0]), v.wavs[0])
@@ -38,7 +39,10 @@ def render(r, v, ctx):
             ctx.files.problems.append('waveform of %s: %s' % (v.wavs[0], e))
             wave = None
         if wave:
-            out += [Heading('Waveform'), Image(wave, 'waveform of ' + v.wavs[0])]
+            figures.append(Image(wave, 'waveform of ' + v.wavs[0], caption='Waveform of each channel (own scale)'))
+    if figures:
+        out += [Heading('Level over time and waveform'), Row(figures)]
+    if v.wavs:
         out += [Heading('Recording'), Row([ctx.files.media('audio', w, 'audio/wav') for w in v.wavs])]
     elif v.recording_off:
         out.append(Para(['No WAV file: recording is off for this run.']))
