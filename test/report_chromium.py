@@ -42,9 +42,11 @@ PAGE_STATE_JS = r'''
       error: m.error ? m.error.code : null, width: m.videoWidth || 0,
       src: (m.currentSrc || '').slice(0, 40)}));
   const sections = [...document.querySelectorAll('section[id]')].map(s => s.id);
+  const boxes = Object.fromEntries([...document.querySelectorAll('section[id]')].map(
+      s => [s.id, [s.offsetTop, s.offsetTop + s.offsetHeight]]));
   const hrefs = [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href'));
   const mediaSrcs = [...document.querySelectorAll('video, audio')].map(m => m.getAttribute('src') || '');
-  return JSON.stringify({imgs, media, sections, title: document.title, hrefs, mediaSrcs,
+  return JSON.stringify({imgs, media, sections, boxes, title: document.title, hrefs, mediaSrcs,
                          scripts: document.querySelectorAll('script').length,
                          text: document.body.innerText, alltext: document.body.textContent,
                          height: document.documentElement.scrollHeight});

@@ -110,7 +110,8 @@ def rates_figure(run):
         start = r.started_at or 0.0
         end = r.ended_at if r.ended_at is not None else (edges[-1] if edges else start)
         ok = in_band(r)
-        label = ('%s Hz' % num(r.rate_hz, 1)) + {True: ' in band', False: ' out of band', None: ''}[ok]
+        label = ('%s Hz' % num(r.rate_hz, 1) if r.rate_hz is not None else 'no rate') + \
+            {True: ' in band', False: ' out of band', None: ''}[ok]
         rows.append(RateRow(r.name, edges, rates, start, end, r.expected_rate_hz, r.nominal_rate_hz, ok, label))
     if not rows:
         return None

@@ -211,7 +211,7 @@ def waveform(path, name, max_seconds=300.0, bins=900):
         ax.fill_between(t, block.min(axis=1), block.max(axis=1), color=CHANNEL_COLOURS[i % 4], lw=0.3)
         peak = float(np.abs(block).max()) if block.size else 0.0
         ax.set_ylim(-max(peak, 1e-4) * 1.1, max(peak, 1e-4) * 1.1)   # each channel at its own scale
-        ax.text(0.995, 0.92, 'peak %s dBFS' % ('%.1f' % (20 * math.log10(peak)) if peak > 0 else '-inf (silent)'),
+        ax.text(0.995, 0.92, 'peak %.1f dBFS' % (20 * math.log10(peak)) if peak > 0 else 'silent: all samples zero',
                 transform=ax.transAxes, ha='right', va='top', color=RED if peak == 0 else '#1f2328',
                 bbox={'facecolor': 'white', 'alpha': 0.8, 'edgecolor': 'none', 'pad': 1})
         ax.set_ylabel(names[i], rotation=0, ha='right', va='center')

@@ -18,7 +18,7 @@ def num(v, nd=2, unit=''):
 
 def spread(s, nd=2, mid='mean', unit=''):
     """'min 1.00, mean 2.00, max 3.00' or 'not measured'."""
-    if s is None:
+    if s is None or (s.min is None and s.mid is None and s.max is None):
         return 'not measured'
     return 'min %s, %s %s, max %s%s' % (num(s.min, nd), mid, num(s.mid, nd), num(s.max, nd),
                                         (' ' + unit) if unit else '')
