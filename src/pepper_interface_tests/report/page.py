@@ -5,7 +5,6 @@ Everything shown goes through the template, which escapes it; `finalize` turns a
 the page. Verdicts other than PASS / FAIL / SKIPPED (e.g. a future INTERRUPTED) are shown
 with their own name in a neutral grey badge.
 """
-import math
 import os
 from collections import Counter
 from dataclasses import dataclass
