@@ -35,8 +35,9 @@ CHROMIUM_FLAGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic
 
 PAGE_STATE_JS = r'''
 (() => {
-  const imgs = [...document.images].map(i => ({alt: i.alt, complete: i.complete,
-                                              width: i.naturalWidth, height: i.naturalHeight}));
+  const imgs = [...document.images].map(i => ({alt: i.alt, complete: i.complete, cls: i.className,
+                                              width: i.naturalWidth, height: i.naturalHeight,
+                                              shown: i.getBoundingClientRect().width}));
   const media = [...document.querySelectorAll('video, audio')].map(m => ({
       tag: m.tagName.toLowerCase(), ready: m.readyState, duration: m.duration,
       error: m.error ? m.error.code : null, width: m.videoWidth || 0,

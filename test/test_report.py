@@ -110,6 +110,8 @@ def test_live_run_report_loads_and_shows_every_sensor(module_master, tmp_path):
     assert page.state['height'] > 2000
     assert os.path.getsize(png) > 50000
     assert all(i['width'] > 100 for i in page.state['imgs'])      # the plots are real images
+    assert not NONE.search(page.state['alltext']), NONE.search(page.state['alltext'])
+    assert_links_resolve(page, os.path.dirname(path))
 
 
 def test_media_sections_play_in_chromium(tmp_path):
@@ -148,6 +150,10 @@ def test_media_sections_play_in_chromium(tmp_path):
         assert title in section(page.dom, name)
     assert len(page.state['imgs']) >= 16
     assert 'microphone level over time, one plot per channel' in [i['alt'] for i in page.state['imgs']]
+    plots = [i for i in page.state['imgs'] if i['cls'] == 'plot']
+    # every figure is shown at its own size in a 1400 px window (not shrunk), so its 11 pt text
+    # stays about 15 px high: readable at 100 % zoom
+    assert len(plots) >= 10 and all(abs(i['shown'] - i['width']) <= 1 for i in plots), plots
     assert not NONE.search(page.state['alltext']), NONE.search(page.state['alltext'])
     assert_links_resolve(page, folder)
 
@@ -291,3 +297,22 @@ def test_silent_channel_has_its_own_marked_level_plot(tmp_path):
     # the silent channel's strip (2nd of 4) is pink, and only that one
     assert len(rows) > 20 and rows.min() > img.shape[0] * 0.2 and rows.max() < img.shape[0] * 0.55, \
         (rows.min(), rows.max(), img.shape)
+
+
+def test_media_budget_embeds_short_clips_and_links_the_rest(tmp_path):
+    from pepper_interface_tests.report.blocks import Media, Para
+    from pepper_interface_tests.report.files import EMBED_BUDGET_BYTES, MAX_EMBED_BYTES, RunFiles
+    assert (MAX_EMBED_BYTES, EMBED_BUDGET_BYTES) == (512 * 1024, 1024 * 1024)   # as docs/results.md says
+    sizes = {'a.wav': 400000, 'b.wav': 400000, 'c.wav': 400000, 'big.wav': MAX_EMBED_BYTES + 1, 'd.wav': 100000}
+    for name, size in sizes.items():
+        (tmp_path / name).write_bytes(os.urandom(size))
+    files = RunFiles(str(tmp_path))
+    blocks = {name: files.media('audio', name, 'audio/wav') for name in sizes}
+    assert all(isinstance(b, Media) for b in blocks.values())
+    embedded = sorted(n for n, b in blocks.items() if b.src.startswith('data:'))
+    # a and b fit (800 kB); c would pass the 1 MB budget; big is over 512 kB; d still fits
+    assert embedded == ['a.wav', 'b.wav', 'd.wav'], embedded
+    assert blocks['c.wav'].src == 'c.wav' and blocks['big.wav'].src == 'big.wav'
+    assert files.embedded == 900000
+    missing = files.media('video', 'gone.mp4', 'video/mp4')
+    assert isinstance(missing, Para) and 'gone.mp4 not found' in missing.parts[0]
