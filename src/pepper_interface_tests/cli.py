@@ -82,6 +82,10 @@ def options_from_args(ns):
             values[name] = v
     if 'sensors' in values:
         values['sensors'] = tuple(x for x in values['sensors'].replace(' ', ',').split(',') if x)
+        if not values['sensors']:
+            raise ConfigError('--sensors "%s" names no sensor' % ns.sensors,
+                              fix='give sensor names, e.g. --sensors laser,imu, or leave --sensors '
+                                  'out to run the sensors the input file enables')
     for key in ('duration', 'wait'):
         if key in values:
             values[key] = settings.positive_seconds(values[key], '--' + key)
