@@ -281,6 +281,7 @@ def _construct_mapping(loader, node):
     loader.flatten_mapping(node)            # merge keys (<<: *anchor) may be overridden
     out = Mapping()
     out.line = node.start_mark.line + 1
+    own_lines = set()                       # lines of keys written in this block (not merged)
     for key_node, value_node in node.value:
         key = loader.construct_object(key_node, deep=True)
         line = key_node.start_mark.line + 1
@@ -289,12 +290,14 @@ def _construct_mapping(loader, node):
         except TypeError:
             raise ConfigError('a key that is a list or mapping (%r)' % (key,), loader.path, line,
                               fix='keys are plain names, e.g. "rate:"')
-        if key in out and id(key_node) in originals:
+        if key in out and id(key_node) in originals and out.lines[key] in own_lines:
             raise ConfigError('duplicate key "%s" (first on line %d); YAML would silently keep '
                               'only the last one' % (key, out.lines[key]), loader.path, line,
                               fix='keep one "%s:" line in this block' % key)
         out[key] = loader.construct_object(value_node, deep=True)
         out.lines[key] = line
+        if id(key_node) in originals:
+            own_lines.add(line)
     return out
 
 
