@@ -76,6 +76,7 @@ def expect_error(files, text):
     ('jointState', 'joints', '"HeadYaw"', "joints is 'HeadYaw', not a list of names"),
     ('laser', 'ranges', '"61"', "ranges is '61', not a whole number"),
     ('laser', 'rate', '[-16, -4]', 'values below 0 are impossible'),
+    ('laser', 'rate', '[0, 0]', 'nothing can be inside it'),
     ('laser', 'min_messages', '-3', 'min_messages is -3, must be at least 0'),
     ('laser', 'max_delay', '.nan', 'max_delay is nan, not a finite number'),
     ('depthCamera', 'median_range', '[8, 0.3]', 'minimum is not below the maximum'),

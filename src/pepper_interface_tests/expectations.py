@@ -90,6 +90,8 @@ def band(lo=0.0, strict=False, example='[4.0, 16.0]'):
             raise Bad('is %r, values below %g are impossible' % (v, lo), fix)
         if v[0] > v[1] or (strict and v[0] == v[1]):
             raise Bad('is %r, the minimum is not below the maximum' % (v,), fix)
+        if v[1] <= 0:
+            raise Bad('is %r, nothing can be inside it' % (v,), fix)
         return (float(v[0]), float(v[1]))
     return check
 
