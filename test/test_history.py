@@ -190,3 +190,73 @@ def test_publishing_removes_only_unchanged_files_of_the_previous_run(tmp_path):
     assert (tmp_path / 'bottomCameraOutput.mp4').read_text().startswith('edited')   # changed: kept
     assert (tmp_path / 'notes.txt').read_text() == 'mine'
     assert (tmp_path / 'runs' / a.run_id / 'frontCameraOutput.mp4').exists()  # history intact
+
+
+# ------------------------------------------------------------------ malformed and incomplete runs
+
+MALFORMED = [
+    ('[1, 2]', 'not a JSON object'),
+    ('{"sensors": "laser"}', '"sensors" is not a list'),
+    ('{"sensors": [{"name": "laser"}]}', 'sensor 1 has no name or verdict'),
+    ('{"sensors": [{"name": "laser", "verdict": "PASS", "rate_hz": "fast"}]}', 'rate_hz is not a number'),
+    ('{"summary": "2 passed", "sensors": []}', '"summary" is not a table of counts'),
+    ('{"platform": 3, "sensors": []}', '"platform" is not a text'),
+    ('{"sensors": [{"name": "laser", "verdict": "PASS", "reasons": "none"}]}', 'reasons is not a list'),
+    ('{"sensors": [', 'cannot read'),
+]
+
+
+def copy_history(two_runs, tmp_path):
+    """The two real runs of the fixture in a folder of this test's own (real files)."""
+    import shutil
+    out, *_ = two_runs
+    mine = tmp_path / 'out'
+    shutil.copytree(str(out / 'runs'), str(mine / 'runs'))
+    return mine, sorted(os.listdir(str(mine / 'runs')))
+
+
+def add_run(out, run_id, json_text=None):
+    folder = out / 'runs' / run_id
+    folder.mkdir()
+    if json_text is not None:
+        (folder / 'sensorTestResults.json').write_text(json_text, encoding='utf-8')
+    return folder
+
+
+@pytest.mark.parametrize('text, why', MALFORMED)
+def test_list_and_compare_skip_a_malformed_run_json_with_a_note(two_runs, tmp_path, text, why):
+    """Before: a traceback (AttributeError/KeyError/TypeError) for every one of these."""
+    out, runs = copy_history(two_runs, tmp_path)
+    add_run(out, '29990101-000000', text)
+    p = history('--output-dir', str(out), 'list')
+    assert p.returncode == 0 and 'Traceback' not in p.stderr, p.stderr
+    row = next(line for line in p.stdout.splitlines() if line.startswith('29990101-000000'))
+    assert 'incomplete:' in row and why in row, row
+    data = json.loads(history('--output-dir', str(out), 'list', '--json').stdout)
+    assert data[-1]['complete'] is False and why in data[-1]['problem']
+    c = history('--output-dir', str(out), 'compare')
+    assert c.returncode == 0 and 'Traceback' not in c.stderr, c.stderr
+    assert c.stdout.startswith('compare %s (A) -> %s (B)' % (runs[0], runs[1]))
+    assert 'note: skipping run 29990101-000000' in c.stderr and why in c.stderr
+    named = history('--output-dir', str(out), 'compare', '29990101-000000')
+    assert named.returncode == 2 and 'cannot be compared' in named.stderr and 'Traceback' not in named.stderr
+
+
+def test_compare_skips_an_incomplete_latest_run(two_runs, tmp_path):
+    """Before: "run ... cannot be compared: no sensorTestResults.json", exit 2, while a run was
+    still going (or had been killed)."""
+    out, runs = copy_history(two_runs, tmp_path)
+    add_run(out, '29990101-000000')              # a run still going: its folder, no JSON yet
+    add_run(out, '29990101-000000-2', '{"sensors": 5}')
+    p = history('--output-dir', str(out), 'compare', '--json')
+    assert p.returncode == 0, p.stderr
+    assert (json.loads(p.stdout)['a'], json.loads(p.stdout)['b']) == (runs[0], runs[1])
+    notes = [line for line in p.stderr.splitlines() if 'note: skipping run' in line]
+    assert len(notes) == 2 and 'still going' in notes[0] and 'malformed' in notes[1], p.stderr
+    one = history('--output-dir', str(out), 'compare', runs[0])   # A named, B: latest complete
+    assert one.returncode == 0 and one.stdout.startswith('compare %s (A) -> %s (B)' % (runs[0], runs[1]))
+    # only one complete run left: a clear usage error, not a traceback
+    import shutil
+    shutil.rmtree(str(out / 'runs' / runs[0]))
+    few = history('--output-dir', str(out), 'compare')
+    assert few.returncode == 2 and 'needs two runs' in few.stderr and 'has 1 complete' in few.stderr and '2 incomplete' in few.stderr

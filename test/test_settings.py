@@ -3,6 +3,7 @@
 Real files in a temporary folder; no ROS needed. Every error must name the file and line, what
 was found and the valid choices (the `fix`).
 """
+import dataclasses
 import os
 
 import pytest
@@ -242,7 +243,7 @@ def test_true_false_words(word, value):
     ('platform', 'gazebo', ('robot', 'simulator')),
 ])
 def test_bad_mode_or_platform_in_configuration(files, key, value, valid):
-    write(files.config, '# header\nplatform robot\nmode sequential\n%s %s\n' % (key, value))
+    write(files.config, '# header\nrobotTopics topics.dat\nsimulatorTopics sim.dat\n%s %s\n' % (key, value))
     e = error_of(files.options())
     assert (e.path, e.line) == (files.config, 4)
     assert value in e.message
@@ -460,14 +461,16 @@ def test_expectations_merge_defaults_and_platform(files):
         'simulator': {'laserSensor': {'ranges': 90}},
     }))
     plan = load_plan(files.options(sensors=('laser', 'backSonar', 'imu')))
-    e = {s.name: dict(s.expect) for s in plan.sensors}
-    assert e['laser'] == {'min_messages': 3, 'max_delay': 1.0, 'ranges': 61}
-    assert e['backSonar'] == {'min_messages': 3, 'max_delay': 5.0}
-    assert e['imu'] == {'min_messages': 3, 'max_delay': 5.0}
+    e = {s.name: s.expect for s in plan.sensors}
+    assert (e['laser'].min_messages, e['laser'].max_delay, e['laser'].ranges) == (3, 1.0, 61)
+    assert (e['backSonar'].min_messages, e['backSonar'].max_delay) == (3, 5.0)
+    assert (e['imu'].min_messages, e['imu'].max_delay) == (3, 5.0)
+    # keys the file leaves out take the dataclass defaults (the only defaults)
+    assert (e['imu'].max_future, e['imu'].quick_messages, e['imu'].rate) == (1.0, 10, None)
     sim = load_plan(files.options(platform='simulator', sensors=('laser',)))
-    assert dict(sim.sensors[0].expect) == {'min_messages': 3, 'max_delay': 5.0, 'ranges': 90}
-    with pytest.raises(TypeError):
-        plan.sensors[0].expect['ranges'] = 1        # read-only
+    assert (sim.sensors[0].expect.max_delay, sim.sensors[0].expect.ranges) == (5.0, 90)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        plan.sensors[0].expect.ranges = 1        # read-only
 
 
 def test_shipped_expectations_reach_the_plan():
@@ -522,14 +525,15 @@ def test_bad_private_params(name, value, words):
     ('defaults: 3\n', 1, 'defaults is 3'),
     ('defaults:\n  min_messages: 3\nrobot: [laser]\n', 3, 'robot is'),
     ('robot:\n  backSonar:\n    nominal: 10\n  laser: 5\n', 4, 'robot.laser is 5'),
-    ('robot:\n  laser:\n    rate: 5\n', 2, 'rate is 5'),
-    ('robot:\n  imu:\n    rate: [16, 4]\n', 2, 'rate is [16, 4]'),
-    ('robot:\n  backSonar:\n    field_of_view: [0.1]\n', 2, 'field_of_view'),
-    ('defaults:\n  min_messages: many\n', 1, 'min_messages is \'many\''),
-    ('robot:\n\n  laser:\n    max_delay: [1]\n', 3, 'max_delay'),
+    ('robot:\n  laser:\n    rate: 5\n', 3, 'rate is 5'),
+    ('robot:\n  imu:\n    rate: [16, 4]\n', 3, 'rate is [16, 4]'),
+    ('robot:\n  backSonar:\n    field_of_view: [0.1]\n', 3, 'field_of_view'),
+    ('defaults:\n  min_messages: many\n', 2, 'min_messages is \'many\''),
+    ('robot:\n\n  laser:\n    max_delay: [1]\n', 4, 'max_delay'),
 ])
 def test_malformed_expectations_name_the_line(files, text, line, words):
-    """Before: a TypeError/AttributeError traceback at start, or a crash when the verdict was made."""
+    """Before: a TypeError/AttributeError traceback at start, or a crash when the verdict was made.
+    The line is the offending key's own line (it was the sensor's line before the typed loader)."""
     write(files.expectations, text)
     e = error_of(files.options())
     assert (e.path, e.line) == (files.expectations, line)

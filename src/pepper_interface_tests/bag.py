@@ -3,10 +3,47 @@
 Time is the bag's record time: the runner's clock is a virtual clock that this source advances
 by one tick per loop, feeding every message recorded up to that moment. Rates and delays are
 therefore measured from the recorded times, exactly as they were on the robot.
+
+Streaming: messages are read with rosbag's `read_messages` generator (in record-time order,
+one chunk at a time) while the virtual clock advances, and only for the topics a running window
+listens to; nothing but the next message is held. Memory is bounded by the windows' working set
+(the checks' state, one bag chunk), not by the size of the bag.
+
+The window: a bag is checked over its *dense* part, its longest run of records with no silence
+longer than MAX_SILENCE between two of them (any topic). A record at a bogus time (t = 1 s in a
+bag recorded at 1.7e9 s, a clock that jumped) would otherwise stretch the window to decades;
+such records are left out and `notes` says which and when.
 """
 import os
 
 from .settings import ConfigError
+
+# No sensor of Pepper publishes less than once a second (reference/pepper-sensors.md) and a
+# sensor test records seconds to minutes: when no topic at all has a record for 5 minutes, the
+# records on the other side of that silence are not part of the same recording.
+MAX_SILENCE = 300.0
+
+
+def dense_span(times, max_silence=MAX_SILENCE):
+    """(begin, end, left out before, left out after) of the largest group of `times` (sorted)
+    with no gap above `max_silence`; the first such group when two have the same size."""
+    if not times:
+        return 0.0, 0.0, 0, 0
+    best, start = (0, 0), 0
+    for i in range(1, len(times) + 1):
+        if i == len(times) or times[i] - times[i - 1] > max_silence:
+            if i - start > best[1] - best[0]:
+                best = (start, i)
+            start = i
+    first, stop = best
+    return times[first], times[stop - 1], first, len(times) - stop
+
+
+def _when(t):
+    import time
+    if t > 1e8:
+        return '%s UTC (t = %.6g s)' % (time.strftime('%Y-%m-%d %H:%M:%S', time.gmtime(t)), t)
+    return 't = %.6g s' % t
 
 
 class BagSource:
@@ -17,23 +54,49 @@ class BagSource:
         if not os.path.exists(path):
             raise ConfigError('bag file not found', path, fix='give --bag an existing .bag file')
         try:
-            bag = rosbag.Bag(path)
+            self.bag = rosbag.Bag(path)
         except Exception as e:  # ROSBagException, unindexed or foreign files
             raise ConfigError('cannot open the bag: %s' % e, path,
                               fix='check it is a ROS 1 bag (rosbag info %s); reindex with '
                                   '"rosbag reindex" if it was not closed' % path)
-        with bag:
-            info = bag.get_type_and_topic_info()
-            self.types = {t: v.msg_type for t, v in info.topics.items()}
-            self.messages = [(t.to_sec(), topic, raw[0], raw[1])
-                             for topic, raw, t in bag.read_messages(raw=True)]
-            self.begin = bag.get_start_time() if self.messages else 0.0
-            self.end = bag.get_end_time() if self.messages else 0.0
-        self.messages.sort(key=lambda m: m[0])
+        info = self.bag.get_type_and_topic_info()
+        self.types = {t: v.msg_type for t, v in info.topics.items()}
+        times = sorted(self._record_times())
+        self.begin, self.end, before, after = dense_span(times)
+        self.notes = []
+        if before or after:
+            odd = [t for t in times if t < self.begin or t > self.end]
+            self.notes.append(
+                '%d record%s at odd times left out (%s%s); no record for more than %g s '
+                'separates them from the %d records checked, from %s to %s (%.1f s)'
+                % (len(odd), '' if len(odd) == 1 else 's', ', '.join(_when(t) for t in odd[:3]),
+                   ', ...' if len(odd) > 3 else '', MAX_SILENCE, len(times) - len(odd),
+                   _when(self.begin), _when(self.end), self.end - self.begin))
         self.path = path
         self.now = self.begin
-        self._next = 0
         self.runs = {}
+        self._reader = None       # the read_messages generator, opened at the first tick
+        self._pending = None      # the next record, read but not yet due
+
+    def _record_times(self):
+        """Record times of every message, from the bag's index (already in memory: no data is read)."""
+        for entries in self.bag._connection_indexes.values():
+            for entry in entries:
+                yield entry.time.to_sec()
+
+    def _records(self, after=None):
+        """(t, topic, type name, serialized bytes) in record-time order, within the dense span,
+        for the topics of the windows attached so far (only records later than `after`)."""
+        import genpy
+        topics = sorted(self.runs)
+        if not topics:
+            return
+        start = genpy.Time.from_sec(self.begin if after is None else max(self.begin, after))
+        for topic, raw, t in self.bag.read_messages(topics=topics, raw=True, start_time=start,
+                                                    end_time=genpy.Time.from_sec(self.end)):
+            t = t.to_sec()
+            if after is None or t > after:
+                yield t, topic, raw[0], raw[1]
 
     @property
     def length(self):
@@ -43,6 +106,10 @@ class BagSource:
         return self.now
 
     def attach(self, run):
+        if self._reader is not None and run.plan.topic not in self.runs:
+            # a topic nobody listened to so far: read again from now, with it included
+            self._reader = self._records(after=self.now)
+            self._pending = None
         self.runs.setdefault(run.plan.topic, []).append(run)
 
     def detach(self, run):
@@ -59,9 +126,19 @@ class BagSource:
 
     def sleep(self, dt):
         self.now += dt
-        msgs = self.messages
-        while self._next < len(msgs) and msgs[self._next][0] <= self.now:
-            t, topic, type_name, data = msgs[self._next]
-            self._next += 1
+        if self._reader is None:
+            self._reader = self._records()
+        while True:
+            if self._pending is None:
+                self._pending = next(self._reader, None)
+                if self._pending is None:
+                    return
+            t, topic, type_name, data = self._pending
+            if t > self.now:
+                return
+            self._pending = None
             for run in self.runs.get(topic, ()):
                 run.feed_raw(type_name, data, t, t)
+
+    def close(self):
+        self.bag.close()

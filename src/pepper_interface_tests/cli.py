@@ -82,6 +82,10 @@ def options_from_args(ns):
             values[name] = v
     if 'sensors' in values:
         values['sensors'] = tuple(x for x in values['sensors'].replace(' ', ',').split(',') if x)
+        if not values['sensors']:
+            raise ConfigError('--sensors "%s" names no sensor' % ns.sensors,
+                              fix='give sensor names, e.g. --sensors laser,imu, or leave --sensors '
+                                  'out to run the sensors the input file enables')
     for key in ('duration', 'wait'):
         if key in values:
             values[key] = settings.positive_seconds(values[key], '--' + key)
@@ -206,8 +210,13 @@ def run_bag(plan, cli):
             s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
         active.append(s)
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
-    check_output_dir(plan.output_dir)
-    return execute(plan, source, source.clock, os.path.abspath(cli.bag))
+    for note in source.notes:     # e.g. records at bogus times left out of the window
+        print('sensorTest: note: %s: %s' % (cli.bag, note), flush=True)
+    try:
+        check_output_dir(plan.output_dir)
+        return execute(plan, source, source.clock, os.path.abspath(cli.bag))
+    finally:
+        source.close()
 
 
 def execute(plan, source, clock, source_name):

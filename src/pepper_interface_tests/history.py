@@ -218,10 +218,45 @@ def list_runs(output_dir):
         else:
             try:
                 data = results.load_json(json_path)
-            except (OSError, ValueError) as e:
+            except (OSError, ValueError, RecursionError) as e:
                 problem = 'cannot read %s: %s' % (json_path, e)
+            else:
+                why = malformed(data)
+                if why:
+                    data, problem = None, 'malformed %s (%s)' % (results.JSON_FILE, why)
         out.append(RunInfo(run_id, path, data, problem))
     return out
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def malformed(data):
+    """Why a run's JSON cannot be listed or compared ('' when it can): every field `list` and
+    `compare` read must have the type sensorTest writes (a hand-edited or truncated-and-repaired
+    file, or one from another tool, must not give a traceback)."""
+    if not isinstance(data, dict):
+        return 'not a JSON object'
+    for key in ('start', 'platform', 'mode', 'source'):
+        if data.get(key) is not None and not isinstance(data[key], str):
+            return '"%s" is not a text' % key
+    summary = data.get('summary')
+    if summary is not None and not (isinstance(summary, dict) and all(_is_number(v) for v in summary.values())):
+        return '"summary" is not a table of counts'
+    sensors = data.get('sensors', [])
+    if not isinstance(sensors, list):
+        return '"sensors" is not a list'
+    for i, s in enumerate(sensors, 1):
+        if not isinstance(s, dict) or not isinstance(s.get('name'), str) \
+                or not isinstance(s.get('verdict'), str):
+            return 'sensor %d has no name or verdict' % i
+        if s.get('rate_hz') is not None and not _is_number(s['rate_hz']):
+            return 'sensor %s: rate_hz is not a number' % s['name']
+        reasons = s.get('reasons')
+        if reasons is not None and not (isinstance(reasons, list) and all(isinstance(r, str) for r in reasons)):
+            return 'sensor %s: reasons is not a list of texts' % s['name']
+    return ''
 
 
 def resolve(runs, ref):
@@ -268,8 +303,8 @@ def format_list(runs, base):
         if d.get('interrupted'):
             failed = (failed + '; ' if failed else '') + 'INTERRUPTED'
         source = d.get('source') or '-'
-        rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform', '-'),
-                     d.get('mode', '-'), 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
+        rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform') or '-',
+                     d.get('mode') or '-', 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
                      failed or '-'))
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
     lines = []
@@ -352,6 +387,14 @@ def format_compare(a, b, rows, threshold=RATE_FLAG):
 
 # ---------------------------------------------------------------- sensorTestHistory
 
+def _note_skipped(runs, since):
+    """One note on stderr per incomplete run after `since` (all of them when None)."""
+    later = runs if since is None else runs[runs.index(since) + 1:]
+    for r in later:
+        if not r.complete:
+            sys.stderr.write('sensorTestHistory: note: skipping run %s: %s\n' % (r.run_id, r.problem))
+
+
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.print_usage(sys.stderr)
@@ -408,14 +451,26 @@ def main(argv=None, out=None):
         if args.command == 'path':
             out.write(resolve(runs, args.run).path + '\n')
             return EXIT_OK
-        # compare
+        # compare: runs not named explicitly are the latest complete ones; incomplete runs
+        # (still going, killed, malformed JSON) are skipped with a note
+        complete = [r for r in runs if r.complete]
         if args.a is None:
-            if len(runs) < 2:
-                raise HistoryError('compare needs two runs; %s has %d' % (os.path.join(base, RUNS_DIR), len(runs)))
-            a, b = runs[-2], runs[-1]
+            _note_skipped(runs, complete[-2] if len(complete) >= 2 else None)
+            if len(complete) < 2:
+                raise HistoryError('compare needs two runs; %s has %d complete%s'
+                                   % (os.path.join(base, RUNS_DIR), len(complete),
+                                      ' (and %d incomplete)' % (len(runs) - len(complete))
+                                      if len(runs) > len(complete) else ''))
+            a, b = complete[-2], complete[-1]
         else:
             a = resolve(runs, args.a)
-            b = resolve(runs, args.b) if args.b is not None else runs[-1]
+            if args.b is not None:
+                b = resolve(runs, args.b)
+            else:
+                _note_skipped(runs, a)
+                if not complete:
+                    raise HistoryError('no complete run to compare %s with' % a.run_id)
+                b = complete[-1]
         threshold = args.threshold / 100.0
         rows = compare(a, b, threshold)
         if args.json:

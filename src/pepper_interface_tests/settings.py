@@ -4,16 +4,16 @@ Data flow: Options (command line, then private ROS params) name the files and ov
 the configuration file gives platform, mode and the topics file; the input file says which
 sensors run, in which order; the topics file maps sensors to topics; the expectations file gives
 what each sensor should deliver. Every problem raises ConfigError naming the file, the line,
-what was found and the fix.
+what was found and the fix. Every file must be UTF-8 (a leading BOM is accepted); a key given
+twice is an error naming both lines. The expectations are typed per family (expectations.py).
 """
 import os
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Optional, Tuple
 
-import yaml
-
-from . import catalog
+from . import catalog, expectations
+from .textfile import ConfigError, read_text   # noqa: F401  (ConfigError is imported from here)
 
 PLATFORMS = ('robot', 'simulator')
 MODES = ('sequential', 'parallel')
@@ -22,20 +22,6 @@ MIC_MODES = ('together', 'sequential')
 CONFIG_KEYS = ('platform', 'robottopics', 'simulatortopics', 'mode')
 TRUE_WORDS = ('true', 'yes', 'on', '1')
 FALSE_WORDS = ('false', 'no', 'off', '0')
-
-
-class ConfigError(Exception):
-    """A problem with the run's files or options, reported as `file:line: problem. fix`."""
-
-    def __init__(self, message, path=None, line=None, fix=None):
-        self.path, self.line, self.message, self.fix = path, line, message, fix
-        where = ''
-        if path:
-            where = '%s:%s: ' % (path, line) if line else '%s: ' % path
-        text = where + message
-        if fix:
-            text += '\n  fix: ' + fix
-        super().__init__(text)
 
 
 def package_dir():
@@ -99,7 +85,7 @@ class SensorPlan:
     """One sensor of the run: what to listen to and what to expect."""
     sensor: catalog.Sensor
     topic: Optional[str]
-    expect: MappingProxyType
+    expect: expectations.Expect
     skip_reason: Optional[str] = None
 
     @property
@@ -129,15 +115,7 @@ class TestPlan:
 
 def read_pairs(path, what):
     """`key value` lines of a file -> [(line number, key, value)]; '#' comments, blanks skipped."""
-    if not os.path.exists(path):
-        raise ConfigError('%s not found' % what, path,
-                          fix='give an existing file (see README, "Files") or create it')
-    try:
-        with open(path, encoding='utf-8') as f:
-            lines = f.read().splitlines()
-    except (OSError, UnicodeDecodeError) as e:
-        raise ConfigError('cannot read %s: %s' % (what, e), path,
-                          fix='check the file permissions and that it is a text file')
+    lines = read_text(path, what).splitlines()
     pairs = []
     for number, raw in enumerate(lines, 1):
         text = raw.split('#', 1)[0].strip() if not raw.lstrip().startswith('#') else ''
@@ -194,6 +172,9 @@ def read_configuration(path):
         if k not in CONFIG_KEYS:
             raise ConfigError('unknown key "%s"' % key, path, line,
                               fix='valid keys: platform, robotTopics, simulatorTopics, mode')
+        if k in values:
+            raise ConfigError('"%s" is given twice (first on line %d)' % (key, where[k]), path, line,
+                              fix='keep one "%s" line' % key)
         values[k], where[k] = value, line
     if 'platform' in values:
         values['platform'] = choice(values['platform'], PLATFORMS, 'platform', path, where['platform'])
@@ -220,7 +201,7 @@ def read_input(path):
 
 def read_topics(path):
     """Topics file -> {canonical name: topic}; actuator keys are ignored."""
-    topics = {}
+    topics, where = {}, {}
     for line, key, value in read_pairs(path, 'topics file'):
         if catalog.is_actuator_key(key):
             continue
@@ -233,87 +214,16 @@ def read_topics(path):
         if not topic.startswith('/') or len(value.split()) > 1:
             raise ConfigError('"%s" is not a topic name' % value, path, line,
                               fix='write "%s /absolute/topic/name"' % key)
-        topics[name] = topic
+        if name in topics:
+            raise ConfigError('sensor "%s" is listed twice (first on line %d)' % (key, where[name]),
+                              path, line, fix='keep one line per sensor')
+        topics[name], where[name] = topic, line
     return topics
 
 
 def read_expectations(path, platform):
-    """Expectations file -> {sensor name: read-only dict} for one platform, defaults merged."""
-    if not os.path.exists(path):
-        raise ConfigError('expectations file not found', path,
-                          fix='give --expectations an existing file (default config/sensorExpectations.yaml)')
-    try:
-        with open(path, encoding='utf-8') as f:
-            data = yaml.safe_load(f) or {}
-    except (OSError, yaml.YAMLError) as e:
-        line = getattr(getattr(e, 'problem_mark', None), 'line', None)
-        raise ConfigError('cannot read expectations: %s' % str(e).splitlines()[0], path,
-                          line + 1 if line is not None else None, fix='fix the YAML syntax')
-    if not isinstance(data, dict):
-        raise ConfigError('expected a mapping with "defaults", "robot" and "simulator"', path)
-    defaults = data.get('defaults') or {}
-    section = data.get(platform) or {}
-    lines = _yaml_key_lines(path)
-    _check_mapping('defaults', defaults, path, lines.get(('defaults',)))
-    _check_mapping(platform, section, path, lines.get((platform,)))
-    for where, value in [(('defaults',), defaults)] + [((platform, k), v) for k, v in section.items()]:
-        _check_block('.'.join(map(str, where)), value or {}, path, lines.get(where))
-    out = {}
-    for name in section:
-        if catalog.canonical(str(name)) is None:
-            raise ConfigError('unknown sensor "%s" in section %s' % (name, platform), path,
-                              lines.get((platform, name)), fix='valid sensors: ' + _valid_names())
-    for name in catalog.SENSORS:
-        merged = dict(defaults)
-        for key, value in section.items():
-            if catalog.canonical(str(key)) == name:
-                merged.update(value or {})
-        out[name] = MappingProxyType(merged)
-    return out
-
-
-BANDS = ('rate', 'field_of_view')
-NUMBERS = ('min_messages', 'max_delay', 'max_future', 'quick_messages', 'max_gap_factor')
-
-
-def _check_mapping(where, value, path, line):
-    if not isinstance(value, dict):
-        raise ConfigError('%s is %r, not a mapping of "key: value" lines' % (where, value), path, line,
-                          fix='indent "key: value" lines under it (see the comments at the top of '
-                              'config/sensorExpectations.yaml)')
-
-
-def _check_block(where, value, path, line):
-    """A sensor's (or the defaults') expectations: the keys every run uses must be well formed."""
-    _check_mapping(where, value, path, line)
-    for key in BANDS:
-        band = value.get(key)
-        if band is not None and not (isinstance(band, list) and len(band) == 2 and all(
-                isinstance(b, (int, float)) and not isinstance(b, bool) for b in band) and band[0] <= band[1]):
-            raise ConfigError('%s: %s is %r, not a [min, max] pair' % (where, key, band), path, line,
-                              fix='write e.g. "%s: [4.0, 16.0]"' % key)
-    for key in NUMBERS:
-        number = value.get(key)
-        if number is not None and (isinstance(number, bool) or not isinstance(number, (int, float))):
-            raise ConfigError('%s: %s is %r, not a number' % (where, key, number), path, line,
-                              fix='write a number, e.g. "%s: 3"' % key)
-
-
-def _yaml_key_lines(path):
-    """{(section,): line, (section, sensor): line} of a YAML file, for error messages."""
-    try:
-        with open(path, encoding='utf-8') as f:
-            root = yaml.compose(f)
-    except (OSError, yaml.YAMLError):
-        return {}
-    lines = {}
-    if isinstance(root, yaml.MappingNode):
-        for key, value in root.value:
-            lines[(key.value,)] = key.start_mark.line + 1
-            if isinstance(value, yaml.MappingNode):
-                for sub, _ in value.value:
-                    lines[(key.value, sub.value)] = sub.start_mark.line + 1
-    return lines
+    """Expectations file -> {sensor name: frozen, typed expectations} for one platform."""
+    return expectations.load(path, platform)
 
 
 # ---------------------------------------------------------------- the plan
@@ -352,6 +262,9 @@ def load_plan(options=Options()):
     topics = read_topics(topics_path)
     expectations = read_expectations(expect_path, platform)
 
+    if options.sensors is not None and not options.sensors:
+        raise ConfigError('--sensors names no sensor', fix='give sensor names, e.g. --sensors laser,imu '
+                          '(valid: %s), or leave --sensors out to run the input file' % _valid_names())
     if options.sensors:
         order = []
         for spelling in options.sensors:
@@ -363,6 +276,10 @@ def load_plan(options=Options()):
                 order.append((name, True))
     else:
         order = [(n, on) for n, on in read_input(input_path) if on]
+        if not order:
+            raise ConfigError('no sensor is selected: every sensor is false or missing', input_path,
+                              fix='set at least one sensor to true (e.g. "laser true"), or name '
+                                  'sensors with --sensors')
 
     plans = []
     for name, _ in order:

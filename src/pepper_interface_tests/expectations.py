@@ -1,0 +1,403 @@
+"""What each sensor should deliver: typed, frozen dataclasses, one per check family.
+
+The expectations file (config/sensorExpectations.yaml) is read once by `load()` into one frozen
+object per sensor. The dataclass defaults below are the only defaults: a key left out of the
+file takes the value written here. The loader rejects, with file:line and the fix:
+  * a file that is not UTF-8 (a UTF-8 BOM at its start is accepted), a YAML syntax error;
+  * duplicate keys (PyYAML would silently keep the last one), naming both lines;
+  * unknown sections, unknown sensors, unknown keys (a typo `rates:` would disable a check);
+  * values of the wrong type (`min_brightness: dark`, `joints: "HeadYaw"`, `ranges: "61"`,
+    `quick_messages: .inf`, `rate: [1, .inf]`) and impossible values (`rate: [-16, -4]`,
+    `min_messages: -3`, `max_delay: .nan`, `median_range: [8, 0.3]`).
+
+`defaults:` applies to every sensor whose family has the key; a key no family has is unknown.
+Only the chosen platform's section is validated (a file may carry a section for a platform
+that is not tested today).
+
+Until every check reads attributes, `Expect.get(key, default=None)` returns the typed field
+(`default` only when the field is None, i.e. "not checked") and raises UnknownExpectation for
+a name that is not a field of the sensor's family, so a check reading a key nobody declared
+fails loudly in the tests instead of silently using its own default.
+"""
+import difflib
+import math
+from dataclasses import dataclass, field, fields
+from typing import Optional, Tuple
+
+import yaml
+
+from . import catalog
+from .textfile import ConfigError, read_text
+
+SECTIONS = ('defaults', 'robot', 'simulator')
+
+
+class UnknownExpectation(KeyError):
+    """A check asked for an expectation its family does not declare (a programming error)."""
+
+
+# ---------------------------------------------------------------- value kinds
+# Each kind checks one value and returns it normalised, or raises Bad(problem, fix example).
+# Kept as small functions so that a new key is one line of a dataclass.
+
+class Bad(Exception):
+    def __init__(self, problem, fix):
+        super().__init__(problem)
+        self.problem, self.fix = problem, fix
+
+
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def number(lo=None, hi=None, lo_open=False, hi_open=False, example='1.0'):
+    """A finite number within [lo, hi] (an open end excludes the bound)."""
+    def check(key, v):
+        if not _is_number(v):
+            raise Bad('is %r, not a number' % (v,), '"%s: %s"' % (key, example))
+        if math.isnan(v) or math.isinf(v):
+            raise Bad('is %r, not a finite number' % (v,), '"%s: %s"' % (key, example))
+        if lo is not None and (v < lo or (lo_open and v == lo)):
+            raise Bad('is %r, must be %s %g' % (v, 'above' if lo_open else 'at least', lo),
+                      '"%s: %s"' % (key, example))
+        if hi is not None and (v > hi or (hi_open and v == hi)):
+            raise Bad('is %r, must be %s %g' % (v, 'below' if hi_open else 'at most', hi),
+                      '"%s: %s"' % (key, example))
+        return float(v)
+    return check
+
+
+def whole(lo, example):
+    """A whole number (an integral float such as 10.0 is accepted) of at least `lo`."""
+    def check(key, v):
+        if not _is_number(v) or math.isnan(v) or math.isinf(v) or v != int(v):
+            raise Bad('is %r, not a whole number' % (v,), '"%s: %s"' % (key, example))
+        if v < lo:
+            raise Bad('is %r, must be at least %d' % (v, lo), '"%s: %s"' % (key, example))
+        return int(v)
+    return check
+
+
+def band(lo=0.0, strict=False, example='[4.0, 16.0]'):
+    """A [min, max] pair of finite numbers, lo <= min <= max (min < max when strict)."""
+    def check(key, v):
+        fix = '"%s: %s"' % (key, example)
+        if not (isinstance(v, list) and len(v) == 2 and all(_is_number(b) for b in v)):
+            raise Bad('is %r, not a [min, max] pair of numbers' % (v,), fix)
+        if any(math.isnan(b) or math.isinf(b) for b in v):
+            raise Bad('is %r, both ends must be finite numbers' % (v,), fix)
+        if v[0] < lo:
+            raise Bad('is %r, values below %g are impossible' % (v, lo), fix)
+        if v[0] > v[1] or (strict and v[0] == v[1]):
+            raise Bad('is %r, the minimum is not below the maximum' % (v,), fix)
+        if v[1] <= 0:
+            raise Bad('is %r, nothing can be inside it' % (v,), fix)
+        return (float(v[0]), float(v[1]))
+    return check
+
+
+def text(example):
+    def check(key, v):
+        if not isinstance(v, str) or not v.strip():
+            raise Bad('is %r, not a text' % (v,), '%s: "%s" (quote it)' % (key, example))
+        return v
+    return check
+
+
+def flag(key, v):
+    if not isinstance(v, bool):
+        raise Bad('is %r, not true or false' % (v,), '"%s: true"' % key)
+    return v
+
+
+def names(example):
+    def check(key, v):
+        if not isinstance(v, list) or not all(isinstance(n, str) and n.strip() for n in v):
+            raise Bad('is %r, not a list of names' % (v,), '"%s: [%s]"' % (key, example))
+        return tuple(v)
+    return check
+
+
+# ---------------------------------------------------------------- the families
+
+def _field(kind, default=None):
+    return field(default=default, metadata={'kind': kind})
+
+
+@dataclass(frozen=True)
+class Expect:
+    """Keys common to every sensor (reasons in config/sensorExpectations.yaml)."""
+    rate: Optional[Tuple[float, float]] = _field(band(example='[4.0, 16.0]'))
+    nominal: Optional[float] = _field(number(0, lo_open=True, example='10'))
+    frame_id: Optional[str] = _field(text('base_footprint'))
+    min_messages: int = _field(whole(0, '3'), 3)
+    max_delay: float = _field(number(0, lo_open=True, example='5.0'), 5.0)
+    max_future: float = _field(number(0, example='1.0'), 1.0)
+    quick_messages: int = _field(whole(1, '10'), 10)
+    max_gap_factor: float = _field(number(0, lo_open=True, example='3.0'), 3.0)
+
+    def get(self, key, default=None):
+        """The typed value of `key` (`default` when it is None: not checked)."""
+        if key not in self.field_names():
+            raise UnknownExpectation('%s has no expectation "%s"; declare it in expectations.py '
+                                     '(valid: %s)' % (type(self).__name__, key, ', '.join(self.field_names())))
+        value = getattr(self, key)
+        return default if value is None else value
+
+    @classmethod
+    def field_names(cls):
+        return tuple(f.name for f in fields(cls))
+
+    # A read-only mapping view of the values that are set (not None), for code not yet
+    # converted to attributes (e.g. tests that build a variant with dict(expect, key=value)).
+    def keys(self):
+        return [k for k in self.field_names() if getattr(self, k) is not None]
+
+    def __getitem__(self, key):
+        value = self.get(key)
+        if value is None:
+            raise KeyError(key)
+        return value
+
+    def __iter__(self):
+        return iter(self.keys())
+
+    def __len__(self):
+        return len(self.keys())
+
+    def __contains__(self, key):
+        return key in self.keys()
+
+
+@dataclass(frozen=True)
+class RangeExpect(Expect):
+    field_of_view: Optional[Tuple[float, float]] = _field(band(example='[0.1, 1.2]'))
+
+
+@dataclass(frozen=True)
+class LaserExpect(Expect):
+    ranges: Optional[int] = _field(whole(1, '61'))
+    blind_value: Optional[float] = _field(number(example='-1.0'))
+    max_invalid_share: Optional[float] = _field(number(0, 1, example='0.5'))
+
+
+@dataclass(frozen=True)
+class ImageExpect(Expect):
+    encoding: Optional[str] = _field(text('rgb8'))
+    width: Optional[int] = _field(whole(1, '640'))
+    height: Optional[int] = _field(whole(1, '480'))
+
+
+@dataclass(frozen=True)
+class CameraExpect(ImageExpect):
+    min_brightness: float = _field(number(0, 255, example='5.0'), 5.0)
+    min_spread: float = _field(number(0, example='2.0'), 2.0)
+    # Pepper may send a frame twice at low rates: fewer than 3 identical frames is not "frozen"
+    frozen_frames: int = _field(whole(3, '5'), 5)
+    bad_frame_share: float = _field(number(0, 1, example='0.5'), 0.5)
+    stereo: bool = _field(flag, False)     # the loader sets True for stereoCamera unless given
+
+
+@dataclass(frozen=True)
+class DepthExpect(ImageExpect):
+    min_valid_share: Optional[float] = _field(number(0, 1, example='0.2'))
+    median_range: Optional[Tuple[float, float]] = _field(band(example='[0.3, 8.0]'))
+    video_range: Tuple[float, float] = _field(band(strict=True, example='[0.0, 5.0]'), (0.0, 5.0))
+
+
+@dataclass(frozen=True)
+class AudioExpect(Expect):
+    sample_rate: int = _field(whole(1, '48000'), 48000)
+    sample_rate_tolerance: float = _field(number(0, 1, hi_open=True, example='0.05'), 0.05)
+    silence_dbfs: float = _field(number(hi=0, example='-70.0'), -70.0)
+    max_clipping_share: float = _field(number(0, 1, example='0.01'), 0.01)
+
+
+@dataclass(frozen=True)
+class JointsExpect(Expect):
+    joints: Tuple[str, ...] = _field(names('HeadYaw, HeadPitch'), ())
+
+
+@dataclass(frozen=True)
+class OdometryExpect(Expect):
+    child_frame_id: Optional[str] = _field(text('base_link'))
+
+
+@dataclass(frozen=True)
+class ImuExpect(Expect):
+    pass
+
+
+@dataclass(frozen=True)
+class SpeechExpect(Expect):
+    text: str = _field(text('This is the CSSR4Africa speaker test.'),
+                       'This is the CSSR4Africa speaker test.')
+    subscriber_wait: float = _field(number(0, lo_open=True, example='3.0'), 3.0)
+    listen_after: float = _field(number(0, example='4.0'), 4.0)
+
+
+FAMILIES = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
+            'depth': DepthExpect, 'audio': AudioExpect, 'joints': JointsExpect,
+            'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect}
+
+
+def family_of(name):
+    return FAMILIES[catalog.SENSORS[name].family]
+
+
+def all_keys():
+    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})
+
+
+def default_for(name):
+    """The expectations of sensor `name` when the file says nothing about it."""
+    return build(name, {})
+
+
+def build(name, values):
+    """A frozen expectations object from already validated values (see `load`)."""
+    cls = family_of(name)
+    values = dict(values)
+    if cls is CameraExpect and 'stereo' not in values:
+        values['stereo'] = name == 'stereoCamera'
+    return cls(**{k: v for k, v in values.items() if k in cls.field_names()})
+
+
+# ---------------------------------------------------------------- YAML with lines and duplicates
+
+class Mapping(dict):
+    """A YAML mapping that remembers the line of each key (1-based) and its own line."""
+    line = None
+
+    def __init__(self):
+        super().__init__()
+        self.lines = {}
+
+
+class _Loader(yaml.SafeLoader):
+    path = None
+
+
+def _construct_mapping(loader, node):
+    originals = {id(k) for k, _ in node.value}
+    loader.flatten_mapping(node)            # merge keys (<<: *anchor) may be overridden
+    out = Mapping()
+    out.line = node.start_mark.line + 1
+    own_lines = set()                       # lines of keys written in this block (not merged)
+    for key_node, value_node in node.value:
+        key = loader.construct_object(key_node, deep=True)
+        line = key_node.start_mark.line + 1
+        try:
+            hash(key)
+        except TypeError:
+            raise ConfigError('a key that is a list or mapping (%r)' % (key,), loader.path, line,
+                              fix='keys are plain names, e.g. "rate:"')
+        if key in out and id(key_node) in originals and out.lines[key] in own_lines:
+            raise ConfigError('duplicate key "%s" (first on line %d); YAML would silently keep '
+                              'only the last one' % (key, out.lines[key]), loader.path, line,
+                              fix='keep one "%s:" line in this block' % key)
+        out[key] = loader.construct_object(value_node, deep=True)
+        out.lines[key] = line
+        if id(key_node) in originals:
+            own_lines.add(line)
+    return out
+
+
+_Loader.add_constructor('tag:yaml.org,2002:map', _construct_mapping)
+
+
+def parse_yaml(path):
+    """The file's YAML as Mapping/list/scalars; ConfigError with the line on any problem."""
+    content = read_text(path, 'expectations file',
+                        fix_missing='give --expectations an existing file '
+                                    '(default config/sensorExpectations.yaml)')
+    loader = _Loader(content)
+    loader.path = path
+    try:
+        return loader.get_single_data()
+    except yaml.YAMLError as e:
+        mark = getattr(e, 'problem_mark', None)
+        raise ConfigError('cannot read expectations: %s' % str(e).splitlines()[0], path,
+                          mark.line + 1 if mark is not None else None, fix='fix the YAML syntax')
+    finally:
+        loader.dispose()
+
+
+# ---------------------------------------------------------------- validation
+
+def _need_mapping(where, value, path, line):
+    if value is None:
+        return Mapping()
+    if not isinstance(value, dict):
+        raise ConfigError('%s is %r, not a mapping of "key: value" lines' % (where, value), path, line,
+                          fix='indent "key: value" lines under it (see the comments at the top of '
+                              'config/sensorExpectations.yaml)')
+    return value
+
+
+def _unknown_key(where, key, valid, path, line):
+    close = difflib.get_close_matches(str(key), valid, n=1)
+    hint = 'did you mean "%s"? ' % close[0] if close else ''
+    return ConfigError('%s: unknown key "%s"' % (where, key), path, line,
+                       fix='%svalid keys here: %s' % (hint, ', '.join(valid)))
+
+
+def _kinds(cls):
+    return {f.name: f.metadata['kind'] for f in fields(cls)}
+
+
+def _validate(where, key, value, kind, path, line):
+    try:
+        return kind(key, value)
+    except Bad as e:
+        raise ConfigError('%s: %s %s' % (where, key, e.problem), path, line, fix='write e.g. ' + e.fix)
+
+
+def load(path, platform):
+    """Expectations file -> {canonical sensor name: frozen expectations} for `platform`."""
+    data = parse_yaml(path)
+    if data is None:
+        data = Mapping()
+    if not isinstance(data, dict):
+        raise ConfigError('expected a mapping with "defaults", "robot" and "simulator"', path, 1,
+                          fix='see the comments at the top of config/sensorExpectations.yaml')
+    for key in data:
+        if key not in SECTIONS:
+            raise _unknown_key('top level', key, list(SECTIONS), path, data.lines.get(key))
+    every = {}
+    for cls in FAMILIES.values():
+        every.update(_kinds(cls))
+    defaults = _need_mapping('defaults', data.get('defaults'), path, data.lines.get('defaults'))
+    checked_defaults = {}
+    for key, value in defaults.items():
+        if key not in every:
+            raise _unknown_key('defaults', key, sorted(every), path, defaults.lines.get(key))
+        checked_defaults[key] = _validate('defaults', key, value, every[key], path, defaults.lines.get(key))
+    section = _need_mapping(platform, data.get(platform), path, data.lines.get(platform))
+    given, seen = {}, {}
+    for spelling, block in section.items():
+        line = section.lines.get(spelling)
+        name = catalog.canonical(str(spelling))
+        if name is None:
+            raise ConfigError('unknown sensor "%s" in section %s' % (spelling, platform), path, line,
+                              fix='valid sensors: ' + ', '.join(catalog.SENSORS))
+        if name in seen:
+            raise ConfigError('sensor "%s" appears twice in section %s (first on line %d, as "%s")'
+                              % (spelling, platform, seen[name][0], seen[name][1]), path, line,
+                              fix='keep one block per sensor')
+        seen[name] = (line, spelling)
+        where = '%s.%s' % (platform, spelling)
+        block = _need_mapping(where, block, path, line)
+        kinds = _kinds(family_of(name))
+        values = {}
+        for key, value in block.items():
+            if key not in kinds:
+                raise _unknown_key(where, key, sorted(kinds), path, block.lines.get(key))
+            values[key] = _validate(where, key, value, kinds[key], path, block.lines.get(key))
+        given[name] = values
+    out = {}
+    for name in catalog.SENSORS:
+        values = {k: v for k, v in checked_defaults.items() if k in family_of(name).field_names()}
+        values.update(given.get(name, {}))
+        out[name] = build(name, values)
+    return out
