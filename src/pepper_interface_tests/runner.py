@@ -450,6 +450,7 @@ class Runner:
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         self.run.end = self.wall()
+        interrupts.pause('final-write')
         self.observers.call('run_ended', self.run)
 
 

@@ -165,7 +165,7 @@ class Terminal:
         for r in run.sensors:
             rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
             band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
-            reasons = _reasons(r.reasons) or (r.warnings and 'note: ' + _reasons(r.warnings))
+            reasons = _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
             wrapped = textwrap.wrap(reasons, width) or ['']
             row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, r.verdict, r.messages, rate, band, wrapped[0])
             self.line(self._paint(row, r.verdict))
