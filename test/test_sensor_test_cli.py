@@ -296,7 +296,7 @@ FAULTS = {
     'joints_duplicate': ('B', 'jointState', 'joints', ['--fault', 'dup_joint', '--rate', '50'],
                          'duplicate joint names HeadYaw'),
     'odometry_old_stamp': ('B', 'odometry', 'odometry', ['--fault', 'old_stamp'],
-                           'stale data: header stamps up to'),
+                           'clock offset: header stamps are a constant 30.0 s behind'),
     'imu_quaternion': ('B', 'imu', 'imu', ['--fault', 'broken_quaternion'],
                        'orientation is not a unit quaternion (norm 0.5)'),
     'joints_short_velocity': ('C', 'jointState', 'joints', ['--fault', 'short_velocity', '--rate', '50'],

@@ -244,7 +244,10 @@ class SensorRun:
         if s.repeated:
             warnings.append('%d repeated header stamp%s' % (s.repeated, '' if s.repeated == 1 else 's'))
         delay = s.delay_summary()
-        if delay:
+        offset = clock_offset(delay, float(e.get('max_delay', 5.0)), float(e.get('max_future', 1.0)))
+        if offset:
+            out.append(offset)
+        elif delay:
             if delay['max'] > float(e.get('max_delay', 5.0)):
                 out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
                            % (delay['max'], float(e.get('max_delay', 5.0))))
@@ -266,6 +269,30 @@ class SensorRun:
                             % (len(gaps), '' if len(gaps) == 1 else 's', threshold,
                                longest[1], longest[0]))
         return out
+
+
+# Spread (max - min) of "ROS time at reception - header stamp" below which a delay beyond the
+# limits is one constant offset between two clocks, not data getting old: network and driver
+# latency vary by milliseconds to a few hundred ms, a stale or stuck stream's delay grows.
+OFFSET_SPREAD = 1.0
+
+
+def clock_offset(delay, max_delay, max_future):
+    """The reason for header stamps a constant offset away from this computer's clock (the
+    robot's clock not synchronised, e.g. an hour off after a time-zone mistake), or ''."""
+    if not delay or delay['max'] - delay['min'] > OFFSET_SPREAD:
+        return ''
+    mean = delay['mean']
+    if mean > max_delay:
+        side = 'behind'
+    elif -mean > max_future:
+        side = 'ahead of'
+    else:
+        return ''
+    return ('clock offset: header stamps are a constant %.1f s %s this computer\'s clock (spread %.2f s): '
+            'the robot\'s clock is not synchronised with this one; sync both with chrony or ntp%s'
+            % (abs(mean), side, delay['max'] - delay['min'],
+               ' (or the driver stamps its data that late)' if side == 'behind' else ''))
 
 
 def skipped_result(plan, run_start, now):
