@@ -64,8 +64,8 @@ def build_parser():
     r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
-    r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run; '
-                   'the private params and /sensorTest/ params are read either way)')
+    r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
+                   'which also reads params set under /sensorTest/)')
     m = p.add_argument_group('media')
     m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write videos and WAV files')
     m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras (default: when a display exists)')

@@ -47,6 +47,8 @@ class Policy:
         return NAMES.get(self.first, 'interrupted')
 
     def install(self):
+        """Handle SIGINT, SIGTERM and SIGHUP from now on, starting afresh (phase 'start')."""
+        self.__init__()
         for sig in SIGNALS:
             signal.signal(sig, self._handle)
 
@@ -63,8 +65,9 @@ class Policy:
             _say('sensorTest: third interrupt: quitting now; result files may be incomplete\n')
             os._exit(130)
         if self.phase == 'closing':
-            _say('sensorTest: %s while writing the results: finishing them first '
-                 '(a third interrupt quits at once)\n' % NAMES.get(signum, 'signal'))
+            more = 3 - self.count
+            _say('sensorTest: %s while writing the results: finishing them first (interrupt %s '
+                 'more to quit at once)\n' % (NAMES.get(signum, 'signal'), 'once' if more == 1 else 'twice'))
             return
         if self.count == 1 and self.phase in ('start', 'run'):
             self.raise_pending()

@@ -471,6 +471,8 @@ class Runner:
         self._collect(wait=True)
         for lane in self.lanes:
             for plan in lane:
+                if plan.name in self.results:   # interrupted between starting it and popping it
+                    continue
                 r = skipped_result(plan, self.start, now)
                 r.reasons = ['not run: the run was interrupted before it started']
                 self._done(r)
