@@ -149,3 +149,14 @@ def test_a_constant_stamp_offset_is_named_a_clock_offset(module_master, tmp_path
     assert any(x.startswith('clock offset: header stamps are a constant 30.0 s behind') and 'chrony' in x
                for x in reasons), reasons
     assert not any('stale data' in x for x in reasons)
+
+
+def test_growing_delay_is_stale_data_not_a_clock_offset(tmp_path):
+    """The rule behind the name (runner.OFFSET_SPREAD): a delay that grows (stamps stuck 10 s
+    back) is stale data; the same delay held constant is a clock offset."""
+    from test_checks import N, R0, judged, sonar
+    stuck = judged('backSonar', tmp_path / 'a', [sonar(i) for i in range(N)], stamp=lambda i, ros: R0 - 10.0)
+    assert any(x.startswith('stale data: header stamps up to 12.') for x in stuck.reasons), stuck.reasons
+    assert not any('clock offset' in x for x in stuck.reasons)
+    offset = judged('backSonar', tmp_path / 'b', [sonar(i) for i in range(N)], delay=10.0)
+    assert any(x.startswith('clock offset: header stamps are a constant 10.0 s behind') for x in offset.reasons)
