@@ -220,7 +220,8 @@ def assert_outputs_complete(r, names):
         s = r.sensors[c.get('name')]
         failure = c.find('failure')
         assert (failure is not None) == (s['verdict'] == 'FAIL')
-        if failure is not None:
+        plain = '; '.join(s['reasons'])
+        if failure is not None and plain.isprintable() and len(plain) < 2000:   # else: escaped, cut
             assert failure.get('message') == '; '.join(s['reasons'])
 
 
@@ -255,7 +256,7 @@ def test_all_good_sensors_pass(module_master, good, tmp_path):
     for name in GOOD:
         s = r.sensors[name]
         assert s['messages'] >= 5 and s['rate_hz'] > 0 and s['topic'] == topic_of(good.prefix, name)
-    assert r.json['summary'] == {'PASS': len(names), 'FAIL': 0, 'SKIPPED': 0}
+    assert r.json['summary'] == {'PASS': len(names), 'FAIL': 0, 'SKIPPED': 0, 'INTERRUPTED': 0}
     # the spec's fields of the first message in each block
     sonar = r.block('BACK SONAR')
     assert '[MESSAGES] Printing back sonar data received.' in sonar
@@ -296,7 +297,7 @@ FAULTS = {
     'joints_duplicate': ('B', 'jointState', 'joints', ['--fault', 'dup_joint', '--rate', '50'],
                          'duplicate joint names HeadYaw'),
     'odometry_old_stamp': ('B', 'odometry', 'odometry', ['--fault', 'old_stamp'],
-                           'stale data: header stamps up to'),
+                           'clock offset: header stamps are a constant 30.0 s behind'),
     'imu_quaternion': ('B', 'imu', 'imu', ['--fault', 'broken_quaternion'],
                        'orientation is not a unit quaternion (norm 0.5)'),
     'joints_short_velocity': ('C', 'jointState', 'joints', ['--fault', 'short_velocity', '--rate', '50'],

@@ -2,16 +2,21 @@
 
 Exit codes: 0 every selected sensor passed (SKIPPED counts as passed), 1 at least one failed,
 2 the run could not start (bad files or options, no ROS master, unwritable output folder),
-130 interrupted (Ctrl-C / SIGTERM; the output files are still written).
+3 a results file could not be written (named on stderr), 130 interrupted (Ctrl-C, SIGTERM,
+SIGHUP, master gone, node replaced; the output files are still written). Signal policy:
+interrupts.py.
+
+The node is named /sensorTest_<pid>_<ms> (anonymous) unless --node-name or __name:= fixes it:
+two runs on one master never replace each other. Private params given as `_name:=value` on
+the command line are deleted from the parameter server when the run ends.
 """
 import argparse
 import os
-import signal
 import sys
 import tempfile
 import time
 
-from . import results, settings
+from . import interrupts, results, settings
 from .results import EXIT_CANNOT_START
 from .settings import ConfigError, Options
 
@@ -59,6 +64,8 @@ def build_parser():
     r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
+    r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
+                   'which also reads params set under /sensorTest/)')
     m = p.add_argument_group('media')
     m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write videos and WAV files')
     m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras (default: when a display exists)')
@@ -133,17 +140,27 @@ def _debug_line(text):
     sys.stderr.write('[debug] %s\n' % text)
 
 
-def _on_sigterm(signum, frame):
-    from .runner import Terminated
-    raise Terminated()
-
-
 def main(argv=None):
+    # Ctrl-C, SIGTERM and SIGHUP end the run cleanly, also when started with SIGINT ignored
+    # (background jobs of a non-interactive shell inherit that); a broken stdout/stderr is ignored
+    from .terminal import protect_std_streams
+    protect_std_streams()
+    interrupts.POLICY.install()
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
+                         % interrupts.POLICY.reason())
+        return results.EXIT_INTERRUPTED
+
+
+def _main(argv):
     if argv is None:
         import rospy
         argv = rospy.myargv(sys.argv)[1:]
     try:
-        cli = options_from_args(build_parser().parse_args(argv))
+        ns = build_parser().parse_args(argv)
+        cli = options_from_args(ns)
     except ConfigError as e:
         return _fatal(str(e))
     try:
@@ -152,22 +169,16 @@ def main(argv=None):
         if cli.bag:
             return _fatal(str(e))
         plan, plan_error = None, e   # private ROS params may still set it right: see run_live
-    # Ctrl-C and SIGTERM end the run cleanly even when started with SIGINT ignored
-    # (background jobs of a non-interactive shell inherit that).
-    signal.signal(signal.SIGINT, signal.default_int_handler)
-    signal.signal(signal.SIGTERM, _on_sigterm)
+    interrupts.pause('start-up')
     try:
         if cli.bag:
             return run_bag(plan, cli)
-        return run_live(plan, cli, plan_error)
+        return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))
-    except KeyboardInterrupt:
-        sys.stderr.write('sensorTest: interrupted before listening began\n')
-        return results.EXIT_INTERRUPTED
 
 
-def run_live(plan, cli, plan_error=None):
+def run_live(plan, cli, plan_error=None, node_name=None):
     from . import live
     uri = live.master_uri()
     if plan_error is not None and not live.master_reachable(uri, timeout=1.0):
@@ -179,17 +190,20 @@ def run_live(plan, cli, plan_error=None):
                               fix='start roscore (or roslaunch), or point ROS_MASTER_URI at the robot\'s master')
         time.sleep(0.25)
     import rospy
-    rospy.init_node('sensorTest', disable_signals=True)
-    params = options_from_params(rospy.get_param)
-    if any(v is not None for v in params.__dict__.values()):
-        plan = settings.load_plan(params.merged(cli))
-    elif plan_error is not None:
-        raise plan_error
-    check_output_dir(plan.output_dir)
-    source = live.LiveSource(rospy.get_name())
+    from . import node
+    rospy.init_node(node_name or 'sensorTest', anonymous=not node_name, disable_signals=True)
     try:
-        return execute(plan, source, time.monotonic, 'live')
+        params, from_server = node.read_params(options_from_params)
+        if any(v is not None for v in params.__dict__.values()):
+            plan = settings.load_plan(params.merged(cli))
+        elif plan_error is not None:
+            raise plan_error
+        check_output_dir(plan.output_dir)
+        source = live.LiveSource(rospy.get_name())
+        from_server = {k: v for k, v in from_server.items() if getattr(cli, k, None) is None}
+        return execute(plan, source, time.monotonic, 'live', from_server)
     finally:
+        node.forget_own_params()
         # rospy's shutdown first unregisters the node from the master (its hooks), then joins
         # its threads and sleeps (~0.6 s): wait for the first part only
         import threading
@@ -219,8 +233,12 @@ def run_bag(plan, cli):
         source.close()
 
 
-def execute(plan, source, clock, source_name):
-    """Run the plan against a source and write every output; returns the exit code."""
+def execute(plan, source, clock, source_name, param_sources=None):
+    """Run the plan against a source and write every output; returns the exit code.
+    From here on interrupts are deferred until every output exists (interrupts.py)."""
+    interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
+    interrupts.POLICY.phase = 'defer'
+    interrupts.pause('run-folder')
     from .runner import Runner
     from .sensors.base import RunContext
     from .terminal import Terminal
@@ -236,9 +254,18 @@ def execute(plan, source, clock, source_name):
     if plan.options.debug:
         ctx.services['debug'] = _debug_line
     observers = outputs.observers_for(plan, ctx, source_name, folder)
-    runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock)
+    runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock,
+                    signals=interrupts.POLICY)
     runner.run.run_id = folder.run_id
     runner.run.source = source_name
     runner.run.options = {k: v for k, v in plan.options.__dict__.items() if v is not None}
+    runner.run.param_sources = dict(param_sources or {})
     run = runner.execute()
+    if interrupts.POLICY.pending and not run.interrupted:
+        sys.stderr.write('sensorTest: the interrupt came while the results were written: they are '
+                         'complete; exit code %d as in %s\n' % (run.exit_code, results.JSON_FILE))
+    if run.write_errors:
+        sys.stderr.write('sensorTest: error: %d results file%s not written (exit %d): %s\n'
+                         % (len(run.write_errors), '' if len(run.write_errors) == 1 else 's',
+                            run.exit_code, '; '.join(run.write_errors)))
     return run.exit_code

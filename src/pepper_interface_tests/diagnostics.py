@@ -4,10 +4,12 @@ Follows diagnostic_updater's conventions so rqt_robot_monitor and diagnostic_agg
 the run like any other node's diagnostics:
   * topic /diagnostics, diagnostic_msgs/DiagnosticArray, published at 1 Hz (from the runner's
     50 ms tick), and once more with the final statuses when the run ends (also when interrupted);
-  * status name "<node name>: <sensor>", i.e. "sensorTest: frontSonar"; hardware_id the topic;
+  * status name "<node name>: <sensor>", i.e. "sensorTest: frontSonar" (the unique default
+    name's _<pid>_<ms> suffix left out); hardware_id the topic;
   * level and message:
       STALE  "waiting to start" (not yet listened to), "waiting for the first message (2.1 s
-             of 5.0 s)" (listening, nothing arrived yet), "not run: ..." (interrupted run)
+             of 5.0 s)" (listening, nothing arrived yet), "not run: ..." (interrupted run),
+             "INTERRUPTED: interrupted after ..." (a window cut short: not judged)
       OK     "listening, 35 msgs, 9.8 Hz" while nothing is wrong so far; "PASS: 98 msgs, 9.8 Hz"
              at the end; "SKIPPED: <reason>" (a skipped sensor does not fail the run)
       WARN   "listening, 35 msgs, 2.1 Hz; so far: rate 2.10 Hz outside the expected 4-16 Hz"
@@ -23,7 +25,7 @@ writes them); it never fails the run: a publishing error is printed once as a wa
 import sys
 import time
 
-from .results import FAIL, SKIPPED
+from .results import FAIL, INTERRUPTED, SKIPPED
 
 PERIOD = 1.0
 TOPIC = '/diagnostics'
@@ -104,6 +106,8 @@ def final_status(status, r):
     OK, WARN, ERROR, STALE = _levels()
     if r.verdict == FAIL:
         level, text = ERROR, 'FAIL: ' + '; '.join(r.reasons)
+    elif r.verdict == INTERRUPTED:     # not judged: stale, like a sensor that never ran
+        level, text = STALE, 'INTERRUPTED: ' + '; '.join(r.reasons)
     elif r.verdict == SKIPPED:
         not_run = any(x.startswith('not run') for x in r.reasons)
         level = STALE if not_run else OK
@@ -170,7 +174,10 @@ class LiveDiagnostics:
             import rospy
             from diagnostic_msgs.msg import DiagnosticArray
             if self.prefix is None:
-                self.prefix = rospy.get_name().lstrip('/') or 'sensorTest'
+                # the default node name is unique per run (sensorTest_<pid>_<ms>): status names
+                # stay "sensorTest: <sensor>" so monitors and aggregators see one status per sensor
+                import re
+                self.prefix = re.sub(r'_\d+_\d+$', '', rospy.get_name().lstrip('/')) or 'sensorTest'
             self.pub = rospy.Publisher(self.topic, DiagnosticArray, queue_size=10)
         except Exception as e:
             self._warn(e)

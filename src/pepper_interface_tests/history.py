@@ -98,12 +98,18 @@ def _signature(path):
 
 
 class LatestRun:
-    """Runner observer: keeps <output_dir> holding the latest run while each run has its folder."""
+    """Runner observer: keeps <output_dir> holding the latest run while each run has its folder.
+
+    The output folder's sensorTestOutput.dat receives this run's whole section in one locked
+    append when the run ends (the run folder's own .dat is written block by block): two runs
+    sharing an output folder never interleave their blocks there. A failure to append or to
+    publish is a write error of the run (exit 3): the output folder would otherwise show an
+    older run's results as the latest."""
 
     def __init__(self, folder, out=None):
         self.folder = folder
         self.out = out
-        self.dat = None
+        self.dat = None     # this run's section of the shared .dat, as text
 
     def _stream(self):
         return self.out or sys.stdout
@@ -114,33 +120,32 @@ class LatestRun:
         s.flush()
 
     def run_started(self, run, plan):
-        try:
-            self.dat = results.OutputFile(os.path.join(self.folder.base, results.OUTPUT_FILE))
-            self.dat.begin(run)
-        except OSError as e:
-            self.dat = None
-            self._warn('cannot append to %s: %s' % (results.OUTPUT_FILE, e))
+        self.dat = [results.dat_begin(run)]
 
     def sensor_done(self, result):
-        if self.dat is not None:
-            try:
-                self.dat.sensor(result)
-            except OSError as e:
-                self._warn('cannot append to %s: %s' % (results.OUTPUT_FILE, e))
-                self.dat = None
+        self.dat.append(results.dat_block(result))
 
     def run_ended(self, run):
+        from .outputs import write_error
+        path = os.path.join(self.folder.base, results.OUTPUT_FILE)
         try:
-            if self.dat is not None:
-                self.dat.end(run)
-                self.dat.close()
+            shared = results.OutputFile(path)
+            try:
+                shared.write_text(''.join(self.dat or [results.dat_begin(run)]) + results.dat_end(run))
+            finally:
+                shared.close()
+        except OSError as e:
+            write_error(run, path, e)
+        try:
             published = publish_latest(self.folder)
             s = self._stream()
             s.write('run %s kept in %s; latest run also in %s (%d files)\n'
                     % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
             s.flush()
-        except (Exception, KeyboardInterrupt) as e:   # never fail the run over the copies
-            self._warn('latest run not copied to %s: %s' % (self.folder.base, e))
+        except OSError as e:
+            write_error(run, 'latest run in %s' % self.folder.base, e)
+        except Exception as e:   # never lose the run over the copies, but say so
+            write_error(run, 'latest run in %s' % self.folder.base, e)
 
 
 def publish_latest(folder):

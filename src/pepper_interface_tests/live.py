@@ -2,10 +2,19 @@
 
 AnyMsg lets a subscription accept whatever type a topic really carries, so a topic advertised
 with the wrong type is reported by name instead of being refused silently by rospy's md5 check.
-The master is probed with a short TCP connect before anything that would make rospy wait for it
-forever (rospy retries registrations until the master comes back).
+The master is probed in a background thread (a short TCP connect, then getPid), so a slow master
+never blocks the listening loop. Data connections do not need the master: a master that stalls
+(no answer, e.g. WiFi to the robot) is tolerated for MASTER_SILENCE s; only a master that
+refuses connections (its port closed: it died) for MASTER_REFUSED s, or stays silent longer,
+ends the run ("went away"). rospy retries registrations until the master answers, so nothing
+registers or unregisters while it does not answer.
+
+A node that registers with this node's name makes the master shut this one down; rospy then
+stops every subscription. That is reported as such (exit 130), not as publishers that left.
 """
+import errno
 import socket
+import threading
 import time
 import xmlrpc.client
 from urllib.parse import urlparse
@@ -16,6 +25,12 @@ import rospy
 from .runner import SourceLost
 
 MASTER_TIMEOUT = 2.0
+# a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
+# connections are peer to peer and keep flowing; 1.3-2 s stalls were seen over WiFi
+MASTER_SILENCE = 10.0
+# a closed port is a dead master (a restarting one is back within this, and a new master has
+# lost every registration anyway)
+MASTER_REFUSED = 1.5
 
 
 def master_uri():
@@ -24,13 +39,21 @@ def master_uri():
 
 def master_reachable(uri=None, timeout=MASTER_TIMEOUT):
     """True when the ROS master answers getPid within `timeout` seconds."""
+    return master_state(uri, timeout) == 'ok'
+
+
+def master_state(uri=None, timeout=MASTER_TIMEOUT):
+    """'ok', 'refused' (nothing listens on the master's port) or 'silent' (no answer)."""
     uri = uri or master_uri()
     parsed = urlparse(uri)
     try:
         with socket.create_connection((parsed.hostname, parsed.port or 11311), timeout=timeout):
             pass
-    except OSError:
-        return False
+    except ConnectionRefusedError:
+        return 'refused'
+    except OSError as e:
+        return 'refused' if e.errno in (errno.ECONNREFUSED, errno.EHOSTUNREACH, errno.ENETUNREACH) \
+            else 'silent'
 
     class _Transport(xmlrpc.client.Transport):
         def make_connection(self, host):
@@ -40,9 +63,64 @@ def master_reachable(uri=None, timeout=MASTER_TIMEOUT):
 
     try:
         code, _, _ = xmlrpc.client.ServerProxy(uri, transport=_Transport()).getPid('/sensorTest')
-        return code == 1
+        return 'ok' if code == 1 else 'silent'
+    except ConnectionRefusedError:
+        return 'refused'
     except (OSError, xmlrpc.client.Error):
-        return False
+        return 'silent'
+
+
+class MasterWatch:
+    """Probes the master every `every` s in a thread of its own; `lost()` says why it counts as
+    gone ('' while it answers or has been silent or refusing for less than the limits)."""
+
+    def __init__(self, uri=None, every=0.5, timeout=1.0, silence=None, refused=None):
+        self.uri = uri or master_uri()
+        self.every, self.timeout = every, timeout
+        self.silence = MASTER_SILENCE if silence is None else silence
+        self.refused = MASTER_REFUSED if refused is None else refused
+        now = time.monotonic()
+        self.last_ok = now
+        self.state = 'ok'
+        self.bad_since = None       # when the current run of 'refused' answers began
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._loop, daemon=True, name='master-watch')
+        self._thread.start()
+
+    def _loop(self):
+        while not self._stop.is_set():
+            state = master_state(self.uri, self.timeout)
+            now = time.monotonic()
+            if state == 'ok':
+                self.last_ok, self.bad_since = now, None
+            elif state == 'refused':
+                self.bad_since = self.bad_since or now
+            else:
+                self.bad_since = None
+            self.state = state
+            self._stop.wait(self.every)
+
+    @property
+    def answering(self):
+        return self.state == 'ok'
+
+    def lost(self):
+        now = time.monotonic()
+        if self.state == 'refused' and self.bad_since is not None and now - self.bad_since >= self.refused:
+            return 'the ROS master at %s went away' % self.uri
+        if now - self.last_ok >= self.silence:
+            return 'the ROS master at %s went away (no answer for %.0f s)' % (self.uri, now - self.last_ok)
+        return ''
+
+    def wait_answering(self, limit):
+        """Until the master answers (True) or it counts as gone or `limit` s pass (False)."""
+        deadline = time.monotonic() + limit
+        while not self.answering and not self.lost() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return self.answering
+
+    def stop(self):
+        self._stop.set()
 
 
 class LiveSource:
@@ -51,19 +129,36 @@ class LiveSource:
     def __init__(self, caller_id='/sensorTest'):
         self.caller_id = caller_id
         self.subs = {}
-        self._last_probe = 0.0
-        self._master_ok = True
         self._last_conn = {}
+        self.watch = None
+        self.shutdown_reason = None
+        rospy.core.add_preshutdown_hook(self._on_shutdown)
+
+    def _on_shutdown(self, reason):
+        self.shutdown_reason = str(reason)
+
+    @property
+    def _master_ok(self):
+        return self.watch is None or self.watch.answering
 
     def _check_master(self, now, force=False):
-        if force or now - self._last_probe >= 1.0:
-            self._last_probe = now
-            self._master_ok = master_reachable(timeout=1.0)
-        if not self._master_ok:
-            raise SourceLost('the ROS master at %s went away' % master_uri())
+        if self.watch is None:
+            self.watch = MasterWatch()
+        reason = self.shutdown_reason
+        if reason is not None:
+            if 'same name' in reason:
+                raise SourceLost('another node named %s started on this master, which shut this run '
+                                 'down (one node per name: run without --node-name/__name:= to get a '
+                                 'unique name)' % self.caller_id)
+            raise SourceLost('the ROS node was shut down: %s' % reason)
+        lost = self.watch.lost()
+        if lost:
+            raise SourceLost(lost)
+        if force and not self.watch.wait_answering(self.watch.silence):
+            raise SourceLost(self.watch.lost() or 'the ROS master at %s does not answer' % self.watch.uri)
 
     def attach(self, run):
-        self._check_master(time.monotonic(), force=True)
+        self._check_master(time.monotonic(), force=True)   # registering waits for the master
         if run.check.active:
             return
 
@@ -78,8 +173,12 @@ class LiveSource:
     def detach(self, run):
         sub = self.subs.pop(run, None)
         self._last_conn.pop(run, None)
-        if sub is not None and self._master_ok:
+        if sub is None:
+            return
+        if self._master_ok:
             sub.unregister()
+        else:   # unregistering waits for the master: never in the listening loop
+            threading.Thread(target=sub.unregister, daemon=True, name='unregister').start()
 
     def poll(self, run, now):
         self._check_master(now)

@@ -1,14 +1,27 @@
 """Observers that turn a run into files and shared services.
 
 ResultFiles: sensorTestOutput.dat block by block as sensors finish (so an interrupted run still
-has every finished block, then [INTERRUPTED] and END TIME), sensorTestResults.json and
-sensorTestResults.xml at the end.
+has every finished block, then [INTERRUPTED] and END TIME), sensorTestResults.xml and
+sensorTestResults.json at the end (JUnit first, so that the JSON's exit_code and write_errors
+already know whether it failed). A file that cannot be written (full disk, ...) is named on
+stderr and recorded in run.write_errors, which makes the exit code 3; the run goes on.
 SpeechHearing: while the speech check runs and the microphone is part of the run, a
 microphone level monitor is offered to it (ctx.services['microphone_levels']).
 """
 import os
+import sys
 
 from . import results
+
+
+def write_error(run, path, error):
+    """Record and name a results file that could not be written."""
+    text = '%s: %s' % (path, getattr(error, 'strerror', None) or error)
+    if text not in run.write_errors:
+        run.write_errors.append(text)
+        sys.stderr.write('sensorTest: error: cannot write %s (free some space or choose another '
+                         '--output-dir)\n' % text)
+        sys.stderr.flush()
 
 
 class ResultFiles:
@@ -16,22 +29,42 @@ class ResultFiles:
         self.dir = output_dir
         self.dat = None
         self.out = out
+        self.run = None
+
+    def _dat(self, method, *args):
+        if self.dat is None:
+            return
+        try:
+            getattr(self.dat, method)(*args)
+        except OSError as e:
+            write_error(self.run, self.dat.path, e)
+            self.dat.close()
+            self.dat = None
 
     def run_started(self, run, plan):
-        self.dat = results.OutputFile(os.path.join(self.dir, results.OUTPUT_FILE))
-        self.dat.begin(run)
+        self.run = run
+        path = os.path.join(self.dir, results.OUTPUT_FILE)
+        try:
+            self.dat = results.OutputFile(path)
+        except OSError as e:
+            write_error(run, path, e)
+            return
+        self._dat('begin', run)
 
     def sensor_done(self, result):
-        if self.dat:
-            self.dat.sensor(result)
+        self._dat('sensor', result)
 
     def run_ended(self, run):
-        if self.dat:
-            self.dat.end(run)
-            self.dat.close()
-        results.write_json(run, os.path.join(self.dir, results.JSON_FILE))
-        results.write_junit(run, os.path.join(self.dir, results.JUNIT_FILE))
-        import sys
+        self.run = run
+        self._dat('end', run)
+        self._dat('close')
+        for name, write in ((results.JUNIT_FILE, results.write_junit),
+                            (results.JSON_FILE, results.write_json)):
+            path = os.path.join(self.dir, name)
+            try:
+                write(run, path)
+            except OSError as e:
+                write_error(run, path, e)
         stream = self.out or sys.stdout
         stream.write('results: %s\n' % ', '.join(os.path.join(self.dir, f) for f in (
             results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE)))

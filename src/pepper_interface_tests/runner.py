@@ -17,8 +17,8 @@ import sys
 import threading
 import time
 
-from . import catalog
-from .results import FAIL, PASS, SKIPPED, RunResult, SensorResult
+from . import catalog, interrupts
+from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult
 from .sensors import check_class
 from .sensors.base import Tally, fmt
 from .stats import StreamStats
@@ -164,7 +164,7 @@ class SensorRun:
         warnings = []
         topic = self.plan.topic
         if not check.active:
-            reasons += self._arrival_reasons(elapsed, lookup)
+            reasons += self._arrival_reasons(elapsed, None if reason == 'interrupted' else lookup)
             if s.count:
                 reasons += self._stream_reasons(elapsed, warnings)
         reasons += self.header_issues.reasons(s.count)
@@ -172,7 +172,12 @@ class SensorRun:
         warnings += check.warning_reasons()
         verdict = FAIL if reasons else PASS
         if reason == 'interrupted':
-            warnings.append('interrupted after %.1f s of %.1f s' % (elapsed, self.window))
+            # a window cut short is not judged: what it found so far is reported as warnings,
+            # never as a failure of the robot ("no message within 0.0 s", "only 2 messages")
+            warnings = ['before the interrupt: ' + r for r in reasons] + warnings
+            reasons = ['interrupted after %.1f s of the %.1f s window (%d message%s)'
+                       % (elapsed, self.window, s.count, '' if s.count == 1 else 's')]
+            verdict = INTERRUPTED
         band = e.get('rate')
         summary = s.summary()
         return SensorResult(
@@ -239,7 +244,10 @@ class SensorRun:
         if s.repeated:
             warnings.append('%d repeated header stamp%s' % (s.repeated, '' if s.repeated == 1 else 's'))
         delay = s.delay_summary()
-        if delay:
+        offset = clock_offset(delay, float(e.get('max_delay', 5.0)), float(e.get('max_future', 1.0)))
+        if offset:
+            out.append(offset)
+        elif delay:
             if delay['max'] > float(e.get('max_delay', 5.0)):
                 out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
                            % (delay['max'], float(e.get('max_delay', 5.0))))
@@ -261,6 +269,30 @@ class SensorRun:
                             % (len(gaps), '' if len(gaps) == 1 else 's', threshold,
                                longest[1], longest[0]))
         return out
+
+
+# Spread (max - min) of "ROS time at reception - header stamp" below which a delay beyond the
+# limits is one constant offset between two clocks, not data getting old: network and driver
+# latency vary by milliseconds to a few hundred ms, a stale or stuck stream's delay grows.
+OFFSET_SPREAD = 1.0
+
+
+def clock_offset(delay, max_delay, max_future):
+    """The reason for header stamps a constant offset away from this computer's clock (the
+    robot's clock not synchronised, e.g. an hour off after a time-zone mistake), or ''."""
+    if not delay or delay['max'] - delay['min'] > OFFSET_SPREAD:
+        return ''
+    mean = delay['mean']
+    if mean > max_delay:
+        side = 'behind'
+    elif -mean > max_future:
+        side = 'ahead of'
+    else:
+        return ''
+    return ('clock offset: header stamps are a constant %.1f s %s this computer\'s clock (spread %.2f s): '
+            'the robot\'s clock is not synchronised with this one; sync both with chrony or ntp%s'
+            % (abs(mean), side, delay['max'] - delay['min'],
+               ' (or the driver stamps its data that late)' if side == 'behind' else ''))
 
 
 def skipped_result(plan, run_start, now):
@@ -305,8 +337,10 @@ class Observers(list):
 class Runner:
     """Drives the lanes from the main thread. `source` subscribes (live) or feeds (bag)."""
 
-    def __init__(self, plan, ctx, source, observers=(), clock=time.monotonic, wall=time.time):
+    def __init__(self, plan, ctx, source, observers=(), clock=time.monotonic, wall=time.time,
+                 signals=None):
         self.plan = plan
+        self.signals = signals if signals is not None else interrupts.Policy()
         self.ctx = ctx
         self.source = source
         self.observers = Observers(observers)
@@ -322,20 +356,25 @@ class Runner:
         self.order = [s.name for s in plan.sensors]
 
     def _start_next(self, i, now):
+        # a plan leaves its lane only once it is recorded as running (or done): an interrupt at
+        # any point in here leaves it either in the lane ("not run") or in current (closed)
         lane = self.lanes[i]
+        self.current[i] = None
         while lane:
-            plan = lane.pop(0)
+            plan = lane[0]
             if plan.skip_reason is not None:
                 self._done(skipped_result(plan, self.start, now))
+                lane.pop(0)
                 continue
+            interrupts.pause('sensor-start')
             run = SensorRun(plan, self.ctx, self.start, quick=self.plan.quick,
                             wait=self.plan.wait, duration=self.plan.duration)
             run.begin(now)
-            self.source.attach(run)
             self.current[i] = run
+            lane.pop(0)
+            self.source.attach(run)
             self.observers.call('sensor_started', run)
             return
-        self.current[i] = None
 
     def _done(self, result):
         self.results[result.name] = result
@@ -378,6 +417,10 @@ class Runner:
         self.current = [None] * len(self.lanes)
         self.observers.call('run_started', self.run, self.plan)
         try:
+            # every output exists now: an interrupt remembered during start-up ends the run here
+            self.signals.phase = 'run'
+            self.signals.raise_pending()
+            interrupts.pause('run-started')
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
             while any(self.current) or self.closing:
@@ -397,18 +440,22 @@ class Runner:
                     self._start_next(i, self.clock())
                 self._collect()
                 self.observers.call('tick', [r for r in self.current if r], now)
+                # an interrupt whose exception was swallowed (by a C library, a broad except)
+                self.signals.raise_pending()
                 self.source.sleep(TICK)
         except Terminated:
-            self.interrupt('terminated (SIGTERM)')
+            self.interrupt(self.signals.reason() if self.signals.pending else 'terminated (SIGTERM)')
         except KeyboardInterrupt:
-            self.interrupt('interrupted by Ctrl-C')
+            self.interrupt(self.signals.reason() if self.signals.pending else 'interrupted by Ctrl-C')
         except SourceLost as e:
             self.interrupt(str(e))
         finally:
+            self.signals.phase = 'closing'   # from here on, interrupts never cut the files short
             self._close_everything()
         return self.run
 
     def interrupt(self, why):
+        self.signals.phase = 'closing'
         self.run.interrupted = True
         self.run.interrupt_reason = why
 
@@ -424,17 +471,19 @@ class Runner:
         self._collect(wait=True)
         for lane in self.lanes:
             for plan in lane:
+                if plan.name in self.results:   # interrupted between starting it and popping it
+                    continue
                 r = skipped_result(plan, self.start, now)
                 r.reasons = ['not run: the run was interrupted before it started']
                 self._done(r)
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         self.run.end = self.wall()
+        interrupts.pause('final-write')
         self.observers.call('run_ended', self.run)
 
 
-class Terminated(KeyboardInterrupt):
-    """Raised in the main thread by the SIGTERM handler: ends the run like Ctrl-C."""
+Terminated = interrupts.Terminated   # SIGTERM / SIGHUP: ends the run like Ctrl-C
 
 
 class SourceLost(Exception):

@@ -1,15 +1,79 @@
 """What the terminal shows: a line when each sensor starts and ends, live progress during the
 windows (one rewritten line on a terminal, a plain line every few seconds otherwise), and a
-summary table at the end (coloured on a terminal, plain text when not)."""
+summary table at the end (coloured on a terminal, plain text when not).
+
+Strings from the robot go through results.printable: control characters (ANSI escapes) are
+shown escaped and each reason is cut to REASON_LIMIT characters. A broken stdout or stderr
+(`| head` that exited, `| tee` killed by the same Ctrl-C, a closed ssh session) never stops the
+run: see protect_std_streams."""
 import os
 import shutil
 import sys
 import textwrap
 
-from .results import FAIL, PASS, SKIPPED
+from .results import FAIL, INTERRUPTED, PASS, SKIPPED, count_line, param_lines, printable
 
-COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m'}
+COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
+REASON_LIMIT = 300      # characters of one reason on the terminal; the files keep more
+
+
+class SafeStream:
+    """Wraps sys.stdout / sys.stderr: once a write fails (EPIPE, EIO, ...), the stream is
+    pointed at /dev/null and every later write is dropped silently, so that the results files
+    are still written and the interpreter's final flush cannot fail either."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        self.broken = False
+
+    def _broke(self):
+        self.broken = True
+        try:
+            fd = self._stream.fileno()
+            null = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(null, fd)
+            os.close(null)
+        except (OSError, ValueError, AttributeError):
+            pass
+
+    def write(self, text):
+        if self.broken:
+            return len(text)
+        try:
+            return self._stream.write(text)
+        except (OSError, ValueError):
+            self._broke()
+            return len(text)
+
+    def flush(self):
+        if self.broken:
+            return
+        try:
+            self._stream.flush()
+        except (OSError, ValueError):
+            self._broke()
+
+    def isatty(self):
+        try:
+            return not self.broken and self._stream.isatty()
+        except (OSError, ValueError):
+            return False
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def protect_std_streams():
+    """Make sys.stdout and sys.stderr SafeStreams (once)."""
+    for name in ('stdout', 'stderr'):
+        stream = getattr(sys, name)
+        if stream is not None and not isinstance(stream, SafeStream):
+            setattr(sys, name, SafeStream(stream))
+
+
+def _reasons(texts):
+    return '; '.join(printable(t, REASON_LIMIT) for t in texts)
 
 
 class Terminal:
@@ -45,6 +109,8 @@ class Terminal:
                      else ('robot' if run.source == 'live' else 'bag ' + run.source),
                      plan.mode, 'quick' if plan.quick else '%g s each' % round(plan.duration, 1),
                      plan.output_dir))
+        for text in param_lines(run):
+            self.line('  ROS param ' + text)
 
     def sensor_started(self, sensor_run):
         p = sensor_run.plan
@@ -56,13 +122,13 @@ class Terminal:
     def sensor_done(self, r):
         text = '  %-6s %-22s' % (r.verdict.lower() if r.verdict != FAIL else 'FAIL', r.name)
         if r.verdict == SKIPPED:
-            text += ' skipped: ' + '; '.join(r.reasons)
+            text += ' skipped: ' + _reasons(r.reasons)
         else:
             text += ' %d msgs' % r.messages
             if r.rate_hz is not None:
                 text += ', %.2f Hz' % r.rate_hz
             if r.reasons:
-                text += ': ' + '; '.join(r.reasons)
+                text += ': ' + _reasons(r.reasons)
         self.line(self._paint(text, r.verdict))
 
     def tick(self, runs, now):
@@ -91,7 +157,7 @@ class Terminal:
         self._clear()
         self.line()
         if run.interrupted:
-            self.line('INTERRUPTED: %s' % run.interrupt_reason)
+            self.line('INTERRUPTED: %s' % printable(run.interrupt_reason, REASON_LIMIT))
         header = '%-22s %-8s %8s %10s %13s  %s' % ('sensor', 'verdict', 'messages', 'rate Hz',
                                                    'expected Hz', 'reasons')
         self.line(BOLD + header + RESET if self.colour else header)
@@ -99,7 +165,7 @@ class Terminal:
         for r in run.sensors:
             rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
             band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
-            reasons = '; '.join(r.reasons) or ('; '.join(r.warnings) and 'note: ' + '; '.join(r.warnings))
+            reasons = _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
             wrapped = textwrap.wrap(reasons, width) or ['']
             row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, r.verdict, r.messages, rate, band, wrapped[0])
             self.line(self._paint(row, r.verdict))
@@ -107,4 +173,4 @@ class Terminal:
                 self.line(' ' * 68 + more)
         c = run.counts()
         self.line()
-        self.line('%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED]))
+        self.line(count_line(c))
