@@ -409,7 +409,7 @@ class JointStatePublisher(StreamPublisher):
             for j, v in _OUT_OF_RANGE.items():
                 positions[names.index(j)] = v
         # joint_state.cpp:120-133: NaN velocity and effort where ALMemory has no value
-        for j in JOINTS_WITHOUT_VELOCITY:
+        for j in (JOINTS_WITHOUT_VELOCITY if self.spec.layout != 'gazebo' else ()):
             velocities[names.index(j)] = np.nan
             efforts[names.index(j)] = np.nan
         msg = JointState()
