@@ -333,17 +333,24 @@ def test_robot_stock_profile_and_heads(master, tmp_path):
 
 
 def test_healthy_but_unusual_conditions(module_master, tmp_path):
-    """loaded: cameras ~1.3 fps with irregular gaps; dark: dim colour images."""
+    """loaded: cameras ~1.3 fps with irregular gaps; dark: dim colour images; still: the robot
+    stands still (odometry constant, twist 0) while the world moves."""
     topics = [NS + '/camera/front/image_raw', NS + '/laser']
     with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=loaded',
                   '_camera_resolution:=QQVGA'):
         got = listen(module_master, topics, 8.0)
     front = got[NS + '/camera/front/image_raw']
-    assert 0.9 <= front['rate'] <= 1.8 and 8 <= got[NS + '/laser']['rate'] <= 12
+    assert 0.8 <= front['rate'] <= 2.0 and 7 <= got[NS + '/laser']['rate'] <= 12
     with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=dark',
                   '_camera_resolution:=QQVGA'):
         got = listen(module_master, topics, 3.0)
     assert 0 < max(got[NS + '/camera/front/image_raw']['max']) <= 40
+    with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=still'):
+        got = listen(module_master, [NS + '/odom', NS + '/laser', NS + '/imu/base'], 3.0)
+    odom = got[NS + '/odom']
+    assert set(odom['x']) == {0.0} and set(odom['vx']) == {0.0} and set(odom['wz']) == {0.0}
+    assert max(abs(g) for g in got[NS + '/imu/base']['gyro_z']) < 0.02
+    assert len(set(got[NS + '/laser']['digest'])) > 5, 'noise and the walking person still move'
 
 
 # ---------------------------------------------------------------- faults

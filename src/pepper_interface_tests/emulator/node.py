@@ -10,8 +10,9 @@ Private params (each also a command-line option, which wins):
                       or Pepper 1.7 Xtion head (no stereo topic)   (stereo; robot profiles)
   ~real_time_factor   simulator: simulated seconds per wall second; the emulator sets
                       /use_sim_time and publishes /clock       (0.6)
-  ~condition          normal | loaded | dark: healthy but unusual (loaded: cameras ~1.3 fps
-                      with jitter; dark: a dark room)           (normal)
+  ~condition          normal | loaded | still | dark: healthy but unusual (loaded: cameras
+                      ~1.3 fps with jitter; still: the robot stands still; dark: a dark room)
+                                                                (normal)
   ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
   ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
@@ -176,6 +177,8 @@ class Emulator(object):
 
     def start(self):
         cfg = self.config
+        from . import scene
+        scene.standing_still(cfg.condition == 'still')
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)

@@ -333,8 +333,9 @@ class OdometryPublisher(StreamPublisher):
         msg.pose.pose.position.x = float('nan') if f.nan else x
         msg.pose.pose.position.y = y
         msg.pose.pose.orientation = _quaternion(yaw, f.broken_quaternion)
-        msg.twist.twist.linear.x = float('nan') if f.nan else scene.LINEAR_SPEED
-        msg.twist.twist.angular.z = scene.ANGULAR_SPEED
+        v, w = scene.speeds()
+        msg.twist.twist.linear.x = float('nan') if f.nan else v
+        msg.twist.twist.angular.z = w
         return msg
 
 
@@ -357,10 +358,11 @@ class ImuPublisher(StreamPublisher):
             msg.orientation = Quaternion(float('nan'), float('nan'), float('nan'), float('nan'))
         msg.angular_velocity.x = 0.002 * n[0]
         msg.angular_velocity.y = 0.002 * n[1]
-        msg.angular_velocity.z = scene.ANGULAR_SPEED + 0.002 * n[2]
+        v, w = scene.speeds()
+        msg.angular_velocity.z = w + 0.002 * n[2]
         # specific force: gravity up, centripetal acceleration towards the circle's centre (+y)
         msg.linear_acceleration.x = 0.02 * n[3]
-        msg.linear_acceleration.y = scene.LINEAR_SPEED * scene.ANGULAR_SPEED + 0.02 * n[4]
+        msg.linear_acceleration.y = v * w + 0.02 * n[4]
         msg.linear_acceleration.z = scene.GRAVITY + 0.02 * n[5]
         if f.nan:
             msg.angular_velocity.z = float('nan')
@@ -395,9 +397,9 @@ class JointStatePublisher(StreamPublisher):
         pos = self.pose + self.amp * np.sin(w * t + self.phase)
         vel = self.amp * w * np.cos(w * t + self.phase)
         eff = 0.05 * np.sin(w * t + self.phase + 1.0) + 0.01
-        wheel_v = np.array([(scene.LINEAR_SPEED - scene.ANGULAR_SPEED * _WHEEL_BASE),
-                            -(scene.LINEAR_SPEED + scene.ANGULAR_SPEED * _WHEEL_BASE),
-                            scene.ANGULAR_SPEED * _WHEEL_BASE]) / _WHEEL_RADIUS
+        v, w = scene.speeds()
+        wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
+                            w * _WHEEL_BASE]) / _WHEEL_RADIUS
         positions = np.concatenate([pos, np.mod(wheel_v * t + math.pi, 2 * math.pi) - math.pi])
         velocities = np.concatenate([vel, wheel_v])
         efforts = np.concatenate([eff, [0.3, 0.3, 0.2]])

@@ -32,9 +32,24 @@ PERSON_SPEED = 0.35                    # m/s
 GRAVITY = 9.80665
 
 
+_STILL = [False]        # set once by standing_still() before any publisher starts, then read-only
+
+
+def standing_still(still=True):
+    """A robot that does not move (the ~condition still): pose fixed at the start, no twist.
+    Called once at start-up, before the publisher threads exist."""
+    _STILL[0] = bool(still)
+
+
+def speeds():
+    """(linear m/s, angular rad/s) of the robot."""
+    return (0.0, 0.0) if _STILL[0] else (LINEAR_SPEED, ANGULAR_SPEED)
+
+
 def robot_pose(t):
-    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x."""
-    a = ANGULAR_SPEED * t
+    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x
+    (the start pose for ever when standing still)."""
+    a = 0.0 if _STILL[0] else ANGULAR_SPEED * t
     return (CIRCLE_RADIUS * math.sin(a), CIRCLE_RADIUS * (1.0 - math.cos(a)),
             math.atan2(math.sin(a), math.cos(a)))
 
