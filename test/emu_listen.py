@@ -86,6 +86,11 @@ class Record(object):
         self.add('qnorm', _norm(m.orientation))
         self.add('acc_z', None if math.isnan(m.linear_acceleration.z) else m.linear_acceleration.z)
         self.add('gyro_z', None if math.isnan(m.angular_velocity.z) else m.angular_velocity.z)
+        self.facts.update(covariance0=[m.orientation_covariance[0],
+                                       m.angular_velocity_covariance[0],
+                                       m.linear_acceleration_covariance[0]])
+        self.add('q_nan', any(math.isnan(v) for v in (m.orientation.x, m.orientation.y,
+                                                       m.orientation.z, m.orientation.w)))
 
     def on_nav_msgs_Odometry(self, m):
         self.facts.update(child_frame_id=m.child_frame_id)
@@ -101,6 +106,8 @@ class Record(object):
                           n_eff=len(m.effort))
         pos = np.array(m.position, dtype=np.float64)
         self.add('nan', int(np.isnan(pos).sum()))
+        self.facts.update(vel_nan=[n for n, v in zip(m.name, m.velocity) if math.isnan(v)],
+                          eff_nan=[n for n, v in zip(m.name, m.effort) if math.isnan(v)])
         self.add('max_abs', float(np.nanmax(np.abs(pos))) if pos.size else 0.0)
         self.add('digest', hashlib.md5(pos.tobytes()).hexdigest())
 
@@ -112,6 +119,21 @@ class Record(object):
             levels.append(float(np.sqrt(np.mean(a * a))) if a.size else -1.0)
             self.facts['len_' + name] = len(a)
         self.add('rms', [t] + levels)
+
+    def on_naoqi_bridge_msgs_AudioBuffer(self, m):
+        t = self.times[-1]
+        channel_map = list(bytearray(m.channelMap)) if isinstance(m.channelMap, bytes) \
+            else list(m.channelMap)
+        self.facts.update(frequency=m.frequency, channel_map=channel_map, data_len=len(m.data),
+                          md5=m._md5sum)
+        a = np.array(m.data, dtype=np.float64)
+        n = len(channel_map) or 1
+        block = a[:a.size // n * n].reshape(-1, n)          # interleaved: one frame per row
+        self.add('rms', [t] + [float(np.sqrt(np.mean(block[:, c] ** 2))) for c in range(n)])
+
+    def on_rosgraph_msgs_Clock(self, m):
+        if len(self.times) % 10 == 1:
+            self.add('clock', [self.times[-1], m.clock.to_sec()])
 
     def on_std_msgs_String(self, m):
         self.add('text', m.data)
@@ -160,7 +182,11 @@ def main():
             types[topic] = type_name
     records, subs = {}, []
     for topic, type_name in types.items():
-        cls = rostopic.get_topic_class(topic)[0]
+        if type_name == 'naoqi_bridge_msgs/AudioBuffer':      # usually not installed
+            from pepper_interface_tests.naoqi_msgs import audio_buffer_class
+            cls = audio_buffer_class()
+        else:
+            cls = rostopic.get_topic_class(topic)[0]
         rec = records[topic] = Record(topic, type_name)
         subs.append(rospy.Subscriber(topic, cls, rec.callback, queue_size=50, buff_size=2 ** 24))
     speech_pub = rospy.Publisher(args.speech_topic, String, queue_size=1, latch=True) \

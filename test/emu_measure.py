@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Measure the emulator: CPU use (psutil) and the rate of every topic with all of them subscribed.
 
-Usage: python test/emu_measure.py [--seconds 20] [--profile robot|simulator] [--no-realsense]
+Usage: python test/emu_measure.py [--seconds 20] [--profile robot|robot-stock|simulator] [--no-realsense]
        [--resolution QVGA]
 
 Starts its own roscore on a free port, the emulator (robot profile: audio direct, RealSense on
@@ -43,7 +43,7 @@ def main():
         env = m.env()
         cmd = script('pepperEmulator') + ['_profile:=' + a.profile,
                                           '_camera_resolution:=' + a.resolution]
-        if a.profile == 'robot':
+        if a.profile != 'simulator':          # robot or robot-stock
             cmd += ['_audio:=direct', '_realsense:=%s' % ('false' if a.no_realsense else 'true')]
             topics = ROBOT_TOPICS + ([] if a.no_realsense else REALSENSE_TOPICS)
         else:

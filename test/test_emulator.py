@@ -24,21 +24,25 @@ LISTEN = [sys.executable, os.path.join(HERE, 'emu_listen.py')]
 NS = '/naoqi_driver'
 
 # topic -> (type, nominal Hz, frame_id, extra expectations): the reference facts, written out
-# here independently of the emulator's own table.
+# here independently of the emulator's own table (docs/drivers.md; robot = the CSSR4Africa fork
+# of naoqi_driver with a stereo head, cameras asked at QVGA to keep the test cheap).
 ROBOT = {
     NS + '/sonar/back': ('sensor_msgs/Range', 10, 'SonarBack_frame', dict(min=0.25, max=2.55)),
-    NS + '/sonar/front': ('sensor_msgs/Range', 10, 'SonarFront_frame', dict(min=0.25, max=2.55)),
+    # sonar.cpp: the raw distance, not clipped: the far wall ahead is ~4 m away
+    NS + '/sonar/front': ('sensor_msgs/Range', 10, 'SonarFront_frame',
+                          dict(min=0.25, max=2.55, raw_above=True)),
     NS + '/camera/front/image_raw': ('sensor_msgs/Image', 10, 'CameraTop_optical_frame',
                                      dict(encoding='rgb8', width=320, height=240)),
     NS + '/camera/bottom/image_raw': ('sensor_msgs/Image', 10, 'CameraBottom_optical_frame',
                                       dict(encoding='rgb8', width=320, height=240)),
+    # stereo head: depth at stereo_resolution 9 = kQ720p
     NS + '/camera/depth/image_raw': ('sensor_msgs/Image', 10, 'CameraDepth_optical_frame',
-                                     dict(encoding='16UC1', width=320, height=240)),
+                                     dict(encoding='16UC1', width=640, height=360)),
     NS + '/camera/stereo/image_raw': ('sensor_msgs/Image', 10, 'CameraDepth_optical_frame',
                                       dict(encoding='rgb8', width=640, height=180)),
     NS + '/laser': ('sensor_msgs/LaserScan', 10, 'base_footprint', dict(min=0.1, max=3.0)),
     NS + '/audio': ('pepper_interface_tests/AudioCustomMsg', 48000 / 4096.0, None, {}),
-    '/joint_states': ('sensor_msgs/JointState', 50, '', {}),
+    '/joint_states': ('sensor_msgs/JointState', 50, '', dict(wheels_nan=True)),
     NS + '/odom': ('nav_msgs/Odometry', 15, 'odom', dict(child='base_link')),
     NS + '/imu/base': ('sensor_msgs/Imu', 10, 'base_footprint', {}),
     NS + '/imu/torso': ('sensor_msgs/Imu', 10, 'base_link', {}),
@@ -47,24 +51,30 @@ ROBOT = {
     '/camera/aligned_depth_to_color/image_raw': ('sensor_msgs/Image', 15, None,
                                                  dict(encoding='16UC1', width=640, height=480)),
 }
+# the awesomebytes Gazebo simulator; nominal rates are per simulated second
 SIMULATOR = {
-    '/pepper/sonar_back': ('sensor_msgs/Range', 20, 'SonarBack_frame', dict(min=0.0, max=5.0)),
-    '/pepper/sonar_front': ('sensor_msgs/Range', 20, 'SonarFront_frame', dict(min=0.0, max=5.0)),
+    '/pepper/sonar_back': ('sensor_msgs/Range', 20, 'SonarBack_frame',
+                           dict(min=0.0, max=5.0, fov=1.05)),
+    '/pepper/sonar_front': ('sensor_msgs/Range', 20, 'SonarFront_frame',
+                            dict(min=0.0, max=5.0, fov=1.05)),
     '/pepper/camera/front/image_raw': ('sensor_msgs/Image', 5, 'CameraTop_optical_frame',
                                        dict(encoding='rgb8', width=640, height=480)),
     '/pepper/camera/bottom/image_raw': ('sensor_msgs/Image', 5, 'CameraBottom_optical_frame',
                                         dict(encoding='rgb8', width=640, height=480)),
-    '/pepper/camera/depth/image_raw': ('sensor_msgs/Image', 20, 'CameraDepth_optical_frame',
+    # gazebo_ros_openni_kinect with useDepth16UC1Format, update_rate 30
+    '/pepper/camera/depth/image_raw': ('sensor_msgs/Image', 30, 'CameraDepth_optical_frame',
                                        dict(encoding='16UC1', width=320, height=240)),
     '/pepper/laser_2': ('sensor_msgs/LaserScan', 6.25, 'base_footprint', dict(min=0.1, max=7.0)),
     '/joint_states': ('sensor_msgs/JointState', 50, '', {}),
-    '/pepper/odom': ('nav_msgs/Odometry', 20, 'odom', {}),
+    '/pepper/odom': ('nav_msgs/Odometry', 20, 'odom', dict(child='base_footprint')),
 }
+AUDIO_BUFFER_MD5 = '50f300aa63f3c1b2f3d3173329165316'    # naoqi_bridge_msgs/AudioBuffer
 JOINTS = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch', 'LShoulderPitch',
           'LShoulderRoll', 'LElbowYaw', 'LElbowRoll', 'LWristYaw', 'LHand', 'RShoulderPitch',
           'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw', 'RHand', 'WheelFL', 'WheelFR',
           'WheelB']
 BLIND = list(range(15, 23)) + list(range(38, 46))
+WHEELS = ['WheelFL', 'WheelFR', 'WheelB']
 
 
 # ---------------------------------------------------------------- helpers
@@ -110,9 +120,17 @@ def listen(master, topics, duration, *extra, wait=30):
     return json.loads(out.stdout)
 
 
-def check_stream(topic, got, expected, tolerance=0.2):
-    """Type, rate (+-tolerance), frame id, header and per-type facts of one topic."""
+def check_stream(topic, got, expected, tolerance=0.2, rtf=None):
+    """Type, rate (+-tolerance), frame id, header and per-type facts of one topic. With rtf
+    (sim time) the nominal rate holds per simulated second: rtf x nominal per wall second, and
+    the nominal rate between header stamps."""
     type_name, hz, frame, extra = expected
+    nominal = hz
+    if rtf is not None:
+        stamp_rate = got.get('stamp_rate', hz) if got else hz
+        if got and not (1 - tolerance) * hz <= stamp_rate <= (1 + tolerance) * hz:
+            return ['%s: %.2f Hz between stamps (sim time), expected %.2f' % (topic, stamp_rate, hz)]
+        hz = hz * rtf
     problems = []
     if got is None:
         return ['%s: nothing received' % topic]
@@ -123,7 +141,7 @@ def check_stream(topic, got, expected, tolerance=0.2):
         problems.append('%s: rate %.2f Hz, expected %.2f +-%d%%' % (topic, rate, hz, tolerance * 100))
     if frame is not None and got['frames'] != [frame]:
         problems.append('%s: frame ids %s, expected %s' % (topic, got['frames'], frame))
-    if 'stamp_delay' in got and got['stamp_delay'] > 1.0:
+    if rtf is None and 'stamp_delay' in got and got['stamp_delay'] > 1.0:
         problems.append('%s: header stamps %.2f s away from receive time' % (topic, got['stamp_delay']))
     if not got['seq_increasing']:
         problems.append('%s: header.seq not increasing' % topic)
@@ -141,27 +159,48 @@ def check_stream(topic, got, expected, tolerance=0.2):
             zero = sum(got['zero_share']) / len(got['zero_share'])
             if not 0.0 < zero < 0.2:
                 problems.append('%s: share of invalid (0) depth pixels %.3f' % (topic, zero))
-    if type_name == 'sensor_msgs/LaserScan':
+    if type_name == 'sensor_msgs/LaserScan' and got['n'] == 488:
+        # laser_publisher.py: 61 x 8 slots over +-120 deg, increment span / 488, mostly NaN,
+        # the 45 points of three Gazebo lasers (fewer when two share a slot)
+        if abs(got['angle_min'] + 2.0944) > 1e-3 or abs(got['angle_max'] - 2.0944) > 1e-3 or \
+                abs(got['angle_increment'] - 4.18879 / 488) > 1e-5:
+            problems.append('%s: angles %s..%s step %s' % (
+                topic, got['angle_min'], got['angle_max'], got['angle_increment']))
+        if not all(488 - 45 <= n < 488 - 30 for n in got['nan']) or max(got['blind']):
+            problems.append('%s: NaN slots %s (expected 443..457, no -1)' % (topic, got['nan'][:5]))
+        if abs(got['range_min'] - 0.1) > 1e-6 or abs(got['range_max'] - 7.0) > 1e-6:
+            problems.append('%s: range limits %s..%s' % (topic, got['range_min'], got['range_max']))
+        if min(got['valid_min']) < 0.3 or max(got['valid_max']) > 7.1:
+            problems.append('%s: returns outside Gazebo 0.3..7 m' % topic)
+    elif type_name == 'sensor_msgs/LaserScan':
         if got['n'] != 61 or any(idx != BLIND for idx in got['blind_idx']):
             problems.append('%s: %s ranges, blind beams %s' % (topic, got['n'], got['blind_idx'][0]))
+        # laser.cpp:216-218: increment = 240 deg / 61 (so angle_min + 61 x increment = angle_max)
         if abs(got['angle_min'] + 2.0944) > 1e-3 or abs(got['angle_max'] - 2.0944) > 1e-3 or \
-                abs(got['angle_min'] + 60 * got['angle_increment'] - got['angle_max']) > 1e-3:
-            problems.append('%s: angles %s..%s step %s do not give 61 beams' % (
+                abs(got['angle_increment'] - 2 * 2.0944 / 61) > 1e-6:
+            problems.append('%s: angles %s..%s step %s' % (
                 topic, got['angle_min'], got['angle_max'], got['angle_increment']))
         if abs(got['range_min'] - extra['min']) > 1e-6 or abs(got['range_max'] - extra['max']) > 1e-6:
             problems.append('%s: range limits %s..%s' % (topic, got['range_min'], got['range_max']))
-        if max(got['nan']) or max(got['beyond']):
-            problems.append('%s: NaN or out-of-range beams' % topic)
+        if max(got['nan']):
+            problems.append('%s: NaN beams' % topic)
+        # raw distances: walls beyond the advertised 3.0 m are published as they are
+        if max(got['valid_max']) <= extra['max'] or min(got['valid_min']) < 0.3:
+            problems.append('%s: distances %.2f..%.2f m, expected raw values beyond %.1f m' % (
+                topic, min(got['valid_min']), max(got['valid_max']), extra['max']))
         if len(set(got['digest'])) < 0.9 * len(got['digest']):
             problems.append('%s: scans do not change' % topic)
     if type_name == 'sensor_msgs/Range':
         values = got['range']
-        if got['radiation_type'] != 0 or abs(got['field_of_view'] - 0.5236) > 1e-3 or \
+        if got['radiation_type'] != 0 or abs(got['field_of_view'] - extra.get('fov', 0.5236)) > 1e-3 or \
                 abs(got['min_range'] - extra['min']) > 1e-6 or abs(got['max_range'] - extra['max']) > 1e-6:
             problems.append('%s: Range fields %s' % (topic, {k: got[k] for k in (
                 'radiation_type', 'field_of_view', 'min_range', 'max_range')}))
-        if None in values or min(values) < extra['min'] or max(values) > extra['max']:
-            problems.append('%s: ranges outside %s..%s' % (topic, extra['min'], extra['max']))
+        top = 6.0 if extra['max'] < 3 else extra['max']     # naoqi_driver: raw, unclipped
+        if None in values or min(values) < extra['min'] or max(values) > top:
+            problems.append('%s: ranges outside %s..%s' % (topic, extra['min'], top))
+        elif extra.get('raw_above') and max(values) <= extra['max']:
+            problems.append('%s: never above the advertised %.2f m (clipped?)' % (topic, extra['max']))
         elif len(set(values)) < 3:
             problems.append('%s: range does not vary' % topic)
     if type_name in ('sensor_msgs/Imu', 'nav_msgs/Odometry'):
@@ -170,6 +209,8 @@ def check_stream(topic, got, expected, tolerance=0.2):
     if type_name == 'sensor_msgs/Imu':
         if any(a is None or abs(a - 9.81) > 0.3 for a in got['acc_z']):
             problems.append('%s: linear_acceleration.z is not gravity' % topic)
+        if got['covariance0'] != [-1.0, -1.0, -1.0]:       # imu.cpp:123-126
+            problems.append('%s: covariance[0] %s, expected -1 x 3' % (topic, got['covariance0']))
     if type_name == 'nav_msgs/Odometry':
         if 'child' in extra and got['child_frame_id'] != extra['child']:
             problems.append('%s: child_frame_id %s' % (topic, got['child_frame_id']))
@@ -177,7 +218,7 @@ def check_stream(topic, got, expected, tolerance=0.2):
         if None in xs or max(xs) - min(xs) < 0.01:
             problems.append('%s: the robot does not move' % topic)
         # twist consistent with the pose: distance travelled ~ vx * time
-        dt = (len(xs) - 1) / hz
+        dt = (len(xs) - 1) / nominal           # in the stream's own (maybe simulated) seconds
         travelled = sum(math.hypot(x1 - x0, y1 - y0) for x0, y0, x1, y1 in
                         zip(xs, ys, xs[1:], ys[1:]))
         if abs(travelled - got['vx'][0] * dt) > 0.3 * got['vx'][0] * dt:
@@ -188,6 +229,10 @@ def check_stream(topic, got, expected, tolerance=0.2):
                                                           got['n_vel'], got['n_eff']))
         if max(got['nan']) or len(set(got['digest'])) < 0.9 * len(got['digest']):
             problems.append('%s: NaN or unchanging positions' % topic)
+        nan = WHEELS if extra.get('wheels_nan') else []
+        if got['vel_nan'] != nan or got['eff_nan'] != nan:
+            problems.append('%s: NaN velocity %s / effort %s, expected the wheels' % (
+                topic, got['vel_nan'], got['eff_nan']))
     if type_name.endswith('AudioCustomMsg'):
         lengths = [got['len_' + c] for c in ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')]
         if lengths != [4096] * 4:
@@ -201,7 +246,8 @@ def check_stream(topic, got, expected, tolerance=0.2):
 
 def test_robot_profile_all_topics(module_master, tmp_path):
     """Every robot topic (audio direct, RealSense on): types, sizes, frames, rates, content; CPU."""
-    with Emulator(module_master, tmp_path, '_audio:=direct', '_realsense:=true') as emu:
+    with Emulator(module_master, tmp_path, '_audio:=direct', '_realsense:=true',
+                  '_camera_resolution:=QVGA') as emu:
         proc = psutil.Process(emu.proc.pid)
         cpu0, t0 = proc.cpu_times(), time.time()
         got = listen(module_master, list(ROBOT), 8.0)
@@ -217,15 +263,31 @@ def test_robot_profile_all_topics(module_master, tmp_path):
 
 
 def test_simulator_profile(module_master, tmp_path):
-    """The simulator's topics and characteristics; none of the robot-only topics."""
+    """The simulator's topics and characteristics on sim time at real-time factor 0.5 (rates
+    per simulated second, /clock advancing at half the wall clock); none of the robot-only
+    topics; /use_sim_time set while it runs and removed when it stops."""
+    import rosgraph
     robot_only = [NS + '/camera/front/image_raw', NS + '/imu/base', NS + '/audio',
                   NS + '/camera/stereo/image_raw', '/camera/color/image_raw', '/speech']
+    rtf = 0.5
+    param = rosgraph.Master('/test', master_uri=module_master.env()['ROS_MASTER_URI'])
     with Emulator(module_master, tmp_path, '_profile:=simulator', '_audio:=direct',
-                  '_realsense:=true'):
-        got = listen(module_master, list(SIMULATOR), 6.0,
+                  '_realsense:=true', '_real_time_factor:=%g' % rtf) as emu:
+        got = listen(module_master, list(SIMULATOR) + ['/clock'], 8.0,
                      *[a for t in robot_only for a in ('--absent', t)])
-    problems = [p for topic, exp in SIMULATOR.items() for p in check_stream(topic, got.get(topic), exp)]
+        assert param.getParam('/use_sim_time') is True
+        assert 'sim time at real-time factor 0.5' in emu.output()
+    assert not param.hasParam('/use_sim_time'), 'the emulator leaves the master as it found it'
+    problems = [p for topic, exp in SIMULATOR.items()
+                for p in check_stream(topic, got.get(topic), exp, rtf=rtf)]
     assert not problems, '\n'.join(problems)
+    clock = got['/clock']['clock']
+    (w0, c0), (w1, c1) = clock[0], clock[-1]
+    assert abs((c1 - c0) / (w1 - w0) - rtf) < 0.05, 'sim time runs at the real-time factor'
+    assert 90 <= got['/clock']['rate'] <= 110
+    # header stamps are sim time (the /clock), not the wall clock
+    odom = got['/pepper/odom']
+    assert odom['stamp_delay'] > 1e8 and c1 < 60
     for topic in robot_only:        # the master may remember types of earlier runs' topics
         assert got[topic].get('count', 0) == 0 and got[topic]['publishers'] == [], topic
     assert not [n for n in got['/speech']['subscribers'] if 'pepperEmulator' in n]
@@ -237,8 +299,58 @@ def test_rate_factor_and_resolution(module_master, tmp_path):
         got = listen(module_master, topics, 5.0)
     front = got[NS + '/camera/front/image_raw']
     depth = got[NS + '/camera/depth/image_raw']
-    assert (front['width'], front['height'], depth['width'], depth['height']) == (160, 120, 160, 120)
+    # the depth camera keeps its own boot_config resolution (stereo head: 640x360)
+    assert (front['width'], front['height'], depth['width'], depth['height']) == (160, 120, 640, 360)
     assert 4.0 <= front['rate'] <= 6.0 and 20.0 <= got['/joint_states']['rate'] <= 30.0
+
+
+def test_robot_stock_profile_and_heads(master, tmp_path):
+    """robot-stock: naoqi_bridge_msgs/AudioBuffer (same md5 as the real package), 48 kHz,
+    channelMap [3, 5, 0, 2], 8192 interleaved frames per message (~170 ms, ~5.9 Hz), QVGA
+    cameras; xtion head: QVGA Xtion depth and no stereo topic; the robot profile's default
+    cameras are the CSSR fork's VGA."""
+    audio = NS + '/audio'
+    with Emulator(master, tmp_path, '_profile:=robot-stock', '_head:=xtion') as emu:
+        got = listen(master, [audio, NS + '/camera/front/image_raw',
+                                     NS + '/camera/depth/image_raw', NS + '/laser'], 5.0,
+                     '--absent', NS + '/camera/stereo/image_raw')
+        log = emu.output()
+    assert 'robot-stock profile, head xtion, audio direct' in log
+    a = got[audio]
+    assert a['type'] == 'naoqi_bridge_msgs/AudioBuffer' and a['md5'] == AUDIO_BUFFER_MD5
+    assert (a['frequency'], a['channel_map'], a['data_len']) == (48000, [3, 5, 0, 2], 4 * 8192)
+    assert abs(a['rate'] - 48000 / 8192.0) < 0.6
+    # interleaved: each channel keeps its own tone level (a planar reading would mix them)
+    assert all(min(r[1:]) > 100 for r in a['rms'])
+    front, depth = got[NS + '/camera/front/image_raw'], got[NS + '/camera/depth/image_raw']
+    assert (front['width'], front['height'], depth['width'], depth['height']) == (320, 240, 320, 240)
+    assert got[NS + '/camera/stereo/image_raw']['publishers'] == []
+    assert not check_stream(NS + '/laser', got[NS + '/laser'], ROBOT[NS + '/laser'])
+    with Emulator(master, tmp_path, '_audio:=off'):
+        got = listen(master, [NS + '/camera/front/image_raw'], 2.0)
+    front = got[NS + '/camera/front/image_raw']
+    assert (front['width'], front['height']) == (640, 480)
+
+
+def test_healthy_but_unusual_conditions(module_master, tmp_path):
+    """loaded: cameras ~1.3 fps with irregular gaps; dark: dim colour images; still: the robot
+    stands still (odometry constant, twist 0) while the world moves."""
+    topics = [NS + '/camera/front/image_raw', NS + '/laser']
+    with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=loaded',
+                  '_camera_resolution:=QQVGA'):
+        got = listen(module_master, topics, 8.0)
+    front = got[NS + '/camera/front/image_raw']
+    assert 0.8 <= front['rate'] <= 2.0 and 7 <= got[NS + '/laser']['rate'] <= 12
+    with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=dark',
+                  '_camera_resolution:=QQVGA'):
+        got = listen(module_master, topics, 3.0)
+    assert 0 < max(got[NS + '/camera/front/image_raw']['max']) <= 40
+    with Emulator(module_master, tmp_path, '_audio:=off', '_condition:=still'):
+        got = listen(module_master, [NS + '/odom', NS + '/laser', NS + '/imu/base'], 3.0)
+    odom = got[NS + '/odom']
+    assert set(odom['x']) == {0.0} and set(odom['vx']) == {0.0} and set(odom['wz']) == {0.0}
+    assert max(abs(g) for g in got[NS + '/imu/base']['gyro_z']) < 0.02
+    assert len(set(got[NS + '/laser']['digest'])) > 5, 'noise and the walking person still move'
 
 
 # ---------------------------------------------------------------- faults
@@ -261,7 +373,7 @@ def _faults_batch_1(got, start):
     bottom = got[NS + '/camera/bottom/image_raw']
     assert max(bottom['max']) == 0 and bottom['count'] > 20, 'black: all-zero image'
     depth = got[NS + '/camera/depth/image_raw']
-    assert depth['encoding'] == '32FC1' and depth['step'] == 320 * 2, 'wrong_encoding on depth'
+    assert depth['encoding'] == '32FC1' and depth['step'] == 640 * 2, 'wrong_encoding on depth'
     stereo = got[NS + '/camera/stereo/image_raw']
     assert stereo['step'] < 640 * 3 and stereo['data_len'] == 640 * 3 * 180, 'wrong_step'
     laser = got[NS + '/laser']
@@ -318,7 +430,7 @@ def test_faults(module_master, tmp_path, faults, check):
     """Every fault type, on every sensor family it applies to, shows in what is received."""
     topics = [t for t in ROBOT]
     with Emulator(module_master, tmp_path, '_audio:=direct', '_realsense:=true',
-                  '_faults:=' + faults) as emu:
+                  '_camera_resolution:=QVGA', '_faults:=' + faults) as emu:
         # listen from the moment the emulator is up, so die_after can be timed
         deadline = time.time() + 30
         while 'publishers up' not in emu.output() and time.time() < deadline:
@@ -330,13 +442,40 @@ def test_faults(module_master, tmp_path, faults, check):
     check(got, start)
 
 
+def test_real_fault_classes(master, tmp_path):
+    """The issue's fault classes as a real driver would show them: NaN attitude with covariance
+    -1, a dead microphone inside an AudioBuffer (frontLeft = channelMap code 0, third column),
+    an all-blind laser, a NaN sonar; and the simulator laser with no returns."""
+    audio = NS + '/audio'
+    faults = 'imu:nan_attitude;microphone:silent_channel=frontLeft;laser:all_blind;frontSonar:nan'
+    with Emulator(master, tmp_path, '_profile:=robot-stock', '_faults:=' + faults):
+        got = listen(master, [audio, NS + '/imu/base', NS + '/laser', NS + '/sonar/front'], 3.0)
+    imu = got[NS + '/imu/base']
+    assert all(imu['q_nan']) and imu['covariance0'] == [-1.0, -1.0, -1.0] and imu['count'] > 10
+    a = got[audio]
+    assert a['channel_map'] == [3, 5, 0, 2]
+    assert all(r[3] == 0 and min(r[1], r[2], r[4]) > 100 for r in a['rms']), 'only frontLeft dead'
+    laser = got[NS + '/laser']
+    assert laser['n'] == 61 and all(b == 61 for b in laser['blind']), 'every slot -1.0'
+    assert all(r is None for r in got[NS + '/sonar/front']['range']) and \
+        got[NS + '/sonar/front']['count'] > 10
+    with Emulator(master, tmp_path, '_profile:=simulator', '_real_time_factor:=1',
+                  '_faults:=laser:no_returns'):
+        got = listen(master, ['/pepper/laser_2'], 3.0)
+    laser = got['/pepper/laser_2']
+    assert laser['count'] > 5 and all(n == 488 for n in laser['nan']), 'no returns: all NaN'
+
+
 @pytest.mark.parametrize('params,words', [
     (['_faults:=laser:melted'], ['unknown fault "melted"', 'nan', 'out_of_range', 'silent']),
     (['_faults:=tailCamera:frozen'], ['unknown sensor "tailCamera"', 'frontCamera', 'laser', 'imu']),
     (['_faults:=laser:broken_quaternion'], ['does not apply to laser', 'nan']),
     (['_faults:=microphone:silent_channel=rearRight'], ['~audio direct', 'silent-channel']),
     (['_profile:=simulator', '_faults:=imu:nan'], ['"imu" is not published', 'simulator']),
-    (['_profile:=android'], ['android', 'robot, simulator']),
+    (['_profile:=android'], ['android', 'robot, robot-stock, simulator']),
+    (['_profile:=robot-stock', '_audio:=bridge'], ['second publisher', '~audio direct']),
+    (['_profile:=simulator', '_real_time_factor:=-1'], ['real_time_factor', 'not a positive']),
+    (['_faults:=imu:all_blind'], ['does not apply to imu', 'nan_attitude']),
 ])
 def test_bad_configuration_exits_2(module_master, tmp_path, params, words):
     out = subprocess.run(script('pepperEmulator') + ['__name:=' + unique_name()] + params,
@@ -425,37 +564,67 @@ def test_speech_without_naoqi_endpoint_warns_once(module_master, tmp_path):
 # ---------------------------------------------------------------- recordTestBags
 
 def test_record_test_bags(recorded_bags):
-    """recordTestBags writes small, complete bags (own roscore) that rosbag opens."""
+    """recordTestBags writes small, complete bags (own roscore) that rosbag opens, from every
+    profile: robot (stereo and Xtion heads), robot-stock (AudioBuffer), simulator (sim time at
+    real-time factor 0.5, /clock recorded), good and with the real fault classes."""
     import rosbag
     out_dir = pathlib.Path(os.path.dirname(recorded_bags['robot_good']))
     names = sorted(os.listdir(out_dir))
     assert not [n for n in names if n.endswith('.active')], names
-    for name in ('robot_good.bag', 'simulator_good.bag', 'robot_faulty.bag'):
-        assert name in names, names
+    stock = dict(ROBOT)
+    stock[NS + '/audio'] = ('naoqi_bridge_msgs/AudioBuffer', 48000 / 8192.0, None, {})
+    sim = dict(SIMULATOR, **{'/clock': ('rosgraph_msgs/Clock', 100 / 0.5, None, {})})
     expected = {
-        'robot_good.bag': set(ROBOT),
-        'robot_faulty.bag': set(ROBOT) - {NS + '/sonar/back'},   # silent: never published
-        'simulator_good.bag': set(SIMULATOR),
+        'robot_good.bag': (set(ROBOT), ROBOT),
+        'robot_faulty.bag': (set(ROBOT) - {NS + '/sonar/back'}, ROBOT),   # silent: never published
+        'robot_xtion_good.bag': (set(ROBOT) - {NS + '/camera/stereo/image_raw'}, ROBOT),
+        'robot_stock_good.bag': (set(stock), stock),
+        'robot_stock_faulty.bag': (set(stock), stock),
+        'simulator_good.bag': (set(sim), sim),
+        'simulator_no_returns.bag': (set(sim), sim),
     }
-    for name, topics in expected.items():
+    for name, (topics, table) in expected.items():
+        assert name in names, names
         path = out_dir / name
         size = path.stat().st_size
         assert size < 8e6, '%s is %.1f MB' % (name, size / 1e6)
         with rosbag.Bag(str(path)) as bag:
             info = bag.get_type_and_topic_info().topics
             assert set(info) == topics, '%s: %s' % (name, sorted(set(info) ^ topics))
+            # bag time: wall seconds for the robot, simulated seconds (half as many) for Gazebo
+            seconds = bag.get_end_time() - bag.get_start_time()
             for topic in topics:
-                exp = (ROBOT if name.startswith('robot') else SIMULATOR)[topic]
+                exp = table[topic]
                 assert info[topic].msg_type == exp[0]
-                assert info[topic].message_count >= 2 * exp[1], (name, topic, info[topic].message_count)
+                assert info[topic].message_count >= 0.6 * exp[1] * seconds, \
+                    (name, topic, info[topic].message_count, seconds)
             assert '/speech' not in info and '/rosout' not in info
+            if name.startswith('simulator'):
+                assert 1.5 <= seconds <= 4.5, 'sim time at rtf 0.5: %.1f s' % seconds
+                scans = [m for _, m, _ in bag.read_messages(['/pepper/laser_2'])]
+                assert scans[0].header.stamp.to_sec() < 60, 'stamps in sim time'
+                returns = [sum(1 for r in m.ranges if not math.isnan(r)) for m in scans]
+                if name == 'simulator_no_returns.bag':
+                    assert max(returns) == 0
+                else:
+                    assert min(returns) >= 30 and len(scans[0].ranges) == 488
             if name == 'robot_faulty.bag':
                 frames = {bytes(m.data) for _, m, _ in bag.read_messages([NS + '/camera/front/image_raw'])}
                 assert len(frames) == 1, 'frontCamera:frozen recorded'
                 scan = next(bag.read_messages([NS + '/laser']))[1]
                 assert any(math.isnan(r) for r in scan.ranges)
+            if name == 'robot_stock_faulty.bag':
+                imu = next(bag.read_messages([NS + '/imu/base']))[1]
+                assert math.isnan(imu.orientation.w) and imu.orientation_covariance[0] == -1
+                scan = next(bag.read_messages([NS + '/laser']))[1]
+                assert set(scan.ranges) == {-1.0}
+                buf = next(bag.read_messages([NS + '/audio']))[1]
+                assert list(bytearray(buf.channelMap)) == [3, 5, 0, 2]
+                assert set(buf.data[2::4]) == {0} and len(set(buf.data[0::4])) > 100
             if name == 'robot_good.bag':
                 frames = {bytes(m.data) for _, m, _ in bag.read_messages([NS + '/camera/front/image_raw'])}
                 assert len(frames) > 10
                 img = next(bag.read_messages([NS + '/camera/front/image_raw']))[1]
                 assert (img.width, img.height) == (160, 120)
+                scan = next(bag.read_messages([NS + '/laser']))[1]
+                assert max(scan.ranges) > scan.range_max, 'raw laser distances recorded'

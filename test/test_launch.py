@@ -210,6 +210,56 @@ def test_robot_launch_includes_naoqi_driver(tmp_path, launch_text, expect):
     assert found['/sensorTest']['required'] is True
 
 
+# the CSSR4Africa fork's launch file (cssr4africa/naoqi_driver launch/naoqi_driver.launch):
+# launch_audio (default true) starts its own audio bridge next to the driver
+NAOQI_DRIVER_CSSR = '''<launch>
+  <arg name="nao_ip" default="$(optenv NAO_IP)" />
+  <arg name="nao_port" default="$(optenv NAO_PORT 9559)" />
+  <arg name="roscore_ip" default="127.0.0.1" />
+  <arg name="network_interface" default="eth0" />
+  <arg name="namespace" default="naoqi_driver" />
+  <arg name="launch_audio" default="true" />
+  <node pkg="naoqi_driver" type="naoqi_driver_node" name="$(arg namespace)" required="true"
+        args="--qi-url=tcp://$(arg nao_ip):$(arg nao_port) --roscore_ip=$(arg roscore_ip) --network_interface=$(arg network_interface) --namespace=$(arg namespace)"/>
+  <group if="$(arg launch_audio)">
+    <node pkg="naoqi_driver" type="naoqiAudioPublisher.py" name="naoqiAudioPublisher" output="screen"/>
+  </group>
+  <group if="$(arg launch_audio)">
+    <node pkg="naoqi_driver" type="run_naoqiAudio.sh" name="naoqiAudio" args="--ip=$(arg nao_ip) --port=$(arg nao_port)"/>
+  </group>
+</launch>
+'''
+
+
+def test_robot_launch_never_starts_two_audio_bridges(tmp_path):
+    """With the CSSR fork's driver launch, only one bridge runs: this package's (the fork gets
+    launch_audio:=false) or, with driver_audio:=true, the fork's own."""
+    _package(tmp_path, 'naoqi_driver', 'naoqi_driver.launch', NAOQI_DRIVER_CSSR)
+    env = dict(os.environ, ROS_PACKAGE_PATH='%s:%s' % (tmp_path, os.environ['ROS_PACKAGE_PATH']))
+    found = launch_nodes(ROBOT, env=env)
+    audio = sorted((n, v['package']) for n, v in found.items() if 'Audio' in n)
+    assert audio == [('/naoqiAudio', 'pepper_interface_tests'),
+                     ('/naoqiAudioPublisher', 'pepper_interface_tests')], audio
+    found = launch_nodes(ROBOT, 'driver_audio:=true', env=env)
+    audio = sorted((n, v['package']) for n, v in found.items() if 'Audio' in n)
+    assert audio == [('/naoqiAudio', 'naoqi_driver'), ('/naoqiAudioPublisher', 'naoqi_driver')], audio
+    # stock naoqi_driver (no launch_audio arg): driver_audio:=true leaves the driver's AudioBuffer alone
+    assert nodes(ROBOT, 'naoqi_driver:=false', 'driver_audio:=true') == ['/sensorTest']
+
+
+def test_emulator_launch_profiles():
+    # robot-stock: the driver's own AudioBuffer (emulator, audio direct), no bridge
+    assert nodes(EMULATOR, 'profile:=robot-stock') == ['/pepperEmulator']
+    p = params(EMULATOR, 'profile:=robot-stock', 'head:=xtion', 'run_test:=true')
+    assert (p['/pepperEmulator/profile'], p['/pepperEmulator/audio'], p['/pepperEmulator/head'],
+            p['/sensorTest/platform']) == ('robot-stock', 'direct', 'xtion', 'robot')
+    assert '/use_sim_time' not in p
+    # simulator: sim time for every node of the launch, the real-time factor reaches the emulator
+    p = params(EMULATOR, 'profile:=simulator', 'real_time_factor:=0.3')
+    assert p['/use_sim_time'] is True and p['/pepperEmulator/real_time_factor'] == 0.3
+    assert params(EMULATOR)['/pepperEmulator/real_time_factor'] == 0.6
+
+
 def test_simulator_launch_without_gazebo_names_missing_packages():
     import rospkg
     if 'pepper_gazebo_plugin' in rospkg.RosPack().list():
@@ -227,7 +277,7 @@ def test_simulator_launch_switches(tmp_path):
     # with the simulator's packages present, its world launch is included and unpaused
     for name in ('pepper_description', 'pepper_control', 'gazebo_ros'):
         _package(tmp_path, name)
-    _package(tmp_path, 'pepper_gazebo_plugin', 'pepper_gazebo_plugin_Y20.launch',
+    _package(tmp_path, 'pepper_gazebo_plugin', 'pepper_gazebo_plugin_Y20_CPU.launch',
              '<launch><node pkg="gazebo_ros" type="spawn_model" name="spawn_urdf"/></launch>\n')
     env = dict(os.environ, ROS_PACKAGE_PATH='%s:%s' % (tmp_path, os.environ['ROS_PACKAGE_PATH']))
     assert nodes(SIMULATOR, env=env) == ['/sensorTest', '/spawn_urdf', '/unpause_gazebo']

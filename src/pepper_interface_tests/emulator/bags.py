@@ -6,10 +6,12 @@
 
 Without --use-master a private roscore is started on a free port (and stopped at the end);
 with it, the master of ROS_MASTER_URI is used (no other emulator may be running there).
-Each variant: start the emulator (robot profile with ~audio direct and the RealSense on, or the
-simulator profile), wait until all its topics are advertised, `rosbag record` the sensor topics
-(never /speech, /rosout, /diagnostics) for --seconds, stop it with SIGINT to its process group,
-check that no .bag.active file remains, open the bag with rosbag and print a summary.
+Each variant: start the emulator (a robot profile with the microphones published by the
+emulator itself and the RealSense on, or the simulator profile on sim time at real-time factor
+0.5), wait until all its topics are advertised, `rosbag record` the sensor topics (and /clock for
+the simulator: rosbag then stamps the bag in sim time; never /speech, /rosout, /diagnostics) for
+--seconds of wall time, stop it with SIGINT to its process group, check that no .bag.active file
+remains, open the bag with rosbag and print a summary.
 Exit codes: 0 all bags written, 1 a recording failed, 2 bad usage or no master.
 """
 import argparse
@@ -26,15 +28,23 @@ from ..rosmaster import MasterError, PrivateMaster, stop_group
 from .faults import parse_faults
 from .profiles import RESOLUTIONS, build_profile
 
-# name -> (profile, faults)
+# name -> (profile, faults, extra emulator params)
 VARIANTS = OrderedDict([
-    ('robot_good', ('robot', '')),
+    ('robot_good', ('robot', '', {})),
     ('robot_faulty', ('robot', 'frontCamera:frozen;laser:nan;imu:broken_quaternion;'
-                               'backSonar:silent;microphone:silent_channel=rearRight')),
-    ('simulator_good', ('simulator', '')),
+                               'backSonar:silent;microphone:silent_channel=rearRight', {})),
+    ('robot_xtion_good', ('robot', '', {'head': 'xtion'})),
+    ('robot_stock_good', ('robot-stock', '', {})),
+    # the issue's real fault classes: NaN attitude with covariance -1, a dead microphone inside
+    # an AudioBuffer, an all-blind laser, a NaN sonar
+    ('robot_stock_faulty', ('robot-stock', 'imu:nan_attitude;microphone:silent_channel=frontLeft;'
+                                           'laser:all_blind;frontSonar:nan', {})),
+    ('simulator_good', ('simulator', '', {})),
     ('simulator_faulty', ('simulator', 'depthCamera:wrong_encoding;laser:out_of_range;'
-                                       'odometry:rate=0.3;frontSonar:silent')),
+                                       'odometry:rate=0.3;frontSonar:silent', {})),
+    ('simulator_no_returns', ('simulator', 'laser:no_returns', {})),
 ])
+SIM_RTF = 0.5                  # the simulator bags' real-time factor
 EXCLUDED = ('/speech', '/rosout', '/rosout_agg', '/diagnostics')
 
 
@@ -48,18 +58,22 @@ def _published(uri):
 
 
 def record_variant(name, out_dir, env, seconds, resolution, compression, log):
-    profile_name, faults = VARIANTS[name]
+    profile_name, faults, extra = VARIANTS[name]
     parse_faults(faults)                                   # fail early on a typo
-    profile = build_profile(profile_name, realsense=True, audio='direct', resolution=resolution)
+    profile = build_profile(profile_name, realsense=True, audio='direct', resolution=resolution,
+                            head=extra.get('head', 'stereo'))
     topics = [t for s in profile.sensors for t in [s.topic] + [e[0] for e in s.extra]
               if t not in EXCLUDED]
+    if profile.sim_time:
+        topics.append('/clock')
     path = os.path.join(out_dir, name + '.bag')
     for stale in (path, path + '.active'):
         if os.path.exists(stale):
             os.remove(stale)
     emu_cmd = [sys.executable, '-m', 'pepper_interface_tests.emulator.node',
                '__name:=pepperEmulator_' + name, '_profile:=' + profile_name, '_audio:=direct',
-               '_realsense:=true', '_camera_resolution:=' + resolution, '_faults:=' + faults]
+               '_realsense:=true', '_camera_resolution:=' + resolution, '_faults:=' + faults,
+               '_real_time_factor:=%g' % SIM_RTF] + ['_%s:=%s' % kv for kv in sorted(extra.items())]
     emu = subprocess.Popen(emu_cmd, env=env, stdout=log, stderr=subprocess.STDOUT,
                            start_new_session=True)
     rec = None

@@ -28,6 +28,9 @@ FAULTS = {
     'nan': (False, ('laser', 'sonar', 'joints', 'odometry', 'imu')),
     'out_of_range': (False, ('laser', 'sonar', 'joints')),
     'broken_quaternion': (False, ('imu', 'odometry')),
+    'nan_attitude': (False, ('imu',)),
+    'all_blind': (False, ('laser',)),
+    'no_returns': (False, ('laser',)),
     'silent_channel': (True, ('audio',)),
 }
 
@@ -58,6 +61,9 @@ class Faults:
     nan: bool = False
     out_of_range: bool = False
     broken_quaternion: bool = False
+    nan_attitude: bool = False      # imu: NaN orientation, covariance still -1 (a broken IMU)
+    all_blind: bool = False         # laser: every slot blind (-1.0 robot, NaN simulator)
+    no_returns: bool = False        # laser, simulator: no point reaches laser_2 (all NaN)
     silent_channel: tuple = ()
 
     def describe(self):

@@ -2,16 +2,28 @@
 topic with plausible, moving content, optionally with injected faults.
 
 Private params (each also a command-line option, which wins):
-  ~profile            robot | simulator                       (robot)
-  ~realsense          publish the RealSense D435i topics too    (false; robot profile only)
-  ~audio              bridge | direct | off                   (bridge; robot profile only)
+  ~profile            robot | robot-stock | simulator         (robot)
+                      robot: naoqi_driver as the CSSR4Africa fork runs it (AudioCustomMsg from
+                      an audio bridge); robot-stock: ros-naoqi/naoqi_driver (AudioBuffer from the
+                      driver); simulator: the awesomebytes Gazebo Pepper, on sim time
+  ~head               stereo | xtion: Pepper 1.8 stereo head (depth 640x360 + stereo camera)
+                      or Pepper 1.7 Xtion head (no stereo topic)   (stereo; robot profiles)
+  ~real_time_factor   simulator: simulated seconds per wall second; the emulator sets
+                      /use_sim_time and publishes /clock       (0.6)
+  ~condition          normal | loaded | still | dark: healthy but unusual (loaded: cameras
+                      ~1.3 fps with jitter; still: the robot stands still; dark: a dark room)
+                                                                (normal)
+  ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
+  ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
-                      direct: the emulator publishes AudioCustomMsg itself; off: no microphone
+                      direct: the emulator publishes the microphones itself (AudioCustomMsg for
+                      robot, naoqi_bridge_msgs/AudioBuffer for robot-stock); off: no microphone
+  ~audio_buffer       samples per channel per audio message (robot 4096, robot-stock 8192)
   ~naoqi_url          NAOqi endpoint for /speech            (tcp://127.0.0.1:9559)
   ~faults             fault string, see faults.py / docs/emulator.md   ('')
   ~rate_factor        multiplies every rate                   (1.0)
-  ~camera_resolution  QQVGA | QVGA | VGA for the front/bottom cameras; the depth camera follows
-                      up to QVGA (its maximum)                (QVGA; robot profile only)
+  ~camera_resolution  QQVGA | QVGA | VGA for the front/bottom cameras (robot profiles; default
+                      the driver's boot_config.json: VGA for robot, QVGA for robot-stock)
   ~topics_file        topics file (default data/pepperTopics.dat or data/simulatorTopics.dat)
   ~seed               seed of the noise generators            (0)
 Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no master).
@@ -27,14 +39,16 @@ from std_msgs.msg import String
 from .. import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
-from .profiles import AUDIO_MODES, PROFILES, RESOLUTIONS, build_profile
-from .publishers import KINDS, AudioPublisher, Clock
+from .profiles import (AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile,
+                       default_resolution)
+from .publishers import KINDS, AudioPublisher, Clock, ClockPublisher
 from .speech import DirectSpeech, NaoqiSpeech
 
 NODE_NAME = 'pepperEmulator'
-DEFAULTS = dict(profile='robot', realsense=False, audio='bridge', naoqi_url='tcp://127.0.0.1:9559',
-                faults='', rate_factor=1.0, camera_resolution='QVGA', topics_file='', seed=0,
-                audio_pattern='tones')
+DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
+                faults='', rate_factor=1.0, camera_resolution='', topics_file='', seed=0,
+                audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
+                audio_buffer=0)
 
 
 class EmulatorConfig(object):
@@ -45,7 +59,24 @@ class EmulatorConfig(object):
         v.update({k: val for k, val in values.items() if val is not None})
         self.profile = settings.choice(v['profile'], PROFILES, '~profile')
         self.realsense = settings.parse_bool(v['realsense'], key='~realsense')
-        self.audio = settings.choice(v['audio'], AUDIO_MODES, '~audio')
+        self.audio = settings.choice(v['audio'] or ('direct' if self.profile == 'robot-stock'
+                                                    else 'bridge'), AUDIO_MODES, '~audio')
+        if self.profile == 'robot-stock' and self.audio == 'bridge':
+            raise settings.ConfigError(
+                '~audio bridge with profile robot-stock: stock naoqi_driver publishes '
+                '/naoqi_driver/audio itself, a bridge would be a second publisher',
+                fix='use ~audio direct (the default for robot-stock) or off')
+        self.head = settings.choice(v['head'], HEADS, '~head')
+        self.condition = settings.choice(v['condition'], CONDITIONS, '~condition')
+        self.real_time_factor = self._positive(v, 'real_time_factor', 'e.g. 0.6 (Gazebo slower '
+                                               'than real time) or 1.0', upper=10)
+        try:
+            self.audio_buffer = int(v['audio_buffer'] or 0)
+        except (TypeError, ValueError):
+            self.audio_buffer = -1
+        if not 0 <= self.audio_buffer <= 65536:
+            raise settings.ConfigError('~audio_buffer "%s" is not a sample count' % v['audio_buffer'],
+                                       fix='give samples per channel, e.g. 4096 or 8192 (0 = default)')
         self.naoqi_url = str(v['naoqi_url'])
         try:
             self.rate_factor = float(v['rate_factor'])
@@ -54,7 +85,7 @@ class EmulatorConfig(object):
         if not 0 < self.rate_factor < 1000:
             raise settings.ConfigError('~rate_factor "%s" is not a positive number' % v['rate_factor'],
                                        fix='give e.g. 1.0 (nominal rates) or 0.5 (half)')
-        res = str(v['camera_resolution']).upper()
+        res = str(v['camera_resolution'] or default_resolution(self.profile)).upper()
         if res not in RESOLUTIONS:
             raise settings.ConfigError('~camera_resolution "%s" is not valid' % v['camera_resolution'],
                                        fix='use one of: ' + ', '.join(RESOLUTIONS))
@@ -68,24 +99,37 @@ class EmulatorConfig(object):
             self.audio = 'off'
             self.realsense = False
         self.profile_spec = build_profile(self.profile, v['topics_file'] or None, self.realsense,
-                                          self.audio, self.camera_resolution)
+                                          self.audio, self.camera_resolution, self.head,
+                                          self.audio_buffer or None)
         self.faults = parse_faults(v['faults'])
         published = [s.name for s in self.profile_spec.sensors]
         for name in self.faults:
             if name in published:
                 continue
-            if name == 'microphone' and self.profile == 'robot' and self.audio == 'bridge':
+            if name == 'microphone' and self.profile != 'simulator' and self.audio == 'bridge':
                 raise FaultError('microphone faults need ~audio direct (with the audio bridge the '
                                  'microphones come from naoqiEndpoint: give it --silent-channel, '
                                  'or the launch arg silent_channel)')
             hint = ''
-            if name.startswith('realsense') and self.profile == 'robot':
+            if name.startswith('realsense') and self.profile != 'simulator':
                 hint = ' (set ~realsense true to publish the RealSense topics)'
             raise FaultError('sensor "%s" is not published by this emulator (%s profile%s)%s; '
                              'sensors published: %s' % (name, self.profile,
                                                         ', audio %s' % self.audio
-                                                        if self.profile == 'robot' else '',
+                                                        if self.profile != 'simulator' else '',
                                                         hint, ', '.join(published)))
+
+
+    @staticmethod
+    def _positive(v, key, example, upper=1000):
+        try:
+            value = float(v[key])
+        except (TypeError, ValueError):
+            value = -1.0
+        if not 0 < value <= upper:
+            raise settings.ConfigError('~%s "%s" is not a positive number (at most %g)'
+                                       % (key, v[key], upper), fix='give ' + example)
+        return value
 
 
 def _params():
@@ -108,6 +152,10 @@ def _parser():
     p.add_argument('--topics-file', dest='topics_file')
     p.add_argument('--seed', type=int)
     p.add_argument('--audio-pattern', dest='audio_pattern', choices=('tones', 'counter'))
+    p.add_argument('--head', choices=HEADS)
+    p.add_argument('--real-time-factor', dest='real_time_factor', type=float)
+    p.add_argument('--condition', choices=CONDITIONS)
+    p.add_argument('--audio-buffer', dest='audio_buffer', type=int)
     p.add_argument('--list-faults', action='store_true', help='print the fault syntax and exit')
     return p
 
@@ -118,7 +166,10 @@ class Emulator(object):
     def __init__(self, config):
         self.config = config
         self.stop_event = threading.Event()
-        self.clock = Clock()
+        sim = config.profile_spec.sim_time
+        self.clock = Clock(config.real_time_factor if sim else None)
+        self.clock_thread = None
+        self.set_sim_time = False
         self.threads = []
         self.source = None
         self.speech = None
@@ -126,19 +177,28 @@ class Emulator(object):
 
     def start(self):
         cfg = self.config
+        from . import scene
+        scene.standing_still(cfg.condition == 'still')
+        if self.clock.sim:
+            # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
+            self.clock_thread = ClockPublisher(self.clock, self.stop_event)
+            if rospy.get_param('/use_sim_time', False) is not True:
+                rospy.set_param('/use_sim_time', True)
+                self.set_sim_time = True
         for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
             cls = KINDS[spec.kind]
             seed = cfg.seed * 1000 + i
-            if cls is AudioPublisher:
+            if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource
                 channels = fault.silent_channel if fault else ()
                 self.source = AudioSource(rate=48000, channels=4, pattern=cfg.audio_pattern,
                                           silent_channels=channels, seed=cfg.seed)
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,
-                          source=self.source)
+                          cfg.condition, source=self.source)
             else:
-                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed)
+                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,
+                          cfg.condition)
             self.threads.append(pub)
         topic = cfg.profile_spec.speech_topic
         if topic:
@@ -147,6 +207,8 @@ class Emulator(object):
             else:
                 self.speech = NaoqiSpeech(cfg.naoqi_url)
             self.speech_sub = rospy.Subscriber(topic, String, self._on_speech, queue_size=10)
+        if self.clock_thread is not None:
+            self.clock_thread.start()
         for t in self.threads:
             t.start()
 
@@ -159,9 +221,13 @@ class Emulator(object):
         topics = sum(1 + len(t.spec.extra) for t in self.threads)
         faults = faults_mod.format_faults(cfg.faults) or 'none'
         extra = ''
-        if cfg.profile == 'robot':
-            extra = ', audio %s, realsense %s, cameras %s' % (
-                cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
+        if cfg.profile != 'simulator':
+            extra = ', head %s, audio %s, realsense %s, cameras %s' % (
+                cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
+        else:
+            extra = ', sim time at real-time factor %g' % cfg.real_time_factor
+        if cfg.condition != 'normal':
+            extra += ', condition %s' % cfg.condition
         return ('pepperEmulator: all %d publishers up (%d topics, %s profile%s, rate factor %g, '
                 'faults: %s)' % (len(self.threads), topics, cfg.profile, extra, cfg.rate_factor,
                                  faults))
@@ -179,6 +245,15 @@ class Emulator(object):
             self.speech_sub.unregister()
         if self.speech is not None:
             self.speech.close()
+        if self.clock_thread is not None:
+            self.clock_thread.join(1.0)
+            self.clock_thread.close()
+        if self.set_sim_time:
+            # leave the master as it was: a later node on it must not wait for a /clock
+            try:
+                rosgraph.Master('/' + NODE_NAME).deleteParam('/use_sim_time')
+            except Exception:
+                pass
 
 
 def main(argv=None):

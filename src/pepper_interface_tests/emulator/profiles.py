@@ -5,33 +5,58 @@ data/simulatorTopics.dat for the Gazebo simulator), read once at start; everythi
 (type, encoding, size, rate, frame ids, limits) is the behaviour of naoqi_driver, the Gazebo
 Pepper simulator and the RealSense driver as listed in docs/emulator.md.
 """
+import math
 import os
 from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
 from .. import settings
 
-PROFILES = ('robot', 'simulator')
+PROFILES = ('robot', 'robot-stock', 'simulator')
 AUDIO_MODES = ('bridge', 'direct', 'off')
 RESOLUTIONS = {'QQVGA': (160, 120), 'QVGA': (320, 240), 'VGA': (640, 480)}
+# Pepper's head: naoqi_driver asks ALMotion.getSensorNames() for "CameraStereo"
+# (ros-naoqi/naoqi_driver src/helpers/driver_helpers.cpp:373-394, isDepthStereo); with it
+# (Pepper 1.8 head) depth comes from the stereo pair at stereo_resolution and
+# camera/stereo/image_raw exists; without it (Pepper 1.7, ASUS Xtion) depth is the Xtion's at
+# xtion_resolution and there is no stereo topic (src/naoqi_driver.cpp:607-616, 712-760).
+HEADS = ('stereo', 'xtion')
+CONDITIONS = ('normal', 'loaded', 'still', 'dark')   # healthy but unusual (docs/emulator.md)
 
-AUDIO_RATE = 48000          # Hz, all four channels
-AUDIO_BUFFER = 4096         # samples per channel per message
+AUDIO_RATE = 48000          # Hz, all four channels (src/event/audio.cpp:107-113, 179)
+AUDIO_BUFFER = 4096         # samples per channel per AudioCustomMsg: the CSSR fork's bridge
+                            # (cssr4africa/naoqi_driver scripts/naoqiAudioPublisher.py:15)
+STOCK_AUDIO_BUFFER = 8192   # samples per channel per AudioBuffer: NAOqi's ~170 ms buffers
+                            # (issue 8, fact 5; 8192 / 48000 = 170.7 ms) -- to confirm on a robot
 MIC_CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 
-# Pepper's joints as naoqi_driver names them in /joint_states.
+# Pepper's joints as naoqi_driver names them in /joint_states: ALMotion.getBodyNames("Body")
+# (src/converters/joint_state.cpp:79), 20 on Pepper, wheels included.
 JOINT_NAMES = ('HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch',
                'LShoulderPitch', 'LShoulderRoll', 'LElbowYaw', 'LElbowRoll', 'LWristYaw', 'LHand',
                'RShoulderPitch', 'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw', 'RHand',
                'WheelFL', 'WheelFR', 'WheelB')
+# joints whose velocity and effort naoqi_driver publishes as NaN: it reads
+# Motion/Velocity/Sensor/<joint> and Motion/Torque/Sensor/<joint> from ALMemory and writes NaN
+# when a key is missing (src/converters/joint_state.cpp:120-133). Which keys a Pepper lacks is
+# not in the driver's code; the emulator assumes the wheels (to confirm on a robot).
+JOINTS_WITHOUT_VELOCITY = ('WheelFL', 'WheelFR', 'WheelB')
 
-# naoqi_driver's laser layout: right, front and left segments of 15 beams each, separated by
-# two blind zones of 8 beams reported as -1.0, from angle_min (right) to angle_max (left).
+# naoqi_driver's laser layout (src/converters/laser.cpp:165-205, 213-222): right, front and left
+# segments of 15 beams each, separated by two blind zones of 8 slots left at -1.0, from
+# angle_min (right) to angle_max (left); angle_increment = 2 * 2.0944 / 61 (not / 60).
 LASER_SEGMENT = 15
 LASER_BLIND = 8
 LASER_BEAMS = 3 * LASER_SEGMENT + 2 * LASER_BLIND          # 61
 LASER_ANGLE = 2.0944                                       # +-120 degrees
 LASER_BLIND_VALUE = -1.0
+LASER_INCREMENT = 2 * LASER_ANGLE / LASER_BEAMS
+# the simulator's /pepper/laser_2 (awesomebytes/pepper_virtual simulation_that_works,
+# pepper_gazebo_plugin/scripts/laser_publisher.py:424-434): 61 x 8 = 488 NaN slots over
+# +-half_max_angle (120 deg by default, line 275), increment = span / 488; each of the 45 points
+# of the three 15-ray Gazebo lasers is written into the slot of its own angle (lines 460-475).
+SIM_LASER_SLOTS = 61 * 8
+SIM_LASER_ANGLE = math.radians(120.0)
 
 
 def laser_blind_mask():
@@ -63,6 +88,8 @@ class SensorSpec:
     field_of_view: float = 0.0
     child_frame_id: str = ''
     extra: Tuple[Tuple[str, str], ...] = ()   # companion topics published alike: (topic, frame_id)
+    layout: str = ''            # laser: naoqi (61 slots) or gazebo (488 slots); sonar: clip rule
+    noise: float = 0.0          # standard deviation of the reading noise (m)
 
     @property
     def msg_type(self):
@@ -70,7 +97,8 @@ class SensorSpec:
                 'stereo': 'sensor_msgs/Image', 'laser': 'sensor_msgs/LaserScan',
                 'sonar': 'sensor_msgs/Range', 'imu': 'sensor_msgs/Imu',
                 'joints': 'sensor_msgs/JointState', 'odometry': 'nav_msgs/Odometry',
-                'audio': 'pepper_interface_tests/AudioCustomMsg'}[self.kind]
+                'audio': 'pepper_interface_tests/AudioCustomMsg',
+                'audiobuffer': 'naoqi_bridge_msgs/AudioBuffer'}[self.kind]
 
     @property
     def is_image(self):
@@ -84,6 +112,7 @@ class Profile:
     speech_topic: Optional[str] = None
     topics_file: str = ''
     notes: Tuple[str, ...] = field(default=())
+    sim_time: bool = False      # publishes /clock and sets /use_sim_time (the Gazebo simulator)
 
     def sensor(self, name):
         for s in self.sensors:
@@ -95,7 +124,7 @@ class Profile:
 def topics_file(profile, path=None):
     if path:
         return path
-    name = 'pepperTopics.dat' if profile == 'robot' else 'simulatorTopics.dat'
+    name = 'simulatorTopics.dat' if profile == 'simulator' else 'pepperTopics.dat'
     return os.path.join(settings.package_dir(), 'data', name)
 
 
@@ -106,31 +135,62 @@ def _need(topics, name, path):
     return topics[name]
 
 
-def robot_profile(path=None, realsense=False, audio='bridge', resolution='QVGA'):
-    """naoqi_driver on a physical Pepper (NAOqi 2.5), plus the RealSense D435i when asked."""
-    path = topics_file('robot', path)
+def default_resolution(profile):
+    """front/bottom camera resolution of each driver's share/boot_config.json: stock
+    naoqi_driver asks QVGA ("resolution": 1), the CSSR4Africa fork VGA ("resolution": 2)."""
+    return 'VGA' if profile == 'robot' else 'QVGA'
+
+
+def robot_profile(path=None, realsense=False, audio='bridge', resolution=None, stock=False,
+                  head='stereo', audio_buffer=None):
+    """naoqi_driver on a physical Pepper (NAOqi 2.5): the CSSR4Africa fork (robot) or stock
+    ros-naoqi/naoqi_driver (robot-stock), plus the RealSense D435i when asked.
+    Every number is the driver's; file:line references are to ros-naoqi/naoqi_driver master
+    unless the CSSR fork (cssr4africa/naoqi_driver master) is named; see docs/drivers.md."""
+    name = 'robot-stock' if stock else 'robot'
+    path = topics_file(name, path)
     topics = settings.read_topics(path)
-    w, h = RESOLUTIONS[resolution]
-    dw, dh = (w, h) if w <= 320 else (320, 240)          # QVGA is the depth camera's maximum
+    w, h = RESOLUTIONS[resolution or default_resolution(name)]
+    if head == 'stereo':
+        # depth from the stereo pair: stereo_resolution 9 = kQ720p 640x360, in both
+        # boot_config.json files; src/tools/alvisiondefinitions.h:54
+        dw, dh = 640, 360
+    else:
+        # Xtion: xtion_resolution 1 (QVGA) in stock share/boot_config.json, 2 (VGA) in the fork's
+        dw, dh = (320, 240) if stock else (640, 480)
     t = lambda n: _need(topics, n, path)                 # noqa: E731
     imu_topic = t('imu')
     torso = imu_topic[:-len('base')] + 'torso' if imu_topic.endswith('/base') else None
-    sonar = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.5236)
+    # sonar.cpp:64-72: min 0.25, max 2.55, fov 0.523598776, ULTRASOUND; range = the raw
+    # ALMemory value, not clipped (sonar.cpp:111-115); 10 Hz (boot_config.json "sonar")
+    sonar = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.523598776,
+                 layout='raw', noise=0.01)
     sensors = [
         SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),
         SensorSpec('frontSonar', 'sonar', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
+        # camera.cpp:193-205, 286-289: rgb8, CameraTop/Bottom_optical_frame; 10 fps (boot_config)
         SensorSpec('frontCamera', 'camera', t('frontCamera'), 10.0, 'CameraTop_optical_frame',
                    w, h, 'rgb8', view='front', hfov=0.9826),
         SensorSpec('bottomCamera', 'camera', t('bottomCamera'), 10.0,
                    'CameraBottom_optical_frame', w, h, 'rgb8', view='bottom', hfov=0.9826),
+        # camera.cpp:194, 207-213: 16UC1 (mm), CameraDepth_optical_frame
         SensorSpec('depthCamera', 'depth', t('depthCamera'), 10.0, 'CameraDepth_optical_frame',
                    dw, dh, '16UC1', view='depth', hfov=1.0123),
-        SensorSpec('stereoCamera', 'stereo', t('stereoCamera'), 10.0, 'CameraDepth_optical_frame',
-                   640, 180, 'rgb8', view='stereo', hfov=1.0472),
+    ]
+    if head == 'stereo':
+        # naoqi_driver.cpp:733-750: only on a stereo head; kQQ720px2 = 640x180 rgb8, two views
+        sensors.append(SensorSpec('stereoCamera', 'stereo', t('stereoCamera'), 10.0,
+                                  'CameraDepth_optical_frame', 640, 180, 'rgb8', view='stereo',
+                                  hfov=1.0472))
+    sensors += [
+        # laser.cpp:213-237 and boot_config.json "laser": 0.1..3.0 m advertised, 10 Hz
         SensorSpec('laser', 'laser', t('laser'), 10.0, 'base_footprint',
-                   range_min=0.1, range_max=3.0),
+                   range_min=0.1, range_max=3.0, layout='naoqi', noise=0.01),
+        # joint_state.cpp:99 (no frame id), boot_config.json "joint_states": 50 Hz
         SensorSpec('jointState', 'joints', t('jointState'), 50.0),
+        # odom.cpp:78-80: odom -> base_link; boot_config.json "odom": 15 Hz
         SensorSpec('odometry', 'odometry', t('odometry'), 15.0, 'odom', child_frame_id='base_link'),
+        # imu.cpp:45-70: base_footprint (imu/base), base_link (imu/torso); 10 Hz (boot_config)
         SensorSpec('imu', 'imu', imu_topic, 10.0, 'base_footprint',
                    extra=((torso, 'base_link'),) if torso else ()),
     ]
@@ -144,41 +204,65 @@ def robot_profile(path=None, realsense=False, audio='bridge', resolution='QVGA')
                        hfov=1.2043),
         ]
     notes = []
-    if audio == 'direct':
+    if stock:
+        # src/event/audio.cpp:62-66, 107-113, 177-186: AudioBuffer, 48 kHz, channelMap [3,5,0,2],
+        # interleaved int16, one message per NAOqi buffer; published by the driver itself
+        n = audio_buffer or STOCK_AUDIO_BUFFER
+        if audio != 'off':
+            sensors.append(SensorSpec('microphone', 'audiobuffer', t('microphone'),
+                                      AUDIO_RATE / float(n), width=n))
+    elif audio == 'direct':
+        n = audio_buffer or AUDIO_BUFFER
         sensors.append(SensorSpec('microphone', 'audio', t('microphone'),
-                                  AUDIO_RATE / float(AUDIO_BUFFER)))
+                                  AUDIO_RATE / float(n), width=n))
     elif audio == 'bridge':
         notes.append('%s is published by the audio bridge (naoqiAudio + naoqiAudioPublisher)'
                      % t('microphone'))
-    return Profile('robot', tuple(sensors), speech_topic=t('speech'), topics_file=path,
+    return Profile(name, tuple(sensors), speech_topic=t('speech'), topics_file=path,
                    notes=tuple(notes))
 
 
 def simulator_profile(path=None):
-    """The Gazebo Pepper simulator (pepper_gazebo_plugin): no microphone, IMU, stereo, speech."""
+    """The Gazebo simulator CSSR4Africa installs: awesomebytes/pepper_robot branch
+    correct_chain_model_and_gazebo_enabled (pepper_description/urdf/pepper1.0_generated_urdf/
+    pepperGazeboCPU.xacro, loaded by pepper_upload_CPU.launch) and awesomebytes/pepper_virtual
+    branch simulation_that_works (laser_publisher.py). No microphone, IMU, stereo, speech.
+    Runs on sim time (/clock)."""
     path = topics_file('simulator', path)
     topics = settings.read_topics(path)
     t = lambda n: _need(topics, n, path)                 # noqa: E731
-    sonar = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=0.5236)
+    # pepperGazeboCPU.xacro:658-736: ray sensors 5x5 rays over +-0.52 rad, 0..5 m, 20 Hz,
+    # gazebo_ros_range with gaussianNoise 0.05, fov 1.05, radiation ultrasound
+    sonar = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo',
+                 noise=0.05)
     sensors = (
         SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),
         SensorSpec('frontSonar', 'sonar', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
+        # pepperGazeboCPU.xacro:453-524: 640x480 R8G8B8 (rgb8), update_rate 5, horizontal_fov 1.0
         SensorSpec('frontCamera', 'camera', t('frontCamera'), 5.0, 'CameraTop_optical_frame',
-                   640, 480, 'rgb8', view='front', hfov=0.9826),
+                   640, 480, 'rgb8', view='front', hfov=1.0),
         SensorSpec('bottomCamera', 'camera', t('bottomCamera'), 5.0, 'CameraBottom_optical_frame',
-                   640, 480, 'rgb8', view='bottom', hfov=0.9826),
-        SensorSpec('depthCamera', 'depth', t('depthCamera'), 20.0, 'CameraDepth_optical_frame',
-                   320, 240, '16UC1', view='depth', hfov=1.0123),
+                   640, 480, 'rgb8', view='bottom', hfov=1.0),
+        # pepperGazeboCPU.xacro:528-575: gazebo_ros_openni_kinect 320x240, update_rate 30,
+        # useDepth16UC1Format true (16UC1 in mm, 0 outside 0.4..8.0 m), hfov 58 deg
+        SensorSpec('depthCamera', 'depth', t('depthCamera'), 30.0, 'CameraDepth_optical_frame',
+                   320, 240, '16UC1', view='depth', hfov=math.radians(58.0)),
+        # laser_publisher.py:386-395: base_footprint, range 0.1..7.0; three 15-ray lasers at
+        # update_rate 6.25 (pepperGazeboCPU.xacro:778-871, 0.3..7.0 m, noise mean 0.01 sd 0.01)
         SensorSpec('laser', 'laser', t('laser'), 6.25, 'base_footprint',
-                   range_min=0.1, range_max=7.0),
-        SensorSpec('jointState', 'joints', t('jointState'), 50.0),
+                   range_min=0.1, range_max=7.0, layout='gazebo', noise=0.01),
+        # joint_state_controller of pepper_control: velocity and effort of every joint
+        SensorSpec('jointState', 'joints', t('jointState'), 50.0, layout='gazebo'),
+        # pepperGazeboCPU.xacro:741-765: odometryRate 20, odom -> robotBaseFrame base_footprint
         SensorSpec('odometry', 'odometry', t('odometry'), 20.0, 'odom',
                    child_frame_id='base_footprint'),
     )
-    return Profile('simulator', sensors, speech_topic=None, topics_file=path)
+    return Profile('simulator', sensors, speech_topic=None, topics_file=path, sim_time=True)
 
 
-def build_profile(name, path=None, realsense=False, audio='bridge', resolution='QVGA'):
-    if name == 'robot':
-        return robot_profile(path, realsense, audio, resolution)
+def build_profile(name, path=None, realsense=False, audio='bridge', resolution=None,
+                  head='stereo', audio_buffer=None):
+    if name in ('robot', 'robot-stock'):
+        return robot_profile(path, realsense, audio, resolution, stock=name == 'robot-stock',
+                             head=head, audio_buffer=audio_buffer)
     return simulator_profile(path)

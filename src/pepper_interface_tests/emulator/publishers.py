@@ -5,6 +5,9 @@ is shared between threads except the read-only world model (scene.py) and the st
 Ticks are scheduled at t0 + k / rate (monotonic clock), so rates do not drift; when a tick is
 late by more than one period the missed slots are skipped rather than sent in a burst.
 Like naoqi_driver, a stream is only rendered and published while it has a subscriber.
+Under sim time (simulator profile) the scene runs on the simulated clock: a stream's nominal
+rate is per simulated second, so it arrives at rate x real-time factor per wall second, and
+every header stamp is the simulated time (the /clock the emulator publishes).
 """
 import math
 import threading
@@ -19,21 +22,63 @@ from std_msgs.msg import String
 
 from . import scene
 from .faults import HEALTHY
-from .profiles import AUDIO_BUFFER, JOINT_NAMES, LASER_ANGLE, LASER_BEAMS, laser_blind_mask
+from .profiles import (AUDIO_RATE, JOINT_NAMES, JOINTS_WITHOUT_VELOCITY, LASER_ANGLE,
+                       LASER_BEAMS, LASER_BLIND_VALUE, LASER_INCREMENT, SIM_LASER_ANGLE,
+                       SIM_LASER_SLOTS, laser_blind_mask)
 
 BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
+LOADED_CAMERA_HZ = 1.3
+DARK_FACTOR = 0.12                 # a dark room: colour images at about an eighth of the light
 WRONG_ENCODING = {'rgb8': 'bgr8', '16UC1': '32FC1'}
 BROKEN_QUATERNION_SCALE = 1.8
 
 
 class Clock(object):
-    """Seconds since the emulator started (the scene's time base), monotonic."""
+    """Seconds since the emulator started (the scene's time base), monotonic.
 
-    def __init__(self):
+    Wall clock (rtf None): stamps are rospy.Time.now(), as naoqi_driver's ros::Time::now().
+    Sim clock (rtf given): simulated seconds advance rtf times as fast as the wall clock and
+    start at SIM_START, like Gazebo's; stamps are that simulated time."""
+
+    SIM_START = 0.001
+
+    def __init__(self, rtf=None):
         self.t0 = time.monotonic()
+        self.rtf = rtf
+        self.sim = rtf is not None
+        self.speed = rtf if self.sim else 1.0
 
     def now(self):
-        return time.monotonic() - self.t0
+        return (time.monotonic() - self.t0) * self.speed + (self.SIM_START if self.sim else 0.0)
+
+    def stamp(self):
+        return rospy.Time.from_sec(self.now()) if self.sim else rospy.Time.now()
+
+
+class ClockPublisher(threading.Thread):
+    """/clock (rosgraph_msgs/Clock) at CLOCK_HZ wall, as Gazebo publishes it."""
+
+    CLOCK_HZ = 100.0
+
+    def __init__(self, clock, stop):
+        super().__init__(name='pub-clock', daemon=True)
+        from rosgraph_msgs.msg import Clock as ClockMsg
+        self.clock, self.stop, self.msg_class = clock, stop, ClockMsg
+        self.pub = rospy.Publisher('/clock', ClockMsg, queue_size=10)
+        self.published = 0
+
+    def run(self):
+        period = 1.0 / self.CLOCK_HZ
+        while not self.stop.wait(period):
+            try:
+                self.pub.publish(self.msg_class(clock=self.clock.stamp()))
+                self.published += 1
+            except Exception:
+                if rospy.is_shutdown() or self.stop.is_set():
+                    break
+
+    def close(self):
+        self.pub.unregister()
 
 
 class StreamPublisher(threading.Thread):
@@ -41,13 +86,20 @@ class StreamPublisher(threading.Thread):
 
     queue_size = 10
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0):
+    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal'):
         super().__init__(name='pub-' + spec.name, daemon=True)
         self.spec = spec
         self.faults = faults or HEALTHY
         self.clock = clock
         self.stop = stop
-        self.rate = spec.rate * rate_factor * self.faults.rate
+        self.condition = condition
+        nominal = spec.rate
+        self.jitter = 0.0
+        if condition == 'loaded' and spec.kind in ('camera', 'depth', 'stereo'):
+            # a busy robot: naoqi_driver's cameras drop to ~1.3 fps with irregular gaps
+            # (measured in the D4.1 report, docs/reference pepper-sensors.md)
+            nominal, self.jitter = LOADED_CAMERA_HZ, 0.4
+        self.rate = nominal * rate_factor * self.faults.rate * clock.speed
         self.rng = np.random.default_rng(seed)
         self.published = 0
         self.dead = False
@@ -84,7 +136,7 @@ class StreamPublisher(threading.Thread):
             else:
                 msg = self.build(t, frame, index)
                 if hasattr(msg, 'header'):
-                    msg.header.stamp = rospy.Time.now()
+                    msg.header.stamp = self.clock.stamp()
                     msg.header.frame_id = frame
             pub.publish(msg)
         self.published += 1
@@ -102,9 +154,12 @@ class StreamPublisher(threading.Thread):
         k = 0
         while not self.stop.is_set():
             delay = t0 + k * period - time.monotonic()
+            if self.jitter:
+                delay += self.jitter * period * (self.rng.random() - 0.5)
             if delay > 0 and self.stop.wait(delay):
                 break
-            if self.faults.die_after is not None and time.monotonic() - t0 >= self.faults.die_after:
+            if self.faults.die_after is not None and \
+                    (time.monotonic() - t0) * self.clock.speed >= self.faults.die_after:
                 self.die()
                 return
             try:
@@ -131,8 +186,9 @@ class StreamPublisher(threading.Thread):
 class ImagePublisher(StreamPublisher):
     queue_size = 2
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0):
-        super().__init__(spec, faults, clock, stop, rate_factor, seed)
+    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal'):
+        super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
+        self.dark = condition == 'dark' and spec.kind != 'depth'
         if spec.kind == 'depth':
             self.renderer = scene.DepthCamera(spec.width, spec.height, spec.hfov, seed=seed)
         elif spec.kind == 'stereo':
@@ -156,7 +212,10 @@ class ImagePublisher(StreamPublisher):
             if self.cached is None:
                 self.cached = self.renderer.render(t).tobytes()
             return self.cached
-        return self.renderer.render(t).tobytes()
+        img = self.renderer.render(t)
+        if self.dark:
+            img = (img * DARK_FACTOR).astype(img.dtype)
+        return img.tobytes()
 
     def build(self, t, frame_id, index):
         s, f = self.spec, self.faults
@@ -174,30 +233,59 @@ class ImagePublisher(StreamPublisher):
 # ---------------------------------------------------------------- range sensors
 
 class LaserPublisher(StreamPublisher):
+    """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout)."""
+
     def __init__(self, *a, **kw):
         super().__init__(*a, **kw)
-        self.blind = laser_blind_mask()
-        self.increment = 2 * LASER_ANGLE / (LASER_BEAMS - 1)
+        self.blind = np.asarray(laser_blind_mask())
 
     def msg_class(self):
         return LaserScan
 
+    def naoqi_ranges(self, t):
+        """laser.cpp:165-205: each measured slot is the raw distance of a point in
+        base_footprint, never clipped to range_max; the blind slots keep -1.0 (reset(), :221)."""
+        s = self.spec
+        ranges = scene.laser_ranges(t, -LASER_ANGLE, LASER_INCREMENT, LASER_BEAMS, self.blind,
+                                    s.noise, self.rng)
+        if self.faults.all_blind:
+            ranges[:] = LASER_BLIND_VALUE
+        return ranges, -LASER_ANGLE, LASER_ANGLE, LASER_INCREMENT
+
+    def gazebo_ranges(self, t):
+        """laser_publisher.py:293-395, 424-497: the 45 points of three 15-ray lasers, in
+        base_footprint, each written into the slot of its own angle; every other slot NaN."""
+        s = self.spec
+        increment = 2 * SIM_LASER_ANGLE / SIM_LASER_SLOTS
+        ranges = np.full(SIM_LASER_SLOTS, np.nan, dtype=np.float32)
+        if not self.faults.no_returns:
+            dist, angle = scene.gazebo_laser_points(t, s.noise, self.rng)
+            ok = ~np.isnan(angle)
+            idx = np.clip(((angle[ok] + SIM_LASER_ANGLE) / increment).astype(int), 0,
+                          SIM_LASER_SLOTS - 1)
+            ranges[idx] = dist[ok]
+        if self.faults.all_blind:
+            ranges[:] = np.nan
+        return ranges, -SIM_LASER_ANGLE, SIM_LASER_ANGLE, increment
+
     def build(self, t, frame_id, index):
         s, f = self.spec, self.faults
-        ranges = scene.laser_ranges(t, -LASER_ANGLE, self.increment, LASER_BEAMS, self.blind,
-                                    s.range_min, s.range_max, self.rng)
-        valid = ~np.asarray(self.blind)
+        if s.layout == 'gazebo':
+            ranges, a_min, a_max, inc = self.gazebo_ranges(t)
+            valid = ~np.isnan(ranges)
+        else:
+            ranges, a_min, a_max, inc = self.naoqi_ranges(t)
+            valid = ~self.blind
         if f.nan:
             ranges[valid] = np.nan
         if f.out_of_range:
             idx = np.flatnonzero(valid)
-            ranges[idx[0::2]] = s.range_max + 2.0
-            ranges[idx[1::2]] = s.range_min / 2.0
+            ranges[idx[0::2]] = -5.0
+            ranges[idx[1::2]] = 0.0
         msg = LaserScan()
-        msg.angle_min, msg.angle_max = -LASER_ANGLE, LASER_ANGLE
-        msg.angle_increment = self.increment
-        msg.time_increment = 0.0
-        msg.scan_time = 1.0 / s.rate
+        msg.angle_min, msg.angle_max = a_min, a_max
+        msg.angle_increment = inc
+        # naoqi_driver and laser_publisher.py leave time_increment and scan_time at 0
         msg.range_min, msg.range_max = s.range_min, s.range_max
         msg.ranges = ranges.tolist()
         return msg
@@ -213,12 +301,15 @@ class SonarPublisher(StreamPublisher):
         msg.radiation_type = Range.ULTRASOUND
         msg.field_of_view = s.field_of_view
         msg.min_range, msg.max_range = s.range_min, s.range_max
-        msg.range = scene.sonar_range(t, s.name == 'backSonar', s.range_min, s.range_max, self.rng)
+        back = s.name == 'backSonar'
+        if s.layout == 'gazebo':
+            msg.range = scene.gazebo_sonar_range(t, back, s.range_max, s.noise, self.rng)
+        else:
+            msg.range = scene.sonar_range(t, back, s.noise, self.rng)
         if f.nan:
             msg.range = float('nan')
         elif f.out_of_range:
-            msg.range = s.range_max + 1.5 if (self.published % 2 == 0 or s.range_min <= 0) \
-                else s.range_min / 2.0
+            msg.range = -1.0 if self.published % 2 == 0 else 50.0
         return msg
 
 
@@ -242,8 +333,9 @@ class OdometryPublisher(StreamPublisher):
         msg.pose.pose.position.x = float('nan') if f.nan else x
         msg.pose.pose.position.y = y
         msg.pose.pose.orientation = _quaternion(yaw, f.broken_quaternion)
-        msg.twist.twist.linear.x = float('nan') if f.nan else scene.LINEAR_SPEED
-        msg.twist.twist.angular.z = scene.ANGULAR_SPEED
+        v, w = scene.speeds()
+        msg.twist.twist.linear.x = float('nan') if f.nan else v
+        msg.twist.twist.angular.z = w
         return msg
 
 
@@ -256,13 +348,21 @@ class ImuPublisher(StreamPublisher):
         _, _, yaw = scene.robot_pose(t)
         n = self.rng.normal(0.0, 1.0, 6)
         msg = Imu()
+        # imu.cpp:106-126: orientation from AngleX/Y/Z, gyroscope, accelerometer (gravity
+        # included: the robot stands, so +g on z), and covariance[0] = -1 ("unknown") for all three
         msg.orientation = _quaternion(yaw, f.broken_quaternion)
+        msg.orientation_covariance[0] = -1.0
+        msg.angular_velocity_covariance[0] = -1.0
+        msg.linear_acceleration_covariance[0] = -1.0
+        if f.nan_attitude:
+            msg.orientation = Quaternion(float('nan'), float('nan'), float('nan'), float('nan'))
         msg.angular_velocity.x = 0.002 * n[0]
         msg.angular_velocity.y = 0.002 * n[1]
-        msg.angular_velocity.z = scene.ANGULAR_SPEED + 0.002 * n[2]
+        v, w = scene.speeds()
+        msg.angular_velocity.z = w + 0.002 * n[2]
         # specific force: gravity up, centripetal acceleration towards the circle's centre (+y)
         msg.linear_acceleration.x = 0.02 * n[3]
-        msg.linear_acceleration.y = scene.LINEAR_SPEED * scene.ANGULAR_SPEED + 0.02 * n[4]
+        msg.linear_acceleration.y = v * w + 0.02 * n[4]
         msg.linear_acceleration.z = scene.GRAVITY + 0.02 * n[5]
         if f.nan:
             msg.angular_velocity.z = float('nan')
@@ -297,9 +397,9 @@ class JointStatePublisher(StreamPublisher):
         pos = self.pose + self.amp * np.sin(w * t + self.phase)
         vel = self.amp * w * np.cos(w * t + self.phase)
         eff = 0.05 * np.sin(w * t + self.phase + 1.0) + 0.01
-        wheel_v = np.array([(scene.LINEAR_SPEED - scene.ANGULAR_SPEED * _WHEEL_BASE),
-                            -(scene.LINEAR_SPEED + scene.ANGULAR_SPEED * _WHEEL_BASE),
-                            scene.ANGULAR_SPEED * _WHEEL_BASE]) / _WHEEL_RADIUS
+        v, w = scene.speeds()
+        wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
+                            w * _WHEEL_BASE]) / _WHEEL_RADIUS
         positions = np.concatenate([pos, np.mod(wheel_v * t + math.pi, 2 * math.pi) - math.pi])
         velocities = np.concatenate([vel, wheel_v])
         efforts = np.concatenate([eff, [0.3, 0.3, 0.2]])
@@ -310,6 +410,10 @@ class JointStatePublisher(StreamPublisher):
         if f.out_of_range:
             for j, v in _OUT_OF_RANGE.items():
                 positions[names.index(j)] = v
+        # joint_state.cpp:120-133: NaN velocity and effort where ALMemory has no value
+        for j in (JOINTS_WITHOUT_VELOCITY if self.spec.layout != 'gazebo' else ()):
+            velocities[names.index(j)] = np.nan
+            efforts[names.index(j)] = np.nan
         msg = JointState()
         msg.name = names
         msg.position = positions.tolist()
@@ -318,13 +422,15 @@ class JointStatePublisher(StreamPublisher):
         return msg
 
 
-# ---------------------------------------------------------------- microphones (direct mode)
+# ---------------------------------------------------------------- microphones
 
 class AudioPublisher(StreamPublisher):
-    """AudioCustomMsg from an AudioSource, 4096 samples per channel per message, real time."""
+    """AudioCustomMsg from an AudioSource (the CSSR fork's bridge: four int16 arrays of
+    spec.width samples each, cssr4africa/naoqi_driver scripts/naoqiAudioPublisher.py:15-34)."""
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, source=None):
-        super().__init__(spec, faults, clock, stop, rate_factor, seed)
+    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal',
+                 source=None):
+        super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.source = source
 
     def msg_class(self):
@@ -332,7 +438,7 @@ class AudioPublisher(StreamPublisher):
         return AudioCustomMsg
 
     def always_tick(self, t):
-        self.block = self.source.read(AUDIO_BUFFER)
+        self.block = self.source.read(self.spec.width)
 
     def build(self, t, frame_id, index):
         b = self.block
@@ -341,6 +447,27 @@ class AudioPublisher(StreamPublisher):
                    frontLeft=b[:, 2].tolist(), frontRight=b[:, 3].tolist())
 
 
+class AudioBufferPublisher(AudioPublisher):
+    """naoqi_bridge_msgs/AudioBuffer as stock naoqi_driver publishes it (src/event/audio.cpp:
+    62-66 channelMap [3, 5, 0, 2] on Pepper; 107-113 ALAudioDevice at 48000 Hz, all channels,
+    interleaved; 177-186 one message per NAOqi buffer, data = the buffer as it came)."""
+
+    def msg_class(self):
+        from ..naoqi_msgs import audio_buffer_class
+        return audio_buffer_class()
+
+    def build(self, t, frame_id, index):
+        from ..naoqi_msgs import PEPPER_CHANNEL_MAP
+        msg = self.msg_class()()
+        msg.frequency = AUDIO_RATE
+        # channelMap is uint8[]: genpy serialises it from bytes
+        msg.channelMap = bytes(PEPPER_CHANNEL_MAP)
+        # the source's columns are rearLeft, rearRight, frontLeft, frontRight = codes 3, 5, 0, 2
+        msg.data = self.block.reshape(-1).tolist()
+        return msg
+
+
 KINDS = {'camera': ImagePublisher, 'depth': ImagePublisher, 'stereo': ImagePublisher,
          'laser': LaserPublisher, 'sonar': SonarPublisher, 'odometry': OdometryPublisher,
-         'imu': ImuPublisher, 'joints': JointStatePublisher, 'audio': AudioPublisher}
+         'imu': ImuPublisher, 'joints': JointStatePublisher, 'audio': AudioPublisher,
+         'audiobuffer': AudioBufferPublisher}

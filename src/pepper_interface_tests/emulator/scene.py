@@ -20,7 +20,8 @@ import numpy as np
 
 # ---------------------------------------------------------------- world
 
-ROOM = (-2.2, 2.6, -1.6, 2.4)          # x_min, x_max, y_min, y_max (m)
+ROOM = (-2.2, 4.6, -1.6, 2.4)          # x_min, x_max, y_min, y_max (m): the far wall lies
+                                       # beyond the laser's advertised 3 m and the sonar's 2.55 m
 CIRCLE_RADIUS = 0.5                    # m
 ANGULAR_SPEED = 0.15                   # rad/s, counter-clockwise
 LINEAR_SPEED = CIRCLE_RADIUS * ANGULAR_SPEED
@@ -31,9 +32,24 @@ PERSON_SPEED = 0.35                    # m/s
 GRAVITY = 9.80665
 
 
+_STILL = [False]        # set once by standing_still() before any publisher starts, then read-only
+
+
+def standing_still(still=True):
+    """A robot that does not move (the ~condition still): pose fixed at the start, no twist.
+    Called once at start-up, before the publisher threads exist."""
+    _STILL[0] = bool(still)
+
+
+def speeds():
+    """(linear m/s, angular rad/s) of the robot."""
+    return (0.0, 0.0) if _STILL[0] else (LINEAR_SPEED, ANGULAR_SPEED)
+
+
 def robot_pose(t):
-    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x."""
-    a = ANGULAR_SPEED * t
+    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x
+    (the start pose for ever when standing still)."""
+    a = 0.0 if _STILL[0] else ANGULAR_SPEED * t
     return (CIRCLE_RADIUS * math.sin(a), CIRCLE_RADIUS * (1.0 - math.cos(a)),
             math.atan2(math.sin(a), math.cos(a)))
 
@@ -231,19 +247,58 @@ class DepthCamera:
 
 # ---------------------------------------------------------------- range sensors
 
-def laser_ranges(t, angle_min, increment, n, blind_mask, range_min, range_max, rng):
+def laser_ranges(t, angle_min, increment, n, blind_mask, noise, rng):
+    """naoqi_driver's scan: raw distances from base_footprint (no clipping), -1.0 when blind."""
     x, y, yaw = robot_pose(t)
     angles = yaw + angle_min + increment * np.arange(n)
-    d = raycast(x, y, angles, t) + rng.normal(0.0, 0.01, n)
-    d = np.clip(d, range_min, range_max)
+    d = raycast(x, y, angles, t) + rng.normal(0.0, noise, n)
     d[np.asarray(blind_mask)] = -1.0
     return d.astype(np.float32)
 
 
-def sonar_range(t, back, range_min, range_max, rng):
+# Pepper's three laser sensors in base_footprint (ros-naoqi/naoqi_driver
+# src/converters/laser.cpp:170-200): right (-1.757 rad, at -0.018, -0.090), front (0, at
+# 0.056, 0), left (+1.757 rad, at -0.018, +0.090); 15 rays over +-0.5236 rad each
+# (pepperGazeboCPU.xacro:778-871, the simulator's lasers at the same frames).
+LASERS = ((-1.757, -0.018, -0.090), (0.0, 0.056, 0.0), (1.757, -0.018, 0.090))
+LASER_RAYS = np.linspace(-0.5235987755982988, 0.5235987755982988, 15)
+GAZEBO_LASER_MIN, GAZEBO_LASER_MAX = 0.3, 7.0
+
+
+def gazebo_laser_points(t, noise, rng):
+    """The simulator's 45 laser points as (distance, angle) from base_footprint: each ray's
+    range with Gazebo's noise (mean 0.01, sd `noise`), +inf beyond 7 m (nothing hit)."""
+    x, y, yaw = robot_pose(t)
+    dists, angles = [], []
+    c, s_ = math.cos(yaw), math.sin(yaw)
+    for sensor_yaw, ox, oy in LASERS:
+        wx, wy = x + c * ox - s_ * oy, y + s_ * ox + c * oy
+        local = sensor_yaw + LASER_RAYS
+        r = raycast(wx, wy, yaw + local, t) + 0.01 + rng.normal(0.0, noise, local.size)
+        r = np.where(r > GAZEBO_LASER_MAX, np.inf, r)
+        with np.errstate(invalid='ignore'):
+            px, py = ox + r * np.cos(local), oy + r * np.sin(local)
+            dists.append(np.hypot(px, py))
+            angles.append(np.arctan2(py, px))
+    return np.concatenate(dists), np.concatenate(angles)
+
+
+def sonar_range(t, back, noise, rng):
+    """Pepper's raw sonar distance (ALMemory .../Sonar/Sensor/Value), not clipped to the 2.55 m
+    naoqi_driver advertises: the nearest of a few rays in the cone."""
     x, y, yaw = robot_pose(t)
     heading = yaw + (math.pi if back else 0.0)
-    # the cone sees the nearest of a few rays
     d = float(np.min(raycast(x, y, heading + np.array([-0.2, 0.0, 0.2]), t)))
-    d += float(rng.normal(0.0, 0.01))
-    return float(min(max(d, range_min), range_max))
+    return d + float(rng.normal(0.0, noise))
+
+
+def gazebo_sonar_range(t, back, range_max, noise, rng):
+    """gazebo_ros_range: the nearest of 5x5 rays over +-0.52 rad, plus Gaussian noise, limited
+    to range_max (ros-simulation/gazebo_ros_pkgs gazebo_plugins/src/gazebo_ros_range.cpp)."""
+    x, y, yaw = robot_pose(t)
+    heading = yaw + (math.pi if back else 0.0)
+    d = float(np.min(raycast(x, y, heading + np.linspace(-0.52, 0.52, 5), t)))
+    d = min(d, range_max)
+    if d < range_max:
+        d = min(d + float(rng.normal(0.0, noise)), range_max)
+    return d
