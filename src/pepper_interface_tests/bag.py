@@ -25,8 +25,17 @@ class BagSource:
         with bag:
             info = bag.get_type_and_topic_info()
             self.types = {t: v.msg_type for t, v in info.topics.items()}
-            self.messages = [(t.to_sec(), topic, raw[0], raw[1])
-                             for topic, raw, t in bag.read_messages(raw=True)]
+            # raw = (type, bytes, md5sum, position, class generated from the connection's
+            # definition): a type whose package is not installed is still decoded
+            conns = {}
+            self.messages = []
+            for topic, raw, t in bag.read_messages(raw=True):
+                conn = conns.get((raw[0], raw[2]))
+                if conn is None:
+                    conn = conns[(raw[0], raw[2])] = {
+                        'type': raw[0], 'md5sum': raw[2],
+                        'message_definition': getattr(raw[4], '_full_text', None)}
+                self.messages.append((t.to_sec(), topic, raw[0], raw[1], conn))
             self.begin = bag.get_start_time() if self.messages else 0.0
             self.end = bag.get_end_time() if self.messages else 0.0
         self.messages.sort(key=lambda m: m[0])
@@ -61,7 +70,7 @@ class BagSource:
         self.now += dt
         msgs = self.messages
         while self._next < len(msgs) and msgs[self._next][0] <= self.now:
-            t, topic, type_name, data = msgs[self._next]
+            t, topic, type_name, data, conn = msgs[self._next]
             self._next += 1
             for run in self.runs.get(topic, ()):
-                run.feed_raw(type_name, data, t, t)
+                run.feed_raw(type_name, data, t, t, conn)
