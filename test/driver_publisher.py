@@ -18,8 +18,8 @@ KIND
                built from its definition (naoqi_msgs.py), interleaved, frequency 48000,
                --channel-map codes (default 3,5,0,2); channel named by code c carries a tone
                of TONES[name]; faults: dead:<name> (that microphone all zeros)
-  clock        sets /use_sim_time true and publishes rosgraph_msgs/Clock every 5 ms of wall
-               time, advancing --rtf x 5 ms (start at 100 s)
+  clock        sets /use_sim_time true and publishes rosgraph_msgs/Clock about every 5 ms:
+               100 s + --rtf x wall seconds since start
 Rates are kept with rospy.Rate, i.e. on the simulation clock when /use_sim_time is true, as
 the simulator's publishers do.
 """
@@ -109,12 +109,11 @@ def publish_clock(a):
     rospy.set_param('/use_sim_time', True)
     rospy.init_node(a.node, anonymous=True)
     pub = rospy.Publisher('/clock', Clock, queue_size=10)
-    sim, step = 100.0, 0.005
+    start = time.monotonic()
     print('clock', flush=True)
-    while not rospy.is_shutdown():
-        sim += a.rtf * step
-        pub.publish(Clock(clock=rospy.Time.from_sec(sim)))
-        time.sleep(step)
+    while not rospy.is_shutdown():   # sim time follows wall time x rtf, however late the loop
+        pub.publish(Clock(clock=rospy.Time.from_sec(100.0 + a.rtf * (time.monotonic() - start))))
+        time.sleep(0.005)
 
 
 def main():
@@ -128,7 +127,6 @@ def main():
     p.add_argument('--samples', type=int, default=8192)
     p.add_argument('--rtf', type=float, default=1.0)
     a = p.parse_args(rospy.myargv(sys.argv)[1:])
-    a.kind = a.kind
     if a.kind == 'clock':
         return publish_clock(a)
     rospy.init_node(a.node)
