@@ -52,6 +52,7 @@ class BagSource:
         return self.now
 
     def attach(self, run):
+        run.stats.clock = 'record'    # rates on the bag's record times (stats.py)
         self.runs.setdefault(run.plan.topic, []).append(run)
 
     def detach(self, run):

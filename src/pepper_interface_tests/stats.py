@@ -8,6 +8,8 @@ Clock: rates, intervals, jitter, gaps and the rate series are measured on `clock
 (the receive times) or 'sim' (the simulation time at reception, `t_clock`, given when
 /use_sim_time is true): a 5 Hz simulated camera at real-time factor 0.5 arrives at 2.5 Hz of
 wall time but is 5 Hz on the clock its driver runs on.
+'record' labels a bag's record times (receive times too): `rosbag record` takes them from
+ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
 """
 import math
 
