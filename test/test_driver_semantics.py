@@ -71,7 +71,7 @@ def feed(run, msgs, rate, type_name=None, conn=None):
 # ------------------------------------------------------------------ messages as the drivers build them
 
 def sim_scan(returns=True):
-    """laser_publisher.py:424-429: 61 x 8 slots of NaN over +-120 deg, filled where a point is."""
+    """laser_publisher.py:427-434: 61 x 8 slots of NaN over +-120 deg, filled where a point is."""
     n, half = 488, math.radians(120.0)
     m = LaserScan(angle_min=-half, angle_max=half, angle_increment=2 * half / n, range_min=0.1, range_max=7.0)
     r = [float('nan')] * n
