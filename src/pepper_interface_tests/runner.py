@@ -169,8 +169,8 @@ class SensorRun:
                 return 'finished'
             return 'window ended' if elapsed >= max(self.window, self.wait) + 5.0 else ''
         count = self.stats.count
-        if count == 0:
-            return 'no message within %.1f s' % self.wait if elapsed >= self.wait else ''
+        if count == 0:   # --wait is wall time, also on sim time: a paused simulator sends nothing
+            return 'no message within %.1f s' % self.wait if now - self.t0 >= self.wait else ''
         if self.sim_clock is not None and self.sim_t0 is not None:
             first = self.stats.clock_recv[0] - self.sim_t0
         else:
