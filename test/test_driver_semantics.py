@@ -309,3 +309,28 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
             kill_group(p)
     assert res['laser']['verdict'] == FAIL
     assert any(r.startswith('scan without a single valid return') for r in res['laser']['reasons'])
+
+
+def test_two_audio_bridges_live_fail_naming_both_and_levels_read_audio_buffer(master, tmp_path):
+    """Two nodes publishing AudioBuffer on one topic (e.g. the fork's bridge and stock audio):
+    the microphone fails naming both; the speech check's LevelMonitor reads AudioBuffer too."""
+    procs = []
+    loud_file = tmp_path / 'loud_at'
+    loud_file.write_text(str(time.monotonic() + 3.0))
+    try:
+        publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqi_driver')
+        publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqiAudioPublisher')
+        time.sleep(1.5)
+        probe = subprocess.run([sys.executable, os.path.join(HERE, 'media_level_probe.py'), '/d/audio', '3',
+                                str(loud_file)], env=master.env(), capture_output=True, text=True, timeout=60)
+        done, res = sensor_test(master, tmp_path, _topics(tmp_path, {'Microphone': '/d/audio'}), ['microphone'])
+    finally:
+        for p in procs:
+            kill_group(p)
+    import json
+    assert probe.returncode == 0, probe.stderr
+    assert json.loads(probe.stdout.strip().splitlines()[-1])['levels'] >= 20
+    mic = res['microphone']
+    assert mic['verdict'] == FAIL and done.returncode == 1
+    assert any(r.startswith('2 publishers deliver on /d/audio: ') and '/naoqi_driver' in r
+               and '/naoqiAudioPublisher' in r for r in mic['reasons']), mic['reasons']
