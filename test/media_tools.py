@@ -145,8 +145,6 @@ def explain(done, results):
 
 def make_check(sensor, tmp, platform='robot', services=None, expect=None, **options):
     """A sensor's Check built from the package's real plan (settings.load_plan), not started."""
-    from types import MappingProxyType
-
     from pepper_interface_tests import settings
     from pepper_interface_tests.sensors import check_class
     from pepper_interface_tests.sensors.base import RunContext
@@ -155,7 +153,7 @@ def make_check(sensor, tmp, platform='robot', services=None, expect=None, **opti
     plan = settings.load_plan(opts)
     sp = plan.sensors[0]
     if expect:
-        sp = settings.SensorPlan(sp.sensor, sp.topic, MappingProxyType(dict(sp.expect, **expect)))
+        sp = settings.SensorPlan(sp.sensor, sp.topic, sp.expect.but(**expect))
     os.makedirs(plan.output_dir, exist_ok=True)
     ctx = RunContext(plan.output_dir, plan.platform, plan.options, services)
     return check_class(sp.sensor.family)(sp, ctx)

@@ -12,7 +12,6 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
-from types import MappingProxyType
 
 import genpy
 import pytest
@@ -36,7 +35,7 @@ PKG = settings.package_dir()
 ROBOT = settings.read_expectations(os.path.join(PKG, 'config', 'sensorExpectations.yaml'), 'robot')
 T0 = 5000.0            # the runner's clock when listening begins (monotonic seconds)
 R0 = 1700000000.0      # ROS time at T0
-JOINTS = list(ROBOT['jointState']['joints']) + ['WheelFL', 'WheelFR', 'WheelB']
+JOINTS = list(ROBOT['jointState'].joints) + ['WheelFL', 'WheelFR', 'WheelB']
 
 
 # ------------------------------------------------------------------ helpers
@@ -48,9 +47,7 @@ def ser(msg):
 
 
 def make_run(name, tmp_path, expect=None, topic='/t', quick=False, wait=2.0, duration=3.0):
-    e = dict(ROBOT[name])
-    e.update(expect or {})
-    plan = SensorPlan(catalog.SENSORS[name], topic, MappingProxyType(e))
+    plan = SensorPlan(catalog.SENSORS[name], topic, ROBOT[name].but(**(expect or {})))
     ctx = RunContext(str(tmp_path), 'robot', Options())
     run = SensorRun(plan, ctx, T0, quick=quick, wait=wait, duration=duration)
     run.begin(T0)
@@ -77,7 +74,7 @@ def close(run, at=3.0, reason='window ended', lookup=None):
 
 def judged(name, tmp_path, msgs, expect=None, **kw):
     """Messages fed at the sensor's nominal rate (unless rate=...), judged after a 3 s window."""
-    kw.setdefault('rate', float(ROBOT[name]['nominal']))
+    kw.setdefault('rate', float(ROBOT[name].nominal))
     run = make_run(name, tmp_path, expect)
     feed(run, msgs, **kw)
     return close(run, at=3.0)
@@ -100,7 +97,10 @@ def sonar(i, frame='SonarBack_frame', **fields):
     return m
 
 
-def scan(i, n=61, blind=range(15, 31), **fields):
+BLIND = list(range(15, 23)) + list(range(38, 46))   # naoqi_driver laser.cpp:178/:193
+
+
+def scan(i, n=61, blind=BLIND, **fields):
     m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0,
                   scan_time=0.1, time_increment=0.0)
     m.angle_increment = (m.angle_max - m.angle_min) / 60
@@ -135,7 +135,7 @@ def odom(i, w=1.0, child='base_link', frame='odom', x=None, cov=None):
     return m
 
 
-def imu(i, q=(0, 0, 0, 1.0), acc_z=9.81, ocov=None, acov=None):
+def imu(i, q=(0, 0, 0, 1.0), acc_z=9.81, ocov=None, acov=None, gcov=None):
     m = Imu()
     m.header.frame_id = 'base_footprint'
     m.orientation = Quaternion(*q)
@@ -145,6 +145,8 @@ def imu(i, q=(0, 0, 0, 1.0), acc_z=9.81, ocov=None, acov=None):
         m.orientation_covariance = ocov
     if acov is not None:
         m.linear_acceleration_covariance = acov
+    if gcov is not None:
+        m.angular_velocity_covariance = gcov
     return m
 
 
@@ -166,7 +168,7 @@ NJ = 125    # joint states: 2.5 s at their nominal 50 Hz
     ('imu', imu, ['Header', 'Orientation', 'Angular velocity', 'Linear acceleration']),
 ])
 def test_good_messages_pass(tmp_path, name, build, fields):
-    nominal = float(ROBOT[name]['nominal'])
+    nominal = float(ROBOT[name].nominal)
     n = int(2.5 * nominal)
     r = judged(name, tmp_path, [build(i) for i in range(n)])
     assert r.verdict == PASS, r.reasons
@@ -189,8 +191,8 @@ def test_sonar_fields_hold_the_first_message(tmp_path):
 
 @pytest.mark.parametrize('fault, words', [
     (dict(range=float('nan')), 'range is NaN in 25 of 25 messages'),
-    (dict(range=4.0), 'range outside [0.25, 2.55] m in 25 of 25 messages (e.g. 4)'),
-    (dict(range=0.1), 'range outside [0.25, 2.55] m'),
+    (dict(range=5.5), "range outside the sensor's physical limits [0, 5] m in 25 of 25 messages (e.g. 5.5)"),
+    (dict(range=-0.3), 'range is negative'),
     (dict(min_range=3.0, max_range=1.0), 'min_range 3 is not below max_range 1'),
     (dict(max_range=float('inf')), 'min_range 0.25 is not below max_range inf'),
     (dict(field_of_view=0.0), 'field of view is not positive'),
@@ -201,6 +203,25 @@ def test_sonar_faults(tmp_path, fault, words):
     r = judged('backSonar', tmp_path, [sonar(i, **fault) for i in range(N)])
     assert r.verdict == FAIL
     one_reason_with(r, words)
+
+
+def test_sonar_beyond_the_advertised_range_is_a_real_distance(tmp_path):
+    """naoqi_driver advertises max_range 2.55 but publishes the raw distance (sonar.cpp:114):
+    4 m with nothing in front is a healthy reading, shown as information."""
+    r = judged('backSonar', tmp_path, [sonar(i, range=4.0 + 0.01 * (i % 3)) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+    assert r.values['beyond_advertised_max'] == N
+    assert any('25 of 25 readings beyond the advertised range (up to 4.02 m' in n for n in r.notes)
+    r = judged('backSonar', tmp_path, [sonar(i, range=0.1) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+    assert r.values['below_advertised_min'] == N
+
+
+def test_sonar_without_physical_limits_uses_the_advertised_ones(tmp_path):
+    r = judged('backSonar', tmp_path, [sonar(i, range=4.0) for i in range(N)],
+               expect={'physical_range': None})
+    assert r.verdict == FAIL
+    one_reason_with(r, 'range outside [0.25, 2.55] m in 25 of 25 messages (e.g. 4)')
 
 
 def test_sonar_infinite_ranges_are_valid_readings(tmp_path):
@@ -214,14 +235,17 @@ def test_sonar_infinite_ranges_are_valid_readings(tmp_path):
 def test_sonar_one_bad_message_is_counted(tmp_path):
     r = judged('backSonar', tmp_path, [sonar(i, range=9.5 if i == 7 else 1.0) for i in range(N)])
     assert r.verdict == FAIL
-    assert one_reason_with(r, 'range outside').endswith('in 1 of 25 messages (e.g. 9.5)')
+    assert one_reason_with(r, 'physical limits').endswith('in 1 of 25 messages (e.g. 9.5)')
 
 
 # ------------------------------------------------------------------ laser
 
 @pytest.mark.parametrize('build, words', [
-    (lambda i: scan(i, ranges=[float('nan')] * 61), '100% of the beams are invalid'),
-    (lambda i: scan(i, n=40), '40 ranges where 61 are expected'),
+    (lambda i: scan(i, ranges=[float('nan')] * 61), 'scan without a single valid return'),
+    (lambda i: scan(i, ranges=[-1.0] * 61), 'scan without a single valid return'),
+    (lambda i: scan(i, ranges=[-1.0] * 61), '100% of the beams are invalid'),
+    (lambda i: scan(i, blind=BLIND[1:]), "blind slots [[15, 22], [38, 45]] do not all hold -1"),
+    (lambda i: scan(i, n=40), '40 ranges where the driver publishes 61'),
     (lambda i: scan(i, n=40), 'number of ranges does not match the angles'),
     (lambda i: scan(i, angle_increment=0.0), 'angle increment is zero or not finite'),
     (lambda i: scan(i, range_min=3.0, range_max=1.0), 'range_min 3 is not below range_max 1'),
@@ -242,10 +266,10 @@ def _laser_frame(i):
 
 def _scan_with_invalid(i, invalid):
     m = scan(i)
-    counted = [k for k in range(61) if m.ranges[k] != -1.0]
+    counted = [k for k in range(61) if k not in BLIND]
     r = list(m.ranges)
     for k in counted[:invalid]:
-        r[k] = float('inf') if k % 2 else 7.5      # inf, or beyond range_max
+        r[k] = float('nan') if k % 2 else 0.05      # NaN, or below range_min
     m.ranges = r
     return m
 
@@ -260,12 +284,32 @@ def test_laser_invalid_share_limit(tmp_path):
     one_reason_with(bad, '51% of the beams are invalid')
 
 
-def test_laser_blind_value_is_configurable(tmp_path):
-    """Without a blind value, Pepper's -1.0 beams are invalid like any other."""
+def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
+    """naoqi_driver does not clip to range_max 3.0 (laser.cpp:170-175): 5 m in a wide room."""
+    r = judged('laser', tmp_path, [scan(i, ranges=[-1.0 if k in BLIND else 5.0 for k in range(61)])
+                                   for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+    assert r.values['beyond_advertised_max'] == 45 * N and r.values['invalid_beams'] == 0
+
+
+def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):
+    """Only the driver's blind slots may hold -1.0; elsewhere it is an invalid reading."""
+    r = judged('laser', tmp_path, [scan(i, blind=BLIND + list(range(0, 12))) for i in range(N)])
+    assert r.values['blind_beams'] == 16 * N and r.values['invalid_beams'] == 12 * N
+    assert r.verdict == PASS, r.reasons          # 12 of 45 = 27%: within max_invalid_share
+    r = judged('laser', tmp_path, [scan(i, blind=BLIND + list(range(0, 15)) + list(range(23, 31)))
+                                   for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, '51% of the beams are invalid')
+
+
+def test_laser_blind_value_without_a_layout(tmp_path):
+    """Without blind_slots any blind value is blind; without a blind value, -1.0 is invalid."""
     r = judged('laser', tmp_path, [scan(i, blind=range(0, 40)) for i in range(N)],
-               expect={'blind_value': None})
+               expect={'blind_value': None, 'blind_slots': None})
     assert r.verdict == FAIL and r.values['blind_beams'] == 0
-    r = judged('laser', tmp_path, [scan(i, blind=range(0, 40)) for i in range(N)])
+    r = judged('laser', tmp_path, [scan(i, blind=range(0, 40)) for i in range(N)],
+               expect={'blind_slots': None})
     assert r.verdict == PASS, r.reasons
 
 
@@ -336,11 +380,22 @@ def test_imu_faults(tmp_path, kw, words):
     one_reason_with(r, words)
 
 
-def test_imu_without_orientation_is_valid(tmp_path):
-    """REP 145: orientation_covariance[0] == -1 declares no orientation; the zero quaternion is fine."""
-    r = judged('imu', tmp_path, [imu(i, q=(0, 0, 0, 0), ocov=[-1.0] + [0.0] * 8) for i in range(N)])
+UNKNOWN = [-1.0] + [0.0] * 8    # naoqi_driver imu.cpp:123-126: "Covariances unknown"
+
+
+def test_imu_with_unknown_covariance_is_checked(tmp_path):
+    """covariance[0] == -1 (as naoqi_driver sends) means the covariance is unknown, not that the
+    data may be skipped: a good IMU passes, a NaN or zero attitude fails."""
+    r = judged('imu', tmp_path, [imu(i, ocov=UNKNOWN, gcov=UNKNOWN, acov=UNKNOWN) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert r.values['acceleration_norm_m_s2']['mean'] == pytest.approx(9.81)
+    r = judged('imu', tmp_path, [imu(i, q=(float('nan'),) * 4, ocov=UNKNOWN) for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'orientation holds NaN or inf (covariance -1 means unknown covariance')
+    r = judged('imu', tmp_path, [imu(i, q=(0, 0, 0, 0), ocov=UNKNOWN) for i in range(N)])
+    one_reason_with(r, 'orientation is not a unit quaternion (norm 0)')
+    r = judged('imu', tmp_path, [imu(i, acc_z=float('nan'), acov=UNKNOWN) for i in range(N)])
+    one_reason_with(r, 'angular velocity or linear acceleration holds NaN or inf')
 
 
 # ------------------------------------------------------------------ the generic stream checks

@@ -14,7 +14,6 @@ import subprocess
 import pytest
 
 from pepper_interface_tests import catalog, expectations
-from pepper_interface_tests.expectations import UnknownExpectation
 from pepper_interface_tests.settings import ConfigError, Options, load_plan
 
 from rosmaster import script
@@ -148,15 +147,13 @@ def test_defaults_live_in_the_dataclasses_and_values_are_typed(files):
         laser.ranges = 1
 
 
-def test_get_returns_the_typed_field_and_refuses_undeclared_names():
+def test_variants_refuse_names_the_family_does_not_declare():
     laser = expectations.default_for('laser')
-    assert laser.get('max_delay', 99) == 5.0          # the dataclass default, not the caller's
-    assert laser.get('frame_id', 'x') == 'x'          # None = not checked: the caller's fallback
-    assert laser.get('ranges') is None
-    with pytest.raises(UnknownExpectation) as info:
-        laser.get('min_brightness', 5.0)
-    assert 'LaserExpect' in str(info.value) and 'expectations.py' in str(info.value)
-    assert dict(laser)['max_delay'] == 5.0 and 'ranges' not in dict(laser)
+    assert laser.max_delay == 5.0 and laser.ranges is None      # dataclass default; None = not checked
+    assert laser.but(ranges=90).ranges == 90 and laser.ranges is None
+    with pytest.raises(TypeError):
+        laser.but(min_brightness=5.0)                            # a camera key, not a laser one
+    assert not hasattr(laser, 'get')                             # no .get(key, fallback) anywhere
 
 
 def test_every_family_has_a_class_and_the_shipped_file_loads():

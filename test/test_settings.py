@@ -158,8 +158,8 @@ def test_every_spelling_works_in_all_three_files(files, spelling):
         plan = load_plan(files.options(cameras='both'))
         assert plan_names(plan) == [name], key
         assert plan.sensors[0].topic == '/spelled/%d' % i, key
-        assert plan.sensors[0].expect['nominal'] == 40 + i, key
-        assert plan.sensors[0].expect['min_messages'] == 3
+        assert plan.sensors[0].expect.nominal == 40 + i, key
+        assert plan.sensors[0].expect.min_messages == 3
 
 
 def test_unknown_spelling_is_not_guessed():
@@ -477,9 +477,9 @@ def test_shipped_expectations_reach_the_plan():
     plan = load_plan(Options(sensors=('laser', 'jointState')))
     laser, joints = plan.sensors
     data = yaml.safe_load(open(SHIPPED_EXPECT))
-    assert laser.expect['ranges'] == data['robot']['laser']['ranges']
-    assert laser.expect['min_messages'] == data['defaults']['min_messages']
-    assert list(joints.expect['joints']) == data['robot']['jointState']['joints']
+    assert laser.expect.ranges == data['robot']['laser']['ranges']
+    assert laser.expect.min_messages == data['defaults']['min_messages']
+    assert list(joints.expect.joints) == data['robot']['jointState']['joints']
 
 
 # ------------------------------------------------------------------ options from args and ROS params

@@ -77,6 +77,7 @@ class BagSource:
         self.runs = {}
         self._reader = None       # the read_messages generator, opened at the first tick
         self._pending = None      # the next record, read but not yet due
+        self._conns = {}          # (type, md5sum) -> connection header fields
 
     def _record_times(self):
         """Record times of every message, from the bag's index (already in memory: no data is read)."""
@@ -96,7 +97,18 @@ class BagSource:
                                                     end_time=genpy.Time.from_sec(self.end)):
             t = t.to_sec()
             if after is None or t > after:
-                yield t, topic, raw[0], raw[1]
+                yield t, topic, raw[0], raw[1], self._connection(raw)
+
+    def _connection(self, raw):
+        """What a live connection header would say of a raw record (type, md5sum, definition):
+        raw = (type, bytes, md5sum, position, class generated from the connection's definition),
+        so a type whose package is not installed is still decoded."""
+        key = (raw[0], raw[2])
+        conn = self._conns.get(key)
+        if conn is None:
+            conn = self._conns[key] = {'type': raw[0], 'md5sum': raw[2],
+                                       'message_definition': getattr(raw[4], '_full_text', None)}
+        return conn
 
     @property
     def length(self):
@@ -106,6 +118,7 @@ class BagSource:
         return self.now
 
     def attach(self, run):
+        run.stats.clock = 'record'    # rates on the bag's record times (stats.py)
         if self._reader is not None and run.plan.topic not in self.runs:
             # a topic nobody listened to so far: read again from now, with it included
             self._reader = self._records(after=self.now)
@@ -133,12 +146,12 @@ class BagSource:
                 self._pending = next(self._reader, None)
                 if self._pending is None:
                     return
-            t, topic, type_name, data = self._pending
+            t, topic, type_name, data, conn = self._pending
             if t > self.now:
                 return
             self._pending = None
             for run in self.runs.get(topic, ()):
-                run.feed_raw(type_name, data, t, t)
+                run.feed_raw(type_name, data, t, t, conn)
 
     def close(self):
         self.bag.close()

@@ -66,7 +66,7 @@ def live_status(status, sensor_run, now):
     """Fill `status` from a running SensorRun (progress, provisional problems)."""
     OK, WARN, ERROR, STALE = _levels()
     expect = sensor_run.expect
-    band = expect.get('rate')
+    band = expect.rate
     with sensor_run.lock:
         check = sensor_run.check
         stats = sensor_run.stats
@@ -96,7 +96,7 @@ def live_status(status, sensor_run, now):
     status.values = [('state', state), ('topic', status.topic), ('message type', status.msg_type),
                      ('messages', count), ('rate (Hz)', _num(rate)),
                      ('header stamp rate (Hz)', _num(stamp_rate)),
-                     ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', expect.get('nominal', '')),
+                     ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', expect.nominal if expect.nominal is not None else ''),
                      ('elapsed (s)', _num(elapsed, 1)), ('window (s)', _num(window, 1)),
                      ('problems so far', '; '.join(problems))]
 

@@ -14,11 +14,9 @@ file takes the value written here. The loader rejects, with file:line and the fi
 Only the chosen platform's section is validated (a file may carry a section for a platform
 that is not tested today).
 
-Until every check reads attributes, `Expect.get(key, default=None)` returns the typed field
-(`default` only when the field is None, i.e. "not checked") and raises UnknownExpectation for
-a name that is not a field of the sensor's family, so a check reading a key nobody declared
-fails loudly in the tests instead of silently using its own default.
+Checks read the fields as attributes (`self.expect.max_delay`): a None field means "not checked".
 """
+import dataclasses
 import difflib
 import math
 from dataclasses import dataclass, field, fields
@@ -30,10 +28,6 @@ from . import catalog
 from .textfile import ConfigError, read_text
 
 SECTIONS = ('defaults', 'robot', 'simulator')
-
-
-class UnknownExpectation(KeyError):
-    """A check asked for an expectation its family does not declare (a programming error)."""
 
 
 # ---------------------------------------------------------------- value kinds
@@ -110,6 +104,22 @@ def flag(key, v):
     return v
 
 
+def slot_ranges(example):
+    """A list of [first, last] index pairs (inclusive), first <= last, none negative."""
+    def check(key, v):
+        fix = '"%s: %s"' % (key, example)
+        ok = isinstance(v, list) and v and all(
+            isinstance(p, list) and len(p) == 2 and all(isinstance(i, int) and not isinstance(i, bool)
+                                                        for i in p) for p in v)
+        if not ok:
+            raise Bad('is %r, not a list of [first, last] slot index pairs' % (v,), fix)
+        for first, last in v:
+            if first < 0 or last < first:
+                raise Bad('has [%d, %d]: indices start at 0 and first <= last' % (first, last), fix)
+        return tuple((int(a), int(b)) for a, b in v)
+    return check
+
+
 def names(example):
     def check(key, v):
         if not isinstance(v, list) or not all(isinstance(n, str) and n.strip() for n in v):
@@ -136,48 +146,29 @@ class Expect:
     quick_messages: int = _field(whole(1, '10'), 10)
     max_gap_factor: float = _field(number(0, lo_open=True, example='3.0'), 3.0)
 
-    def get(self, key, default=None):
-        """The typed value of `key` (`default` when it is None: not checked)."""
-        if key not in self.field_names():
-            raise UnknownExpectation('%s has no expectation "%s"; declare it in expectations.py '
-                                     '(valid: %s)' % (type(self).__name__, key, ', '.join(self.field_names())))
-        value = getattr(self, key)
-        return default if value is None else value
-
     @classmethod
     def field_names(cls):
         return tuple(f.name for f in fields(cls))
 
-    # A read-only mapping view of the values that are set (not None), for code not yet
-    # converted to attributes (e.g. tests that build a variant with dict(expect, key=value)).
-    def keys(self):
-        return [k for k in self.field_names() if getattr(self, k) is not None]
-
-    def __getitem__(self, key):
-        value = self.get(key)
-        if value is None:
-            raise KeyError(key)
-        return value
-
-    def __iter__(self):
-        return iter(self.keys())
-
-    def __len__(self):
-        return len(self.keys())
-
-    def __contains__(self, key):
-        return key in self.keys()
+    def but(self, **changes):
+        """A copy with some values changed (tests, variants); an unknown name raises TypeError."""
+        return dataclasses.replace(self, **changes)
 
 
 @dataclass(frozen=True)
 class RangeExpect(Expect):
     field_of_view: Optional[Tuple[float, float]] = _field(band(example='[0.1, 1.2]'))
+    # what the sensor can physically measure; None: the advertised limits of each message
+    physical_range: Optional[Tuple[float, float]] = _field(band(example='[0.0, 5.0]'))
 
 
 @dataclass(frozen=True)
 class LaserExpect(Expect):
     ranges: Optional[int] = _field(whole(1, '61'))
     blind_value: Optional[float] = _field(number(example='-1.0'))
+    # the driver's blind layout; None: any blind_value counts as blind
+    blind_slots: Optional[Tuple[Tuple[int, int], ...]] = _field(slot_ranges('[[15, 22], [38, 45]]'))
+    nan_is_no_return: bool = _field(flag, False)
     max_invalid_share: Optional[float] = _field(number(0, 1, example='0.5'))
 
 
@@ -211,6 +202,8 @@ class AudioExpect(Expect):
     sample_rate_tolerance: float = _field(number(0, 1, hi_open=True, example='0.05'), 0.05)
     silence_dbfs: float = _field(number(hi=0, example='-70.0'), -70.0)
     max_clipping_share: float = _field(number(0, 1, example='0.01'), 0.01)
+    # without `rate`: the message rate band is sample_rate / buffer size +- this share
+    buffer_rate_tolerance: Optional[float] = _field(number(0, 1, hi_open=True, example='0.5'))
 
 
 @dataclass(frozen=True)

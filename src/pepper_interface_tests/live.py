@@ -163,9 +163,12 @@ class LiveSource:
             return
 
         def callback(msg, run=run):
-            run.feed_raw(msg._connection_header.get('type', '?'), msg._buff,
-                         time.monotonic(), rospy.get_rostime().to_sec())
+            conn = msg._connection_header    # type, message_definition, callerid, md5sum
+            run.feed_raw(conn.get('type', '?'), msg._buff,
+                         time.monotonic(), rospy.get_rostime().to_sec(), conn)
 
+        if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
+            run.use_sim_clock(lambda: rospy.get_rostime().to_sec())
         self.subs[run] = rospy.Subscriber(run.plan.topic, rospy.AnyMsg, callback,
                                           queue_size=run.check.queue_size,
                                           buff_size=run.check.buff_size)

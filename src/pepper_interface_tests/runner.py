@@ -24,15 +24,31 @@ from .sensors.base import Tally, fmt
 from .stats import StreamStats
 
 TICK = 0.05
+# Under /use_sim_time a window lasts `window` seconds of simulation time, so a simulator slower
+# than real time still delivers a full window of messages; a simulator slower than this
+# real-time factor (or paused) ends the window after window / MIN_RTF seconds of wall time.
+MIN_RTF = 0.25
 
 
-def message_class(type_name):
-    """The Python class of a ROS message type, e.g. 'sensor_msgs/Range'."""
+def message_class(type_name, definition=None):
+    """The Python class of a ROS message type, e.g. 'sensor_msgs/Range'.
+
+    A type whose package is not installed (naoqi_bridge_msgs/AudioBuffer from stock
+    naoqi_driver) is built from `definition`, the full text every ROS 1 connection header and
+    every bag connection carries (naoqi_msgs.message_class_from_definition)."""
     if type_name.startswith('naoqi_driver/AudioCustomMsg'):
         type_name = 'pepper_interface_tests/AudioCustomMsg'
     pkg, name = type_name.split('/')
-    module = __import__(pkg + '.msg', fromlist=[name])
-    return getattr(module, name)
+    try:
+        module = __import__(pkg + '.msg', fromlist=[name])
+        return getattr(module, name)
+    except (ImportError, AttributeError):
+        from . import naoqi_msgs
+        if definition:
+            return naoqi_msgs.message_class_from_definition(type_name, definition)
+        if type_name == naoqi_msgs.AUDIO_BUFFER_TYPE:
+            return naoqi_msgs.audio_buffer_class()
+        raise
 
 
 class SensorRun:
@@ -50,6 +66,12 @@ class SensorRun:
         self.window = self.check.window(duration)
         self.lock = threading.Lock()
         self.cls = message_class(self.sensor.msg_type)
+        self.classes = {self.sensor.msg_type: self.cls}   # type name -> class (audio: several)
+        self.publishers = []         # caller ids of the nodes whose messages arrived, in order
+        self.received_type = None
+        self.sim_clock = None        # callable -> simulation time (s) when /use_sim_time is true
+        self.sim_t0 = None           # simulation time when listening began
+        self.sim_stopped_at = None
         self.stats = None
         self.t0 = None
         self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
@@ -68,25 +90,62 @@ class SensorRun:
         self.stats = StreamStats(start=now)
         self.check.start()
 
-    def feed_raw(self, type_name, buff, t_recv, ros_now):
-        """One message as it came off the wire (or out of a bag)."""
+    def use_sim_clock(self, sim_clock):
+        """The source runs on simulation time (/use_sim_time): windows and rates on `sim_clock`
+        (a callable returning the simulation time in seconds). Call before the first message."""
+        with self.lock:
+            self.sim_clock = sim_clock
+            self.stats = StreamStats(start=self.t0, clock='sim')
+            self._sim_start()
+
+    def _sim_start(self):
+        """Simulation time when listening began, once /clock has started (0 before)."""
+        if self.sim_t0 is None:
+            t = self.sim_clock()
+            if t > 0:
+                self.sim_t0 = self.stats.clock_start = t
+        return self.sim_t0
+
+    def _elapsed(self, now):
+        """Seconds the window has run, on the clock windows are measured on (see MIN_RTF)."""
+        wall = now - self.t0
+        if self.sim_clock is None:
+            return wall
+        start = self._sim_start()
+        sim = self.sim_clock() - start if start is not None else 0.0
+        return max(sim, wall * MIN_RTF)
+
+    def _class_for(self, type_name, conn):
+        cls = self.classes.get(type_name)
+        if cls is None:
+            cls = self.classes[type_name] = message_class(
+                type_name, (conn or {}).get('message_definition'))
+        return cls
+
+    def feed_raw(self, type_name, buff, t_recv, ros_now, conn=None):
+        """One message as it came off the wire (or out of a bag); `conn` is its connection
+        header (type, message_definition, callerid) where known."""
         with self.lock:
             if self.stopped_at is not None or self.t0 is None:
                 return
             if not catalog.accepts_type(self.sensor, type_name):
                 self.wrong_types[type_name] = self.wrong_types.get(type_name, 0) + 1
                 return
+            self.received_type = type_name
+            caller = (conn or {}).get('callerid')
+            if caller and caller not in self.publishers:
+                self.publishers.append(caller)
             try:
-                msg = self.cls().deserialize(buff)
+                msg = self._class_for(type_name, conn)().deserialize(buff)
             except Exception as e:  # a corrupt message is a finding, not a crash
                 self.bad_messages += 1
                 self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
                 return
             header = getattr(msg, 'header', None)
             stamp = header.stamp.to_sec() if header is not None else None
-            self.stats.add(t_recv, stamp, ros_now if header is not None else None)
+            self.stats.add(t_recv, stamp, ros_now if header is not None else None, ros_now)
             if header is not None:
-                want = self.expect.get('frame_id')
+                want = self.expect.frame_id
                 if want and header.frame_id != want:
                     self.header_issues.add('frame', 'frame_id is "%s", expected "%s"'
                                            % (header.frame_id, want))
@@ -104,15 +163,18 @@ class SensorRun:
     # ---------------------------------------------------------------- deciding when to stop
     def due(self, now):
         """Why the window should end now, or '' to keep listening."""
-        elapsed = now - self.t0
+        elapsed = self._elapsed(now)
         if self.check.active:
             if self.check.done():
                 return 'finished'
             return 'window ended' if elapsed >= max(self.window, self.wait) + 5.0 else ''
         count = self.stats.count
-        if count == 0:
-            return 'no message within %.1f s' % self.wait if elapsed >= self.wait else ''
-        first = self.stats.recv[0] - self.t0
+        if count == 0:   # --wait is wall time, also on sim time: a paused simulator sends nothing
+            return 'no message within %.1f s' % self.wait if now - self.t0 >= self.wait else ''
+        if self.sim_clock is not None and self.sim_t0 is not None:
+            first = self.stats.clock_recv[0] - self.sim_t0
+        else:
+            first = self.stats.recv[0] - self.t0
         end = self.window if first <= self.window else first + min(self.window, 2.0)
         if elapsed >= end:
             return 'window ended'
@@ -121,7 +183,7 @@ class SensorRun:
         return ''
 
     def _settled(self, elapsed):
-        n = int(self.expect.get('quick_messages', 10))
+        n = self.expect.quick_messages
         return self.stats.count >= n and (self.stats.recv[-1] - self.stats.recv[0]) >= 0.8 \
             and self.check.settled()
 
@@ -141,6 +203,8 @@ class SensorRun:
         with self.lock:
             if self.stopped_at is None:
                 self.stopped_at, self.end_reason = now, reason
+                if self.sim_clock is not None:
+                    self.sim_stopped_at = self.sim_clock()
 
     def close(self, now, reason, lookup=None):
         """End the window (if stop() has not), close the check, build the result.
@@ -168,6 +232,7 @@ class SensorRun:
             if s.count:
                 reasons += self._stream_reasons(elapsed, warnings)
         reasons += self.header_issues.reasons(s.count)
+        self._publisher_reasons(reasons, warnings)
         reasons += check.failure_reasons()
         warnings += check.warning_reasons()
         verdict = FAIL if reasons else PASS
@@ -178,29 +243,53 @@ class SensorRun:
             reasons = ['interrupted after %.1f s of the %.1f s window (%d message%s)'
                        % (elapsed, self.window, s.count, '' if s.count == 1 else 's')]
             verdict = INTERRUPTED
-        band = e.get('rate')
+        band = check.rate_band()
         summary = s.summary()
+        notes = list(check.notes)
+        clock_end = now
+        if self.sim_clock is not None:
+            clock_end = self.sim_stopped_at
+            rtf = None
+            if self.sim_t0 is not None and elapsed > 0:
+                rtf = round((self.sim_stopped_at - self.sim_t0) / elapsed, 3)
+            summary['real_time_factor'] = rtf
+            notes.append('rates measured on the simulation clock (/use_sim_time); real-time '
+                         'factor %s' % (fmt(rtf, 2) if rtf is not None else 'unknown: /clock not running'))
         return SensorResult(
             name=self.sensor.name, title=self.sensor.title, topic=topic,
             msg_type=self.sensor.msg_type, verdict=verdict, reasons=reasons, warnings=warnings,
-            notes=list(check.notes), messages=check.count if check.active else s.count, rate_hz=summary['rate_hz'],
+            notes=notes, messages=check.count if check.active else s.count, rate_hz=summary['rate_hz'],
             stamp_rate_hz=summary['stamp_rate_hz'],
             expected_rate_hz=list(band) if band and not check.active else None,
-            nominal_rate_hz=e.get('nominal'),
-            received_type=next(iter(self.wrong_types), None) or (self.sensor.msg_type if s.count else None),
+            nominal_rate_hz=e.nominal,
+            received_type=next(iter(self.wrong_types), None) or (self.received_type if s.count else None),
             window_s=round(elapsed, 3), stopped_because=reason,
             started_at=round(self.t0 - self.run_start, 3), ended_at=round(now - self.run_start, 3),
             fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
             stats=summary, values=dict(check.values),
-            series=dict(check.series, rate_hz=s.rate_series(end=now)),
+            series=dict(check.series, rate_hz=s.rate_series(end=clock_end)),
             artifacts=dict(check.artifacts))
+
+    def _publisher_reasons(self, reasons, warnings):
+        """More than one node delivering on the topic (from the connection headers' callerid).
+        Two audio bridges interleave their buffers: the recording and the sample rate are
+        wrong, so on the microphone it fails; elsewhere a warning."""
+        if len(self.publishers) < 2:
+            return
+        text = '%d publishers deliver on %s: %s' % (len(self.publishers), self.plan.topic,
+                                                    ', '.join(self.publishers))
+        if self.sensor.family == 'audio':
+            reasons.append(text + ' (two audio bridges running? start only one: '
+                                  'launch_audio:=false for the CSSR naoqi_driver, or stop the other node)')
+        else:
+            warnings.append(text)
 
     def _arrival_reasons(self, elapsed, lookup):
         s, topic = self.stats, self.plan.topic
         out = []
         if self.wrong_types:
             types = ', '.join(sorted(self.wrong_types))
-            out.append('topic %s carries %s, expected %s' % (topic, types, self.sensor.msg_type))
+            out.append('topic %s carries %s, expected %s' % (topic, types, catalog.expected_types(self.sensor)))
             return out
         if s.count:
             return out
@@ -209,7 +298,7 @@ class SensorRun:
             advertised, publishers = info
             if advertised and not catalog.accepts_type(self.sensor, advertised):
                 out.append('topic %s is advertised as %s, expected %s'
-                           % (topic, advertised, self.sensor.msg_type))
+                           % (topic, advertised, catalog.expected_types(self.sensor)))
             elif publishers is None:
                 out.append('topic %s is not in the bag' % topic)
             elif not publishers:
@@ -225,14 +314,15 @@ class SensorRun:
     def _stream_reasons(self, elapsed, warnings):
         s, e = self.stats, self.expect
         out = []
-        min_messages = int(e.get('min_messages', 3))
+        band = self.check.rate_band()
+        min_messages = e.min_messages
         if s.count < min_messages:
             out.append('only %d message%s in %.1f s (at least %d expected)'
                        % (s.count, '' if s.count == 1 else 's', elapsed, min_messages))
-        band = e.get('rate')
         if band and s.count >= 3:
             lo, hi = band
-            for label, rate in (('rate', s.rate), ('header stamp rate', s.stamp_rate)):
+            rate_label = 'rate (sim clock)' if s.clock == 'sim' else 'rate'
+            for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
                 if rate is not None and not (lo <= rate <= hi):
                     out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
         if s.zero_stamps:
@@ -244,24 +334,29 @@ class SensorRun:
         if s.repeated:
             warnings.append('%d repeated header stamp%s' % (s.repeated, '' if s.repeated == 1 else 's'))
         delay = s.delay_summary()
-        offset = clock_offset(delay, float(e.get('max_delay', 5.0)), float(e.get('max_future', 1.0)))
+        offset = clock_offset(delay, e.max_delay, e.max_future)
         if offset:
             out.append(offset)
         elif delay:
-            if delay['max'] > float(e.get('max_delay', 5.0)):
+            if delay['max'] > e.max_delay:
                 out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
-                           % (delay['max'], float(e.get('max_delay', 5.0))))
-            if -delay['min'] > float(e.get('max_future', 1.0)):
+                           % (delay['max'], e.max_delay))
+            if -delay['min'] > e.max_future:
                 out.append('header stamps up to %.2f s in the future (clock skew?)' % -delay['min'])
         # a publisher that stopped: the last message long before the end of the window
-        silence = (self.t0 + elapsed) - s.recv[-1]
+        if s.clock == 'sim' and self.sim_stopped_at is not None and s.clock_recv[-1] is not None:
+            silence = self.sim_stopped_at - s.clock_recv[-1]
+            span = s.clock_recv[-1] - s.clock_recv[0]
+        else:
+            silence = (self.t0 + elapsed) - s.recv[-1]
+            span = s.recv[-1] - s.recv[0]
         lo_rate = band[0] if band else None
-        threshold = max(1.0, float(e.get('max_gap_factor', 3.0)) / lo_rate) if lo_rate else 2.0
+        threshold = max(1.0, e.max_gap_factor / lo_rate) if lo_rate else 2.0
         if silence > threshold:
             lost = ' (publisher left at %.1f s)' % self.publisher_lost_at \
                 if self.publisher_lost_at is not None else ''
             out.append('messages stopped %.1f s after the first one; nothing for the last %.1f s%s'
-                       % (s.recv[-1] - s.recv[0], silence, lost))
+                       % (span, silence, lost))
         gaps = s.gaps(threshold)
         if gaps:
             longest = max(gaps, key=lambda g: g[1])

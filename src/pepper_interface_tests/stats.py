@@ -3,6 +3,13 @@
 One StreamStats per sensor run. `add()` is called for every message with its receive time
 (monotonic seconds, or the bag's record time) and, where the message has a header, its stamp
 and the ROS time at reception. Everything else is derived on demand.
+
+Clock: rates, intervals, jitter, gaps and the rate series are measured on `clock`: 'wall'
+(the receive times) or 'sim' (the simulation time at reception, `t_clock`, given when
+/use_sim_time is true): a 5 Hz simulated camera at real-time factor 0.5 arrives at 2.5 Hz of
+wall time but is 5 Hz on the clock its driver runs on.
+'record' labels a bag's record times (receive times too): `rosbag record` takes them from
+ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
 """
 import math
 
@@ -25,17 +32,22 @@ def _std(values):
 
 
 class StreamStats:
-    def __init__(self, start=None):
+    def __init__(self, start=None, clock='wall', clock_start=None):
         self.start = start          # when listening began (same clock as receive times)
+        self.clock = clock          # 'wall' or 'sim': the clock rates are measured on
+        self.clock_start = clock_start   # sim time when listening began (clock 'sim')
         self.recv = []              # receive times
+        self.clock_recv = []        # sim time at reception (clock 'sim')
         self.stamps = []            # header stamps (s), 0.0 kept to count zero stamps
         self.delays = []            # ROS now - stamp at reception (s)
         self.zero_stamps = 0
         self.backwards = 0          # stamp older than the previous one
         self.repeated = 0           # stamp equal to the previous one
 
-    def add(self, t_recv, stamp=None, ros_now=None):
+    def add(self, t_recv, stamp=None, ros_now=None, t_clock=None):
         self.recv.append(t_recv)
+        if self.clock == 'sim':
+            self.clock_recv.append(t_clock)
         if stamp is None:
             return
         if stamp == 0.0:
@@ -55,9 +67,14 @@ class StreamStats:
         return len(self.recv)
 
     @property
+    def times(self):
+        """Receive times on the measuring clock."""
+        return self.clock_recv if self.clock == 'sim' else self.recv
+
+    @property
     def rate(self):
-        """Rate from receive times (Hz) over the span of the messages."""
-        return _rate(self.recv)
+        """Rate from receive times (Hz) over the span of the messages, on the measuring clock."""
+        return _rate(self.times)
 
     @property
     def stamp_rate(self):
@@ -68,7 +85,8 @@ class StreamStats:
         return _rate(ordered)
 
     def intervals(self):
-        return [b - a for a, b in zip(self.recv, self.recv[1:])]
+        t = self.times
+        return [b - a for a, b in zip(t, t[1:])]
 
     @property
     def jitter(self):
@@ -84,10 +102,11 @@ class StreamStats:
 
     def gaps(self, threshold):
         """Pauses longer than `threshold` seconds: [(offset from first message, length)]."""
-        if not self.recv:
+        t = self.times
+        if not t:
             return []
-        t0 = self.recv[0]
-        return [(a - t0, b - a) for a, b in zip(self.recv, self.recv[1:]) if b - a > threshold]
+        t0 = t[0]
+        return [(a - t0, b - a) for a, b in zip(t, t[1:]) if b - a > threshold]
 
     @property
     def max_interval(self):
@@ -100,16 +119,19 @@ class StreamStats:
         return {'min': min(self.delays), 'mean': _mean(self.delays), 'max': max(self.delays)}
 
     def rate_series(self, end=None, bin_s=1.0):
-        """Messages per second in consecutive bins since the start: [(t, Hz)] for plots."""
-        if self.start is None:
+        """Messages per second in consecutive bins since the start: [(t, Hz)] for plots
+        (`end` and the bins on the measuring clock)."""
+        start = self.clock_start if self.clock == 'sim' else self.start
+        times = self.times
+        if start is None:
             return []
-        last = end if end is not None else (self.recv[-1] if self.recv else self.start)
-        n_bins = max(1, int(math.ceil((last - self.start) / bin_s)))
+        last = end if end is not None else (times[-1] if times else start)
+        n_bins = max(1, int(math.ceil((last - start) / bin_s)))
         counts = [0] * n_bins
-        for t in self.recv:
-            i = min(n_bins - 1, max(0, int((t - self.start) / bin_s)))
+        for t in times:
+            i = min(n_bins - 1, max(0, int((t - start) / bin_s)))
             counts[i] += 1
-        span = last - self.start
+        span = last - start
         widths = [bin_s] * n_bins
         widths[-1] = max(0.0, min(bin_s, span - (n_bins - 1) * bin_s))
         if n_bins > 1 and widths[-1] < 0.5 * bin_s:
@@ -129,6 +151,7 @@ class StreamStats:
             return None if x is None else round(x, nd)
         return {
             'messages': self.count,
+            'clock': self.clock,
             'rate_hz': r(self.rate),
             'stamp_rate_hz': r(self.stamp_rate),
             'jitter_s': r(self.jitter, 4),

@@ -84,7 +84,7 @@ def _depth(r, run):
     v = r.values
     lo_hi = v.get('video_range_m')
     if not (isinstance(lo_hi, (list, tuple)) and len(lo_hi) >= 2 and None not in lo_hi[:2]):
-        lo_hi = (0.0, 5.0)           # sensors/depth.py DEFAULT_VIDEO_RANGE
+        lo_hi = (0.0, 5.0)           # expectations.DepthExpect.video_range's default
     return DepthValues(_camera(r, run), tuple(lo_hi[:2]), Spread.of(v.get('depth_m'), 'median'),
                        Spread.of(v.get('valid_share')), v.get('frames_all_zero'),
                        _histogram(v.get('depth_histogram')), Series.of(r.series.get('median_depth_m')),

@@ -1,15 +1,28 @@
-"""Microphones (AudioCustomMsg: int16[] rearLeft, rearRight, frontLeft, frontRight).
+"""Microphones: AudioCustomMsg (int16[] rearLeft, rearRight, frontLeft, frontRight; the
+CSSR4Africa naoqi_driver fork, msg/AudioCustomMsg.msg) or naoqi_bridge_msgs/AudioBuffer (stock
+naoqi_driver: interleaved int16 `data`, `frequency` 48000, `channelMap`;
+ros-naoqi/naoqi_driver src/event/audio.cpp:170-180).
 
-Channel order everywhere (message fields, WAV channels, reports) is NAOqi's:
-0 rearLeft, 1 rearRight, 2 frontLeft, 3 frontRight.
+Channel order everywhere (WAV channels, reports) is NAOqi's:
+0 rearLeft, 1 rearRight, 2 frontLeft, 3 frontRight. An AudioBuffer is de-interleaved and each
+column named by its channelMap code (naoqi_msgs.CHANNEL_NAMES: 3 rear left, 5 rear right,
+0 front left, 2 front right; audio.cpp:63-66), then put in that order: a dead microphone is
+named right whatever the order of the map, and the WAV is the same either way.
 
-Per message (counted): the four arrays have the same, non-zero length.
+Per message (counted): the four arrays have the same, non-zero length; an AudioBuffer has a
+channelMap naming Pepper's four microphones once each, data that splits into them, and
+`frequency` equal to `sample_rate`.
 Over the window (FAIL at the end):
   * sample rate: samples per channel received / time, from receive times, excluding the first
     buffer (its samples were captured before the window), must be `sample_rate` (48000)
     within `sample_rate_tolerance` (0.05 = 5 %); needs 3 buffers or more;
   * silent channel: a channel whose RMS is below `silence_dbfs` (default -70 dBFS) or whose
     samples are all zero fails, named by its place (e.g. "frontLeft");
+  * message rate: no fixed band; NAOqi delivers a buffer when it is full, so the rate follows
+    from the sample rate and the buffer size (samples per channel per message, the most
+    common one seen): sample_rate / buffer within +-`buffer_rate_tolerance` (0.5 = +-50 %,
+    room for NAOqi's irregular delivery; the sample rate itself is checked at 5 %), e.g.
+    4096 samples (CSSR bridge) -> 11.7 Hz, 5.9-17.6 Hz accepted. A `rate` band, if given, wins;
 Reported: RMS and peak per channel in dBFS (0 dBFS = full scale 32768), clipping share per
 channel (|sample| >= 32767; above `max_clipping_share`, default 0.01, a warning), gaps (a pause
 between buffers longer than 3 buffer periods; a warning), buffer size.
@@ -36,6 +49,7 @@ import time
 
 import numpy as np
 
+from ..naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from ..recording import WavWriter
 from .base import Check, fmt
 
@@ -52,9 +66,32 @@ def _db_value(x):
     return None if not math.isfinite(x) else round(x, 2)
 
 
+class LayoutError(ValueError):
+    """An AudioBuffer whose channelMap or data cannot be split into Pepper's four microphones."""
+
+
+def _channel_map(msg):
+    cmap = msg.channelMap
+    return list(bytearray(cmap)) if isinstance(cmap, (bytes, bytearray)) else [int(c) for c in cmap]
+
+
 def channels_of(msg):
-    """The four channel arrays of a message as int16 numpy arrays, in NAOqi order."""
-    return [np.asarray(getattr(msg, name), dtype=np.int16) for name in CHANNELS]
+    """The four channel arrays of a message as int16 numpy arrays, in NAOqi order.
+    AudioCustomMsg: its four fields. AudioBuffer: `data` de-interleaved, columns named by
+    `channelMap` (raises LayoutError when that is impossible)."""
+    if not hasattr(msg, 'channelMap'):
+        return [np.asarray(getattr(msg, name), dtype=np.int16) for name in CHANNELS]
+    cmap = _channel_map(msg)
+    names = [CHANNEL_NAMES.get(c, 'code %d' % c) for c in cmap]
+    if sorted(names) != sorted(CHANNELS):
+        raise LayoutError('channelMap %s (%s) is not Pepper\'s four microphones (%s)'
+                          % (cmap, ', '.join(names) or 'empty', ', '.join(CHANNELS)))
+    data = np.asarray(msg.data, dtype=np.int16)
+    if len(data) % len(cmap):
+        raise LayoutError('%d samples do not split into %d interleaved channels'
+                          % (len(data), len(cmap)))
+    frames = data.reshape(-1, len(cmap))
+    return [np.ascontiguousarray(frames[:, names.index(name)]) for name in CHANNELS]
 
 
 class AudioCheck(Check):
@@ -63,10 +100,11 @@ class AudioCheck(Check):
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
-        self.rate = int(self.expect.get('sample_rate', 48000))
-        self.tolerance = float(self.expect.get('sample_rate_tolerance', 0.05))
-        self.silence = float(self.expect.get('silence_dbfs', -70.0))
-        self.max_clipping = float(self.expect.get('max_clipping_share', 0.01))
+        self.rate = self.expect.sample_rate
+        self.tolerance = self.expect.sample_rate_tolerance
+        self.buffer_tolerance = self.expect.buffer_rate_tolerance
+        self.silence = self.expect.silence_dbfs
+        self.max_clipping = self.expect.max_clipping_share
         self.mode = getattr(ctx.options, 'mic_mode', None) or 'together'
         self.slot = 10.0            # seconds per microphone in sequential mode (window / 4)
         self.recording = getattr(ctx.options, 'record', None) is not False
@@ -107,14 +145,38 @@ class AudioCheck(Check):
         return w
 
     def fields(self, msg):
-        return [('Samples per channel', len(msg.rearLeft)), ('Channels', '4 (%s)' % ', '.join(CHANNELS))]
+        if not hasattr(msg, 'channelMap'):
+            return [('Samples per channel', len(msg.rearLeft)),
+                    ('Channels', '4 (%s)' % ', '.join(CHANNELS))]
+        cmap = _channel_map(msg)
+        return [('Message', 'AudioBuffer (interleaved)'), ('Frequency', msg.frequency),
+                ('Channel map', '%s (%s)' % (cmap, ', '.join(CHANNEL_NAMES.get(c, '?') for c in cmap))),
+                ('Samples per channel', len(msg.data) // max(1, len(cmap)))]
+
+    def rate_band(self):
+        band = self.expect.rate
+        if band:
+            return list(band)
+        if self.buffer_tolerance is None or not self.lengths:
+            return None
+        nominal = self.rate / float(self.lengths.most_common(1)[0][0])
+        tol = float(self.buffer_tolerance)
+        return [round(nominal * (1 - tol), 2), round(nominal * (1 + tol), 2)]
 
     def settled(self):
         return self.count >= 12
 
     # ---- per message --------------------------------------------------------------------
     def on_message(self, msg, t):
-        chans = channels_of(msg)
+        try:
+            chans = channels_of(msg)
+        except LayoutError as e:
+            self.failures.add('layout', str(e))
+            return
+        freq = getattr(msg, 'frequency', None)
+        if freq is not None and freq != self.rate:
+            self.failures.add('frequency', 'AudioBuffer frequency %d Hz, expected sample_rate %d Hz'
+                              % (freq, self.rate))
         lengths = [len(c) for c in chans]
         if len(set(lengths)) != 1:
             self.failures.add('lengths', 'channel arrays of different lengths',
@@ -176,6 +238,13 @@ class AudioCheck(Check):
         rate = self.measured_rate()
         self.values['sample_rate_hz'] = round(rate, 1) if rate else None
         self.values['sample_rate_expected_hz'] = self.rate
+        band = self.rate_band()
+        if band and self.buffer_tolerance is not None and not self.expect.rate:
+            size = self.lengths.most_common(1)[0][0]
+            self.values['message_rate_band_hz'] = band
+            self.notes.append('Message rate band %s-%s Hz from %d Hz / %d samples per buffer '
+                              '+- %s%%' % (fmt(band[0], 2), fmt(band[1], 2), self.rate, size,
+                                           fmt(100 * float(self.buffer_tolerance), 1)))
         if rate is None or self.count < 3:
             self.fail('too few audio buffers (%d) to measure the sample rate' % self.count)
         elif abs(rate - self.rate) > self.tolerance * self.rate:
@@ -244,7 +313,7 @@ class AudioCheck(Check):
 class LevelMonitor:
     """Microphone level history for the speech check.
 
-    `start()` subscribes to the microphone topic (its own subscriber, any AudioCustomMsg type
+    `start()` subscribes to the microphone topic (its own subscriber, AudioCustomMsg or AudioBuffer, any package
     name), and keeps the last `history` seconds of per-buffer levels (RMS over the four
     channels, dBFS) with their time.monotonic() receive times. `heard(t0, t1)` compares the
     loudest buffer in [t0, t1] with the median level of the `baseline` seconds before t0: a rise
@@ -271,12 +340,13 @@ class LevelMonitor:
             self._sub = None
 
     def _callback(self, raw):
-        from pepper_interface_tests.msg import AudioCustomMsg
-        try:
-            msg = AudioCustomMsg().deserialize(raw._buff)
-        except Exception:
+        conn = raw._connection_header
+        try:   # AudioCustomMsg or AudioBuffer, built from the definition the connection carries
+            msg = message_class_from_definition(conn['type'], conn['message_definition'])().deserialize(raw._buff)
+            chans = channels_of(msg)
+        except Exception:   # another type or a broken buffer: not a level
             return
-        self.add(channels_of(msg), time.monotonic())
+        self.add(chans, time.monotonic())
 
     def add(self, chans, now):
         """One buffer (list of channel arrays) received at monotonic time `now`."""

@@ -155,6 +155,12 @@ class Check:
     def fields(self, msg):
         return []
 
+    def rate_band(self):
+        """Accepted message rate [lo, hi] Hz or None: the expectations' `rate`; a family may
+        derive it from the data (the microphone, from its buffer size). Asked after close()."""
+        band = self.expect.rate
+        return list(band) if band else None
+
     def on_message(self, msg, t):
         pass
 

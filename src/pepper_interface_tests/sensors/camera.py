@@ -54,7 +54,7 @@ class ImageCheck(Check):
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
-        rate = self.expect.get('rate') or [1.0, 35.0]
+        rate = self.expect.rate or (1.0, 35.0)   # no band: size the queue for 35 fps
         self.queue_size = max(10, int(round(float(rate[1]) * self.queue_seconds)))
         self.bridge = None
         self.geometry = None        # (width, height, encoding, step) of the first message
@@ -62,7 +62,7 @@ class ImageCheck(Check):
         self.recorder = None
         if self.recording:
             self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
-                                          fallback_fps=float(self.expect.get('nominal', 10)),
+                                          fallback_fps=self.expect.nominal or 10.0,
                                           max_fps=float(rate[1]))
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
@@ -89,11 +89,11 @@ class ImageCheck(Check):
             self.warnings.add('size_change', 'image geometry changed during the window', '%dx%d %s' % key)
         self.sizes[key] = self.sizes.get(key, 0) + 1
         ok = True
-        expected = self.expect.get('encoding')
+        expected = self.expect.encoding
         if expected and msg.encoding != expected:
             self.failures.add('encoding', 'encoding "%s" where "%s" is expected' % (msg.encoding, expected))
         for dim in ('width', 'height'):
-            want = self.expect.get(dim)
+            want = getattr(self.expect, dim)
             if want and getattr(msg, dim) != want:
                 self.failures.add(dim, '%s %d where %d is expected' % (dim, getattr(msg, dim), want))
         if msg.width == 0 or msg.height == 0:
@@ -180,11 +180,11 @@ class CameraCheck(ImageCheck):
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
-        self.stereo = bool(self.expect.get('stereo', plan.name == 'stereoCamera'))
-        self.min_brightness = float(self.expect.get('min_brightness', 5.0))
-        self.min_spread = float(self.expect.get('min_spread', 2.0))
-        self.frozen_frames = max(3, int(self.expect.get('frozen_frames', 5)))
-        self.bad_share = float(self.expect.get('bad_frame_share', 0.5))
+        self.stereo = self.expect.stereo
+        self.min_brightness = self.expect.min_brightness
+        self.min_spread = self.expect.min_spread
+        self.frozen_frames = self.expect.frozen_frames
+        self.bad_share = self.expect.bad_frame_share
         self.brightness, self.spread = Acc(), Acc()
         self.black = self.constant = 0
         self.last_sig = None

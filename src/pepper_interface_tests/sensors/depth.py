@@ -22,7 +22,6 @@ from .camera import SERIES_MAX, ImageCheck
 
 MM_ENCODINGS = ('16UC1', 'mono16')
 M_ENCODINGS = ('32FC1',)
-DEFAULT_VIDEO_RANGE = (0.0, 5.0)
 
 
 class DepthCheck(ImageCheck):
@@ -30,10 +29,10 @@ class DepthCheck(ImageCheck):
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
-        lo, hi = self.expect.get('video_range') or DEFAULT_VIDEO_RANGE
+        lo, hi = self.expect.video_range
         self.video_range = (float(lo), float(hi))
-        self.min_valid_share = self.expect.get('min_valid_share')
-        self.median_range = self.expect.get('median_range')
+        self.min_valid_share = self.expect.min_valid_share
+        self.median_range = self.expect.median_range
         self.share = Acc()
         self.medians = []
         self.lo = Acc()

@@ -1,5 +1,13 @@
-"""IMU (sensor_msgs/Imu): unit quaternion unless orientation is declared absent
-(orientation_covariance[0] == -1, REP 145), finite values and covariances."""
+"""IMU (sensor_msgs/Imu): a finite unit quaternion, finite rates and accelerations, finite
+covariances.
+
+naoqi_driver fills the orientation from ALMemory's angles and sets covariance[0] = -1 for the
+orientation, the angular velocity and the linear acceleration ("Covariances unknown",
+ros-naoqi/naoqi_driver src/converters/imu.cpp:123-126) while publishing all three. So -1 here
+means "covariance unknown", never "skip the check": a NaN or non-unit attitude and NaN rates or
+accelerations fail whatever the covariance says. The accelerometer includes gravity
+(imu.cpp:119-121, raw ALMemory values), so |a| is about 9.8 m/s^2 at rest.
+"""
 import math
 
 from .base import Acc, Check, finite, fmt, quaternion_norm
@@ -33,11 +41,16 @@ class ImuCheck(Check):
                 self.failures.add('covlen_' + label, '%s covariance has %d values, not 9' % (label, len(cov)))
             elif not finite(cov):
                 self.failures.add('covnan_' + label, '%s covariance holds NaN or inf' % label)
-        has_orientation = not (len(msg.orientation_covariance) == 9 and msg.orientation_covariance[0] == -1)
-        if has_orientation:
-            norm = quaternion_norm(msg.orientation)
+        q = msg.orientation
+        unknown = len(msg.orientation_covariance) == 9 and msg.orientation_covariance[0] == -1
+        why = ' (covariance -1 means unknown covariance, not absent data)' if unknown else ''
+        if not finite([q.x, q.y, q.z, q.w]):
+            self.failures.add('quatnan', 'orientation holds NaN or inf' + why)
+        else:
+            norm = quaternion_norm(q)
             if not abs(norm - 1.0) <= 0.01:
-                self.failures.add('quat', 'orientation is not a unit quaternion (norm %s)' % fmt(norm), norm)
+                self.failures.add('quat', 'orientation is not a unit quaternion (norm %s)%s'
+                                  % (fmt(norm), why), norm)
         a, w = msg.linear_acceleration, msg.angular_velocity
         if not finite([a.x, a.y, a.z, w.x, w.y, w.z]):
             self.failures.add('nan', 'angular velocity or linear acceleration holds NaN or inf')

@@ -46,7 +46,7 @@ class JointsCheck(Check):
         self.values['joints'] = {name: {k: a.as_dict() for k, a in acc.items()}
                                  for name, acc in self.joints.items()}
         self.values['joint_count'] = len(self.joints)
-        expected = self.expect.get('joints') or []
+        expected = self.expect.joints
         missing = [j for j in expected if j not in self.joints]
         if self.count and missing:
             self.fail('expected joints missing: ' + ', '.join(missing))

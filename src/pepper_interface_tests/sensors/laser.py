@@ -1,11 +1,38 @@
-"""Laser (sensor_msgs/LaserScan): beam count matches the angles, sane limits, invalid beams.
+"""Laser (sensor_msgs/LaserScan): beam count from the scan's own angles, the driver's blind
+layout, real returns.
 
-Pepper's driver sets its blind beams to -1.0 (`blind_value` in the expectations); those are
-counted apart from other invalid beams (NaN, inf, outside [range_min, range_max]).
+What the drivers publish:
+  * naoqi_driver (ros-naoqi/naoqi_driver src/converters/laser.cpp): 61 slots
+    (laser.cpp:221 `std::vector<float>(61, -1.0f)`), three segments of 15 measured slots with
+    8 blind slots between them left at -1.0 (laser.cpp:178 and :193 `pos = pos+8`), i.e. blind
+    slots 15-22 and 38-45; the measured slots are raw distances in base_footprint
+    (laser.cpp:170-175), NOT clipped to range_max 3.0 (laser.cpp:236). angle_increment is
+    span / 61 (laser.cpp:218), so (max - min) / increment is 61, not 60.
+  * The simulator's /pepper/laser_2 (awesomebytes/pepper_virtual, branch simulation_that_works,
+    pepper_gazebo_plugin/scripts/laser_publisher.py:428-429): 61 x 8 = 488 slots initialised to
+    NaN, filled only where the point cloud has a point; range 0.1..7.0 (:392-393); increment
+    span / 488. NaN there means "no return".
+
+Rules (expectations): `ranges` (the driver's beam count, only where configured: the robot);
+`blind_slots` ([[first, last], ...] inclusive: the driver's blind layout) holding `blind_value`;
+without `blind_slots`, any `blind_value` counts as blind (older configurations).
+`nan_is_no_return`: NaN (and +inf, REP 117) is "nothing seen", not an invalid reading.
+A finite reading at or above range_min is valid, also beyond range_max ("beyond the advertised
+range", information). Invalid: NaN (unless no-return), -inf is valid (REP 117, too close),
+negative values (a blind value outside the blind layout too), readings below range_min.
+A scan with no valid return at all fails; more than `max_invalid_share` invalid beams (blind
+and no-return slots excluded) fails.
 """
 import math
 
 from .base import Acc, Check, fmt
+
+
+def blind_indices(slots):
+    out = set()
+    for first, last in slots or ():
+        out.update(range(int(first), int(last) + 1))
+    return out
 
 
 class LaserCheck(Check):
@@ -17,6 +44,11 @@ class LaserCheck(Check):
         self.beams = 0
         self.blind = 0
         self.invalid = 0
+        self.no_return = 0
+        self.beyond = 0
+        self.slots = self.expect.blind_slots
+        self.blind_set = blind_indices(self.slots)
+        self.nan_no_return = self.expect.nan_is_no_return
         self.last_scan = None
 
     def fields(self, msg):
@@ -35,38 +67,66 @@ class LaserCheck(Check):
         if msg.angle_increment == 0 or not math.isfinite(msg.angle_increment):
             self.failures.add('inc', 'angle increment is zero or not finite', msg.angle_increment)
         else:
+            # beams = span / increment (naoqi_driver, laser_publisher.py) or span / increment + 1
+            # (the REP 138 convention): either is right, one beam of slack covers both
             span = (msg.angle_max - msg.angle_min) / msg.angle_increment
-            if abs(span + 1 - n) > 1.01:
+            if not (span - 1.01 <= n <= span + 2.01):
                 self.failures.add('span', 'number of ranges does not match the angles '
-                                  '((max - min) / increment + 1 = %s)' % fmt(span + 1, 1), n)
-        expected = self.expect.get('ranges')
+                                  '((max - min) / increment = %s)' % fmt(span, 1), n)
+        expected = self.expect.ranges
         if expected and n != expected:
-            self.failures.add('count', '%d ranges where %d are expected' % (n, expected))
+            self.failures.add('count', '%d ranges where the driver publishes %d' % (n, expected))
         if not (msg.range_min < msg.range_max):
             self.failures.add('limits', 'range_min %s is not below range_max %s'
                               % (fmt(msg.range_min), fmt(msg.range_max)))
         if msg.intensities and len(msg.intensities) != n:
             self.failures.add('intens', 'intensities (%d) not as long as ranges (%d)'
                               % (len(msg.intensities), n))
-        blind = self.expect.get('blind_value')
-        lo, hi = msg.range_min, msg.range_max
-        for r in msg.ranges:
-            if blind is not None and r == blind:
+        self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
+        self.beams += n
+        self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), msg.range_min,
+                          msg.range_max, self.expect.blind_value)
+
+    def _judge_beams(self, ranges, lo, hi):
+        blind = self.expect.blind_value
+        returns = 0
+        layout = None    # first slot of the blind layout that holds a reading
+        for k, r in enumerate(ranges):
+            if self.slots is not None and k in self.blind_set:
+                if blind is not None and r == blind:
+                    self.blind += 1
+                elif layout is None:
+                    layout = (k, r)
+                continue
+            if self.slots is None and blind is not None and r == blind:
                 self.blind += 1
-            elif math.isfinite(r) and lo <= r <= hi:
-                self.valid.add(r)
+            elif (self.nan_no_return and math.isnan(r)) or r == math.inf:
+                self.no_return += 1
+            elif r == -math.inf or (math.isfinite(r) and r >= lo):
+                returns += 1
+                if math.isfinite(r):
+                    self.valid.add(r)
+                    if r > hi:
+                        self.beyond += 1
             else:
                 self.invalid += 1
-        self.beams += n
-        self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), lo, hi, blind)
+        if layout is not None:
+            self.failures.add('layout', 'the driver\'s blind slots %s do not all hold %s (the '
+                              'scan does not follow naoqi_driver\'s layout)'
+                              % (fmt(self.slots), fmt(blind)), 'slot %d = %s' % (layout[0], fmt(layout[1])))
+        if not returns:
+            self.failures.add('empty', 'scan without a single valid return (every slot blind, '
+                              'NaN or invalid)')
 
     def finish(self):
-        counted = max(1, self.beams - self.blind)
+        counted = max(1, self.beams - self.blind - self.no_return)
         share = self.invalid / counted if self.beams else 0.0
         self.values['beams'] = self.beams
         self.values['blind_beams'] = self.blind
+        self.values['no_return_beams'] = self.no_return
         self.values['invalid_beams'] = self.invalid
         self.values['invalid_share'] = round(share, 4)
+        self.values['beyond_advertised_max'] = self.beyond
         self.values['range_m'] = self.valid.as_dict()
         if self.last_scan:
             a0, inc, ranges, lo, hi, blind = self.last_scan
@@ -74,9 +134,14 @@ class LaserCheck(Check):
                                         'ranges': [r if math.isfinite(r) else None for r in ranges],
                                         'range_min': lo, 'range_max': hi, 'blind_value': blind}
         if self.count:
-            self.notes.append('Valid ranges: %s; invalid beams %.1f%% (%d of %d), blind beams %d'
-                              % (self.valid.text('m'), 100 * share, self.invalid, counted, self.blind))
-        limit = self.expect.get('max_invalid_share')
+            self.notes.append('Valid ranges: %s; invalid beams %.1f%% (%d of %d), blind beams %d, '
+                              'no-return beams %d'
+                              % (self.valid.text('m'), 100 * share, self.invalid, counted, self.blind,
+                                 self.no_return))
+        if self.beyond:
+            self.notes.append('%d readings beyond the advertised range (raw distances, valid)'
+                              % self.beyond)
+        limit = self.expect.max_invalid_share
         if self.count and limit is not None and share > limit:
-            self.fail('%.0f%% of the beams are invalid (NaN, inf or outside the range limits; '
-                      'at most %.0f%% expected)' % (100 * share, 100 * limit))
+            self.fail('%.0f%% of the beams are invalid (NaN, negative or below range_min, blind '
+                      'slots excluded; at most %.0f%% expected)' % (100 * share, 100 * limit))

@@ -37,7 +37,7 @@ class OdometryCheck(Check):
             self.failures.add('frame', 'header.frame_id is empty')
         if not msg.child_frame_id:
             self.failures.add('child', 'child_frame_id is empty')
-        want_child = self.expect.get('child_frame_id')
+        want_child = self.expect.child_frame_id
         if want_child and msg.child_frame_id and msg.child_frame_id != want_child:
             self.failures.add('child_id', 'child_frame_id is "%s", expected "%s"'
                               % (msg.child_frame_id, want_child))

@@ -13,7 +13,6 @@ from std_msgs.msg import String
 
 from .base import Check
 
-DEFAULT_TEXT = 'This is the CSSR4Africa speaker test.'
 
 
 class SpeechCheck(Check):
@@ -22,9 +21,9 @@ class SpeechCheck(Check):
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
-        self.text = self.expect.get('text', DEFAULT_TEXT)
-        self.subscriber_wait = float(self.expect.get('subscriber_wait', 3.0))
-        self.listen_after = float(self.expect.get('listen_after', 4.0))
+        self.text = self.expect.text
+        self.subscriber_wait = self.expect.subscriber_wait
+        self.listen_after = self.expect.listen_after
         self.pub = None
         self.sent_at = None
         self.sent_elapsed = None
