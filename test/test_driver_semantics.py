@@ -331,3 +331,15 @@ def test_two_audio_bridges_live_fail_naming_both_and_levels_read_audio_buffer(ma
     assert mic['verdict'] == FAIL and done.returncode == 1
     assert any(r.startswith('2 publishers deliver on /d/audio: ') and '/naoqi_driver' in r
                and '/naoqiAudioPublisher' in r for r in mic['reasons']), mic['reasons']
+
+
+def test_missing_stereo_camera_names_the_xtion_head(master, tmp_path):
+    """A Pepper 1.7 (Xtion head) has no stereo camera: the reason says so and how to disable it,
+    while another silent sensor gets no such note."""
+    topics = _topics(tmp_path, {'StereoCamera': '/d/camera/stereo', 'FrontSonar': '/d/sonar/front'})
+    done, res = sensor_test(master, tmp_path, topics, ['stereoCamera', 'frontSonar'], duration=1)
+    assert done.returncode == 1, done.stdout + done.stderr
+    stereo, sonar = res['stereoCamera']['reasons'][0], res['frontSonar']['reasons'][0]
+    assert stereo.startswith('no publisher on /d/camera/stereo') and 'Xtion' in stereo \
+        and 'stereoCamera false in the input file' in stereo, stereo
+    assert sonar.startswith('no publisher on /d/sonar/front') and 'Xtion' not in sonar, sonar

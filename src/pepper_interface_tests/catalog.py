@@ -60,6 +60,16 @@ ACTUATOR_KEYS = ('head', 'rarm', 'larm', 'rhand', 'lhand', 'leg', 'wheels')
 AUDIO_TYPES = ('pepper_interface_tests/AudioCustomMsg', 'naoqi_driver/AudioCustomMsg',
                'naoqi_bridge_msgs/AudioBuffer')
 
+# Why a healthy robot may have no publisher for a sensor, added to the "no publisher" reason.
+# naoqi_driver registers the stereo camera only on a stereo head (Pepper 1.8: ALMotion reports
+# "CameraStereo"); a Pepper 1.7 head has an Xtion depth camera and no stereo pair
+# (ros-naoqi/naoqi_driver src/naoqi_driver.cpp:733-750, src/helpers/driver_helpers.cpp:373-394).
+NO_PUBLISHER_HINTS = {
+    'stereoCamera': 'a Pepper head with an Xtion depth camera (Pepper 1.7) has no stereo camera: '
+                    'naoqi_driver publishes it on a stereo head only; on such a robot set '
+                    'stereoCamera false in the input file',
+}
+
 _LOOKUP = {}
 for _s in SENSORS.values():
     for _spelling in (_s.name,) + _s.aliases:

@@ -302,8 +302,9 @@ class SensorRun:
             elif publishers is None:
                 out.append('topic %s is not in the bag' % topic)
             elif not publishers:
-                out.append('no publisher on %s (is the driver running, and is the topic name right?)'
-                           % topic)
+                hint = catalog.NO_PUBLISHER_HINTS.get(self.sensor.name)
+                out.append('no publisher on %s (is the driver running, and is the topic name right?%s)'
+                           % (topic, ' Note: ' + hint if hint else ''))
             else:
                 out.append('no message on %s within %.1f s although %s publishes it'
                            % (topic, elapsed, ', '.join(publishers)))
