@@ -58,6 +58,13 @@ def port_arg(value):
     return port
 
 
+def listen_port_arg(value):
+    """A port a server binds: 0 (any free port, chosen by the system) or 1..65535."""
+    if str(value).strip() == '0':
+        return 0
+    return port_arg(value)
+
+
 def without_remappings(argv):
     """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
     return [a for a in argv if ':=' not in a]
