@@ -87,9 +87,12 @@ class Procs(object):
         return p
 
     def capture(self, naoqi_port, ws_port, *extra, **kw):
+        """naoqiAudio; kw ``name`` (log name, starting with 'capture'), ``env`` (extra vars)."""
+        env = _plain_env()
+        env.update(kw.get('env') or {})
         return self.start(kw.get('name', 'capture'), script('naoqiAudio') + [
             '--ip', '127.0.0.1', '--port', str(naoqi_port),
-            '--ws', 'ws://127.0.0.1:%d' % ws_port] + list(extra))
+            '--ws', 'ws://127.0.0.1:%d' % ws_port] + list(extra), env)
 
     def dumper(self, master, out):
         p = self.start('dump', [sys.executable, os.path.join(HERE, 'audio_dump.py'), str(out)],

@@ -67,10 +67,12 @@ class LayoutGuard(object):
         self._run = {}
 
     def check(self, frame):
-        """None when the frame may be published, else why not."""
+        """None when the frame may be published, else (kind, why not); kind is 'refused'
+        (stream already proven mislabelled), 'confirmed' (this frame proved it) or
+        'suspect planar' / 'suspect interleaved' (what the data looks like)."""
         sid = frame.stream_id
         if sid in self.mismatched:
-            return 'stream %08x is mislabelled (%s); %s' % (
+            return 'refused', 'stream %08x is mislabelled (declared %s); %s' % (
                 sid, 'planar' if frame.planar else 'interleaved', self.FIX)
         reason = suspect(frame.planar, frame.payload, frame.channels)
         if reason is None:
@@ -79,6 +81,7 @@ class LayoutGuard(object):
         self._run[sid] = self._run.get(sid, 0) + 1
         if self._run[sid] >= CONFIRM:
             self.mismatched.add(sid)
-            return '%s in %d frames in a row: stream %08x refused from now on; %s' % (
-                reason, CONFIRM, sid, self.FIX)
-        return '%s; %s' % (reason, self.FIX)
+            return 'confirmed', 'stream %08x refused from now on: %s in %d frames in a row; %s' % (
+                sid, reason, CONFIRM, self.FIX)
+        return ('suspect interleaved' if frame.planar else 'suspect planar'), '%s; %s' % (
+            reason, self.FIX)

@@ -251,9 +251,14 @@ class Bridge(object):
             return 'second capture'
         problem = self.layout.check(frame)
         if problem:
+            kind, why = problem
             self.stats.bad('layout mismatch')
-            self.warn_limited('layout mismatch', 'dropped frame %d of stream %08x from %s: %s'
-                              % (frame.sequence, frame.stream_id, peer, problem))
+            text = 'dropped frame %d of stream %08x from %s: %s' % (frame.sequence,
+                                                                   frame.stream_id, peer, why)
+            if kind == 'confirmed':
+                self.log.warning(text)
+            else:
+                self.warn_limited('layout ' + kind, text)
             return 'layout mismatch'
         msg = to_message(frame, self.msg_class)
         with self._track_lock:  # publish first: a frame that failed to publish counts as lost
@@ -266,7 +271,7 @@ class Bridge(object):
                 self._owner = (peer, conn, self._clock())
         if event == 'implausible':
             self.stats.bad('implausible sequence')
-            self.warn_limited('implausible sequence', 'dropped frame from %s: sequence %d '
+            self.warn_limited('implausible sequence', 'dropped frame from %s: implausible sequence %d '
                               'jumps %d buffers past %d in stream %08x (more than %d: corrupt '
                               'or forged)' % (peer, frame.sequence, frame.sequence
                                               - self.tracker.last, self.tracker.last,
