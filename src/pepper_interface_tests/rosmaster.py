@@ -1,21 +1,80 @@
-"""A ROS master of our own on a free port, and stopping process groups.
+"""A ROS master of our own on a free port, picking free ports, and stopping process groups.
 
-Used by recordTestBags, the benchmark and the tests: each starts its own `roscore` on a port
-nobody else uses, so several can run side by side on one machine.
+Used by recordTestBags, the benchmark, tools/demo.sh and the tests: each starts its own
+`roscore` on a port nobody else uses, so several can run side by side on one machine.
+
+Why ports are picked the way they are (a demo once failed with two equal picks): a port that
+was free when picked can be taken before the server binds it, by another picker or by any
+program's bind to port 0 (every rospy node binds its XML-RPC and TCPROS servers that way). So
+`free_ports` takes ports *below* the kernel's ephemeral range (/proc/sys/net/ipv4/
+ip_local_port_range: no port-0 bind ever lands there), random, all distinct, and never one this
+process handed out before; and `PrivateMaster` makes a remaining collision harmless: it sees
+roscore's "port ... is already in use" (or a master on its port that is not its own) within a
+second and starts again on other ports.
 """
 import os
+import random
 import signal
 import socket
 import subprocess
+import tempfile
 import time
 import xmlrpc.client
 
+PICK_LOW = 20000   # below: well-known and registered service ports (11311, 9090, 9559 ...)
+_handed_out = set()
+
+
+def ephemeral_range():
+    """(low, high) of the kernel's range for port-0 binds; Linux's default if unreadable."""
+    try:
+        with open('/proc/sys/net/ipv4/ip_local_port_range') as f:
+            low, high = (int(x) for x in f.read().split())
+        return low, high
+    except (OSError, ValueError):
+        return 32768, 60999
+
+
+def _candidates():
+    low, high = ephemeral_range()
+    if low - PICK_LOW >= 2000:
+        return range(PICK_LOW, low)
+    if 65535 - high >= 2000:
+        return range(high + 1, 65536)
+    return range(1024, 65536)  # an unusual kernel set-up: any port, collisions still detected
+
+
+def free_ports(n, host='127.0.0.1'):
+    """`n` distinct TCP ports on `host`, each free right now, outside the ephemeral range and
+    never returned before by this process. The probe sockets are held until all are chosen."""
+    held, ports, pool = [], [], _candidates()
+    try:
+        for _ in range(200 * n):
+            if len(ports) == n:
+                break
+            port = random.choice(pool)
+            if port in _handed_out or port in ports:
+                continue
+            s = socket.socket()
+            try:
+                s.bind((host, port))  # no SO_REUSEADDR: a port in TIME_WAIT is skipped too
+            except OSError:
+                s.close()
+                continue
+            held.append(s)
+            ports.append(port)
+    finally:
+        for s in held:
+            s.close()
+    if len(ports) < n:
+        raise OSError('no free TCP port found below the ephemeral range on %s' % host)
+    _handed_out.update(ports)
+    return ports
+
 
 def free_port():
-    """A TCP port on 127.0.0.1 that is free right now."""
-    with socket.socket() as s:
-        s.bind(('127.0.0.1', 0))
-        return s.getsockname()[1]
+    """One TCP port on 127.0.0.1 that is free right now (see free_ports)."""
+    return free_ports(1)[0]
 
 
 def stop_group(proc, sig=signal.SIGINT, timeout=20.0):
@@ -42,15 +101,23 @@ class MasterError(RuntimeError):
     """roscore did not come up."""
 
 
+# roscore's words when its port is taken (rosgraph/xmlrpc.py, roslaunch/launch.py).
+PORT_TAKEN = ('is already in use', 'another roscore/master is already running')
+
+
 class PrivateMaster:
     """A real roscore on a free port; use as a context manager (or start()/stop())."""
 
     def __init__(self, caller='/private_master', ros_home=None):
-        self.port = free_port()
-        self.uri = 'http://127.0.0.1:%d' % self.port
         self.caller = caller
         self.ros_home = ros_home
         self.proc = None
+        self.attempts = []  # one line per failed attempt: port and roscore's reason
+        self._use_port(free_port())
+
+    def _use_port(self, port):
+        self.port = port
+        self.uri = 'http://127.0.0.1:%d' % port
 
     def env(self, **extra):
         """This process's environment pointed at this master (plus `extra`)."""
@@ -62,26 +129,86 @@ class PrivateMaster:
         env.update({k: str(v) for k, v in extra.items()})
         return env
 
-    def start(self, timeout=30.0):
-        """Start roscore and wait until /rosout is up; MasterError otherwise."""
+    def start(self, timeout=30.0, attempts=4):
+        """Start roscore and wait until /rosout is up on a master of its own; when its port
+        turns out to be taken, start again on another one. MasterError (with roscore's own
+        words) otherwise."""
+        for attempt in range(attempts):
+            if attempt:
+                self._use_port(free_port())
+            reason = self._start_once(timeout)
+            if reason is None:
+                return self
+            self.attempts.append('port %d: %s' % (self.port, reason))
+            if not any(words in reason for words in PORT_TAKEN + ('not our own',)):
+                break
+        raise MasterError('roscore did not come up: ' + '; '.join(self.attempts))
+
+    def _start_once(self, timeout):
+        """None once up, else the reason (roscore's first error line)."""
+        out = tempfile.TemporaryFile()
         self.proc = subprocess.Popen(['roscore', '-p', str(self.port)], env=self.env(),
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                     stdout=out, stderr=subprocess.STDOUT,
                                      start_new_session=True)
         proxy = xmlrpc.client.ServerProxy(self.uri)
         deadline = time.monotonic() + timeout
+        reason = 'no master on port %d after %.0f s' % (self.port, timeout)
         while time.monotonic() < deadline:
+            said = _error_line(out)
+            if said or self.proc.poll() is not None:
+                reason = said or 'roscore exited with code %s' % self.proc.returncode
+                break
             try:
                 code, _, state = proxy.getSystemState(self.caller)
                 if code == 1 and any(t == '/rosout' for t, _ in state[1]):
-                    return self
+                    if self._is_ours(proxy):
+                        out.close()
+                        return None
+                    reason = 'the master on port %d is not our own (another picked it too)' % (
+                        self.port)
+                    break
             except OSError:
                 pass
             time.sleep(0.1)
-        self.stop()
-        raise MasterError('roscore did not come up on port %d' % self.port)
+        stop_group(self.proc, timeout=2.0)  # a roscore that failed can take 10 s on SIGINT
+        out.close()
+        return reason
+
+    def _is_ours(self, proxy):
+        """Whether the master answering on our port is a child of our roscore (roslaunch
+        starts rosmaster in a session of its own, so the process group does not tell)."""
+        try:
+            code, _, pid = proxy.getPid(self.caller)
+        except (OSError, xmlrpc.client.Error):
+            return False
+        for _ in range(4):
+            if code != 1 or pid <= 1:
+                return False
+            if pid == self.proc.pid:
+                return True
+            pid = _parent(pid)
+        return False
 
     def stop(self):
         stop_group(self.proc, timeout=10.0)
+
+
+def _parent(pid):
+    """Parent pid of `pid` (Linux /proc), 0 when unknown."""
+    try:
+        with open('/proc/%d/stat' % pid) as f:
+            return int(f.read().rsplit(')', 1)[1].split()[1])
+    except (OSError, ValueError, IndexError):
+        return 0
+
+
+def _error_line(out):
+    """roscore's first line naming an error, from its output file so far, or ''."""
+    out.seek(0)
+    for line in out.read().decode('utf-8', 'replace').splitlines():
+        if 'ERROR' in line or 'RLException' in line or any(w in line for w in PORT_TAKEN):
+            return line.replace('\x1b[31m', '').replace('\x1b[0m', '').strip()
+    return ''
 
     def __enter__(self):
         return self.start()

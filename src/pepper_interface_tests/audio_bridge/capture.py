@@ -30,10 +30,10 @@ import sys
 import threading
 import time
 
-from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, port_arg,
+from pepper_interface_tests.audio_bridge import (TOKEN_FILE_ENV, OneLineParser, RateLimiter,
+                                                 TokenError, port_arg, read_token,
                                                  without_remappings)
-from pepper_interface_tests.audio_bridge.frame import (FrameError, TOKEN_ENV, TOKEN_HEADER,
-                                                       encode_frame)
+from pepper_interface_tests.audio_bridge.frame import FrameError, TOKEN_HEADER, encode_frame
 
 LOG = logging.getLogger('naoqiAudio')
 SAMPLE_RATE = 48000
@@ -107,7 +107,8 @@ class FrameQueue(object):
 
 
 REFUSALS = {
-    401: 'HTTP 401, missing or wrong token (fix: the same $%s on both sides)' % TOKEN_ENV,
+    401: 'HTTP 401, missing or wrong token (fix: the same token on both sides, e.g. one '
+         '$%s for both)' % TOKEN_FILE_ENV,
     409: 'HTTP 409, another capture is already streaming to it (fix: stop the other naoqiAudio, '
          'or give this one its own naoqiAudioPublisher --port and --topic)',
 }
@@ -395,9 +396,12 @@ def parse_args(argv):
     p.add_argument('--port', type=port_arg, default=9559, help='NAOqi port (default 9559)')
     p.add_argument('--ws', default='ws://127.0.0.1:9090',
                    help='websocket URL of naoqiAudioPublisher (default ws://127.0.0.1:9090)')
-    p.add_argument('--token', default=os.environ.get(TOKEN_ENV, ''),
-                   help='shared token sent in the %s handshake header (default: $%s)'
-                   % (TOKEN_HEADER, TOKEN_ENV))
+    p.add_argument('--token', default=None,
+                   help='shared token sent in the %s handshake header; visible in ps: prefer '
+                   '$%s (a file holding it) or $PEPPER_AUDIO_TOKEN' % (TOKEN_HEADER,
+                                                                      TOKEN_FILE_ENV))
+    p.add_argument('--token-file', default=None,
+                   help='file holding the token (default: $%s)' % TOKEN_FILE_ENV)
     p.add_argument('--module-name', default='SoundProcessingModule',
                    help='name of the NAOqi service that receives the buffers')
     p.add_argument('--queue-seconds', type=float, default=2.0,
@@ -429,9 +433,12 @@ def main(argv=None):
                         format='naoqiAudio: %(levelname)s: %(message)s')
     try:
         _check_host(args.ip)
-    except UsageError as exc:
+        token, _, warning = read_token(args.token, args.token_file)
+    except (UsageError, TokenError) as exc:
         sys.stderr.write('naoqiAudio: error: %s\n' % exc)
         return 2
+    if warning:
+        LOG.warning(warning)
     try:
         import qi
     except ImportError:
@@ -449,7 +456,7 @@ def main(argv=None):
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     queue = FrameQueue(args.queue_seconds)
     capture = Capture(queue, planar=args.planar)
-    sender = WebsocketSender(args.ws, args.token, queue, stop)
+    sender = WebsocketSender(args.ws, token, queue, stop)
     sender.start()
     summary = threading.Thread(target=_summaries, args=(capture, sender, queue, stop))
     summary.daemon = True

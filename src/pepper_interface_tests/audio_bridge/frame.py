@@ -40,8 +40,6 @@ MAX_FRAME_BYTES = HEADER_SIZE + MAX_PAYLOAD_BYTES
 
 # HTTP header of the websocket handshake that carries the shared token, when one is configured.
 TOKEN_HEADER = 'X-Pepper-Audio-Token'
-# Environment variable both sides read the token from (kept out of ``ps`` and the param server).
-TOKEN_ENV = 'PEPPER_AUDIO_TOKEN'
 
 
 

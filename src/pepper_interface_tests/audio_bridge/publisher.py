@@ -25,8 +25,9 @@ dropped (``layout mismatch``), never published with mixed channels.
 Options (command line wins over the private parameter of the same name):
   --host / ~host (127.0.0.1)  --port / ~port (9090; 0 = any free port, the log says which)
   --topic / ~topic (/naoqi_driver/audio)
-  token: $PEPPER_AUDIO_TOKEN (kept out of ``ps`` and of the parameter server); --token and
-  ~token still work but warn, and ~token is deleted once read.
+  token: $PEPPER_AUDIO_TOKEN_FILE (a file holding it; the way under roslaunch) or
+  $PEPPER_AUDIO_TOKEN, kept out of ``ps`` and of the parameter server; --token-file FILE;
+  --token and ~token still work but warn, and ~token is deleted once read.
 ``~stats`` (dict, updated once a second): received, published, dropped_bad, lost_in_gaps,
 connections, rejected_connections, stream_resets, bad_causes, stream_id, last_sequence (a
 decimal string: sequence numbers are 64-bit, XML-RPC ints 32-bit), latency_ms_mean,
@@ -42,9 +43,10 @@ import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg
-from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_ENV,
-                                                       TOKEN_HEADER, decode_frame)
+from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, listen_port_arg,
+                                                 read_token)
+from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_HEADER,
+                                                       decode_frame)
 from pepper_interface_tests.audio_bridge.layout import LayoutGuard
 
 NODE = 'naoqiAudioPublisher'
@@ -315,29 +317,34 @@ def parse_args(argv):
     for name in ('host', 'port', 'token', 'topic'):
         p.add_argument('--' + name, default=None,
                        help='overrides ~%s (default %r)' % (name, DEFAULTS[name]))
+    p.add_argument('--token-file', default=None,
+                   help='file holding the token (default: $PEPPER_AUDIO_TOKEN_FILE)')
     return p.parse_args(argv)
 
 
 def _options(args, rospy):
-    """Options from the command line, else the private params, else DEFAULTS. The token comes
-    from $PEPPER_AUDIO_TOKEN; --token / ~token still work but are visible (``ps``, rosparam):
-    they get a warning and ~token is deleted once read."""
+    """Options from the command line, else the private params, else DEFAULTS. The token: see
+    read_token (--token, --token-file, $PEPPER_AUDIO_TOKEN_FILE, $PEPPER_AUDIO_TOKEN); a ~token
+    param still works but is readable by every node: it gets a warning and is deleted once
+    read. Raises ValueError (TokenError, PortError) with the fix."""
     opts = {}
     for name, default in DEFAULTS.items():
         if name != 'token':
             cli = getattr(args, name)
             opts[name] = cli if cli is not None else rospy.get_param('~' + name, default)
     opts['port'] = listen_port_arg(opts['port'])
-    token, where = os.environ.get(TOKEN_ENV, ''), None
-    if args.token is not None:
-        token, where = args.token, '--token (visible in ps)'
+    token, where, warning = read_token(args.token, args.token_file)
     if rospy.has_param('~token'):
         param = str(rospy.get_param('~token'))
         rospy.delete_param('~token')
-        if where is None and not token and param:
-            token, where = param, '~token (readable by every node)'
-    if where and token:
-        rospy.logwarn('token taken from %s; pass it in $%s instead' % (where, TOKEN_ENV))
+        if not token and param:
+            token, warning = param, ('token taken from the ~token param, readable by every '
+                                     'node (now deleted); use $PEPPER_AUDIO_TOKEN_FILE')
+    if warning:
+        rospy.logwarn(warning)
+    if where == '$PEPPER_AUDIO_TOKEN' and any(a.startswith('__log:=') for a in sys.argv):
+        rospy.logwarn('token taken from $PEPPER_AUDIO_TOKEN under roslaunch, which writes every '
+                      'process\'s environment into its log file; use $PEPPER_AUDIO_TOKEN_FILE')
     opts['token'] = token
     return opts
 
