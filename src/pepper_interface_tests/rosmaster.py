@@ -181,16 +181,16 @@ class PrivateMaster:
             code, _, pid = proxy.getPid(self.caller)
         except (OSError, xmlrpc.client.Error):
             return False
-        for _ in range(4):
-            if code != 1 or pid <= 1:
-                return False
-            if pid == self.proc.pid:
-                return True
-            pid = _parent(pid)
-        return False
+        return code == 1 and _descends(pid, self.proc.pid)
 
     def stop(self):
         stop_group(self.proc, timeout=10.0)
+
+    def __enter__(self):
+        return self.start()
+
+    def __exit__(self, *exc):
+        self.stop()
 
 
 def _parent(pid):
@@ -202,6 +202,15 @@ def _parent(pid):
         return 0
 
 
+def _alive(pid):
+    """Whether process `pid` exists and is not a zombie (it need not be our child)."""
+    try:
+        with open('/proc/%d/stat' % pid) as f:
+            return f.read().rsplit(')', 1)[1].split()[0] not in ('Z', 'X')
+    except (OSError, IndexError):
+        return False
+
+
 def _error_line(out):
     """roscore's first line naming an error, from its output file so far, or ''."""
     out.seek(0)
@@ -210,8 +219,98 @@ def _error_line(out):
             return line.replace('\x1b[31m', '').replace('\x1b[0m', '').strip()
     return ''
 
-    def __enter__(self):
-        return self.start()
 
-    def __exit__(self, *exc):
-        self.stop()
+def _descends(pid, ancestor):
+    """Whether process `pid` is `ancestor` or one of its descendants (up to 4 levels)."""
+    for _ in range(5):
+        if pid <= 1:
+            return False
+        if pid == ancestor:
+            return True
+        pid = _parent(pid)
+    return False
+
+
+# Lines of a roslaunch log that explain a failed start, best first.
+_CAUSE_WORDS = ('already in use', 'another roscore', 'cannot listen', 'error:', 'ERROR',
+                'RLException', 'Error', 'cannot', 'not found')
+
+
+def launch_failure(text):
+    """Why a roslaunch (its combined output `text`) failed, in its own words: a list of up to
+    3 lines (the first process that died, and the first line naming an error), or []."""
+    lines = [l.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
+             for l in text.splitlines()]
+    died = [l for l in lines if 'process has died' in l]
+    causes = []
+    for words in _CAUSE_WORDS:
+        causes = [l for l in lines if words in l and 'process has died' not in l]
+        if causes:
+            break
+    out = (died[:1] + causes[:2]) if (died or causes) else []
+    return [l[:300] for l in out]
+
+
+def port_taken(lines):
+    """Whether a failure (launch_failure's lines) is a port somebody else holds: retry then."""
+    return any(w in l for l in lines for w in PORT_TAKEN + (
+        'Address already in use', 'address in use', 'held by another program'))
+
+
+def _master_pid(uri, timeout=2.0):
+    """The pid of the master at `uri`; None when nothing listens there yet; 'silent' when
+    something accepts connections but does not answer as a master within `timeout` s."""
+    import http.client
+    import urllib.parse
+    url = urllib.parse.urlparse(uri)
+
+    class Transport(xmlrpc.client.Transport):
+        def make_connection(self, host):
+            return http.client.HTTPConnection(host, timeout=timeout)
+    try:
+        code, _, pid = xmlrpc.client.ServerProxy(uri, transport=Transport()).getPid(
+            '/launch_watch')
+        return pid if code == 1 else 'silent'
+    except ConnectionRefusedError:
+        return None
+    except (OSError, xmlrpc.client.Error, http.client.HTTPException):
+        return 'silent'
+
+
+def wait_for_launch(launcher, log_path, master_uri, topics, timeout=60.0, grace=8.0):
+    """Watch a roslaunch we started (Popen-like `launcher` or a pid) until `topics` are all
+    published on its own master: ('up', []), or ('failed', reason lines) as soon as one of its
+    processes dies, roslaunch ends, or the master port is held by another program (a master
+    that is not its own, or something that does not answer as a master for `grace` s)."""
+    import rosgraph
+    pid = launcher if isinstance(launcher, int) else launcher.pid
+    start = time.monotonic()
+    own = False
+    while time.monotonic() < start + timeout:
+        with open(log_path, 'rb') as f:
+            text = f.read().decode('utf-8', 'replace')
+        failure = launch_failure(text)
+        alive = launcher.poll() is None if hasattr(launcher, 'poll') else _alive(pid)
+        if not alive:
+            return 'failed', failure or ['roslaunch ended']
+        if 'process has died' in text or port_taken(failure):
+            return 'failed', failure
+        if not own:
+            master = _master_pid(master_uri)
+            own = isinstance(master, int) and _descends(master, pid)
+            if not own and master is not None and time.monotonic() > start + grace:
+                return 'failed', ['port %s is held by another program: %s' % (
+                    master_uri.rsplit(':', 1)[-1], 'a ROS master that is not our own'
+                    if isinstance(master, int) else 'it does not answer as a ROS master')]
+        if own:
+            try:
+                published = {t for t, _ in rosgraph.Master('/launch_watch',
+                                                           master_uri).getPublishedTopics('')}
+            except Exception:
+                published = set()
+            if set(topics) <= published:
+                return 'up', []
+        time.sleep(0.3)
+    with open(log_path, 'rb') as f:
+        text = f.read().decode('utf-8', 'replace')
+    return 'failed', ['not up after %.0f s' % timeout] + launch_failure(text)
