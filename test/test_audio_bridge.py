@@ -24,7 +24,7 @@ from pepper_interface_tests.audio_bridge import frame as fr
 from pepper_interface_tests.emulator.audio_source import (AudioSource, CHANNEL_NAMES,
                                                           CHANNEL_TONES_HZ, expected_counter,
                                                           find_counter_start)
-from rosmaster import ROOT, script
+from rosmaster import ROOT, kill_group, script
 
 STATS = '/naoqiAudioPublisher/stats'
 CAPTURE_SIDE = [os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/capture.py'),
@@ -494,3 +494,69 @@ def test_usage_errors_and_waiting_for_peers(master, tmp_path):
         assert first.stop(signal.SIGTERM) == 0
     finally:
         procs.stop_all()
+
+
+def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_path):
+    """pepperEmulator.launch with the token in a file named by $PEPPER_AUDIO_TOKEN_FILE: the
+    bridge works with it, and it is in no command line, no parameter and no log (roslaunch
+    writes every process's environment into its log, so the token itself must not be in one)."""
+    from pepper_interface_tests.rosmaster import _descends, free_ports
+    token = 'tok-%d-secret' % os.getpid()
+    token_file = tmp_path / 'token'
+    token_file.write_text(token + '\n')
+    token_file.chmod(0o600)
+    ros_home = tmp_path / 'ros_home'
+    naoqi_port, ws_port = free_ports(2)
+    log_path = tmp_path / 'roslaunch.log'
+    env = master.env(PEPPER_AUDIO_TOKEN_FILE=str(token_file), ROS_HOME=str(ros_home))
+    with open(str(log_path), 'wb') as log:
+        launch = subprocess.Popen(
+            ['roslaunch', os.path.join(ROOT, 'launch', 'pepperEmulator.launch'),
+             'naoqi_port:=%d' % naoqi_port, 'ws_port:=%d' % ws_port], env=env, stdout=log,
+            stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        dumper = procs.dumper(master, tmp_path / 'dump.npz')
+        wait_messages(dumper, 5, 90)
+        with pytest.raises(websocket.WebSocketBadStatusException) as err:
+            websocket.create_connection('ws://127.0.0.1:%d' % ws_port, timeout=5)
+        assert err.value.status_code == 401  # the publisher did get the token
+        mine = [int(p) for p in os.listdir('/proc') if p.isdigit()
+                and _descends(int(p), launch.pid)]
+        assert len(mine) >= 4, mine  # roslaunch, endpoint, emulator, publisher, capture
+        for pid in mine:
+            try:
+                with open('/proc/%d/cmdline' % pid, 'rb') as f:
+                    cmdline = f.read()
+            except OSError:
+                continue
+            assert token.encode() not in cmdline, cmdline
+        params = xmlrpc_get(master, '/')
+        assert token not in repr(params)
+        assert '/naoqiAudioPublisher/port' in repr(params) or 'naoqiAudioPublisher' in repr(params)
+    finally:
+        kill_group(launch, signal.SIGINT, 30)
+    texts = [log_path.read_text()]
+    for root, _, files in os.walk(str(ros_home)):
+        for name in files:
+            with open(os.path.join(root, name), 'rb') as f:
+                texts.append(f.read().decode('utf-8', 'replace'))
+    assert len(texts) > 1 and str(token_file) in ''.join(texts)  # the logs were read
+    assert not [t for t in texts if token in t], 'token found in a log'
+
+
+def xmlrpc_get(master, name):
+    import xmlrpc.client
+    code, _, value = xmlrpc.client.ServerProxy(master.uri).getParam('/audio_test', name)
+    return value if code == 1 else None
+
+
+def test_token_file_errors_are_one_line(tmp_path):
+    missing = tmp_path / 'nope'
+    empty = tmp_path / 'empty'
+    empty.write_text('\n')
+    for path, words in ((missing, 'cannot read the token file'), (empty, 'is empty')):
+        res = subprocess.run(script('naoqiAudio') + ['--token-file', str(path)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=60)
+        err = res.stderr.decode()
+        assert res.returncode == 2 and words in err and str(path) in err, err
+        assert len(err.strip().splitlines()) == 1 and 'Traceback' not in err
