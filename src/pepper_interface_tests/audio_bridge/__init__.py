@@ -14,7 +14,7 @@ import time
 
 # Where both sides take the shared websocket token from, best first. The file is the way under
 # roslaunch: roslaunch writes every process's whole environment into its log file
-# (ros_comm tools/roslaunch/src/roslaunch/nodeprocess.py, create_node_process:
+# (ros_comm 1.15 roslaunch/nodeprocess.py:152, create_node_process:
 # _logger.info('process[%s]: env[%s]', ...)), and command lines are visible in ``ps``.
 TOKEN_FILE_ENV = 'PEPPER_AUDIO_TOKEN_FILE'
 TOKEN_ENV = 'PEPPER_AUDIO_TOKEN'
