@@ -351,13 +351,16 @@ class NaoqiLink(object):
 
 def _service_holder(session, name):
     """'process P on machine M (endpoints)' of the service ``name``, or None if not listed."""
+    fields = ('name', 'serviceId', 'machineId', 'processId', 'endpoints')  # qi ServiceInfo
     try:
         for info in session.services():
-            if info['name'] == name:
+            if not isinstance(info, dict):  # some SDKs give the struct as a list
+                info = dict(zip(fields, info))
+            if info.get('name') == name:
                 return 'held by process %s on machine %s, %s' % (
                     info.get('processId', '?'), str(info.get('machineId', '?'))[:8],
                     ' '.join(info.get('endpoints') or []) or 'no endpoint')
-    except Exception:  # older SDKs: a list of another shape; the error text still says it
+    except Exception:  # an SDK of yet another shape: the error text still says it
         pass
     return None
 
