@@ -95,3 +95,19 @@ def test_demo_survives_a_taken_port(tmp_path, which):
     assert 'already in use' in first and str(ports[index]) in first, out
     assert 'starting again on other ports' in out, out
     assert code == 0 and 'microphone             PASS' in out, out
+    assert not left_running(str(tmp_path)), 'processes of the failed attempt left running'
+
+
+def left_running(ros_home):
+    """Pids of processes still running with `ros_home` in their command line (roslaunch puts
+    each node's log path, under ROS_HOME, there)."""
+    time.sleep(1.0)
+    found = []
+    for pid in filter(str.isdigit, os.listdir('/proc')):
+        try:
+            with open('/proc/%s/cmdline' % pid, 'rb') as f:
+                if ros_home.encode() in f.read():
+                    found.append(int(pid))
+        except OSError:
+            pass
+    return found

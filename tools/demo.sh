@@ -18,13 +18,19 @@ export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 LOG="$ROS_HOME/demo-emulator.log"
 mkdir -p "$ROS_HOME"
 LAUNCH=
-stop() {  # Ctrl-C to the launch's process group; SIGKILL after ${1:-10} s
+stop() {  # Ctrl-C to the launch; after ${1:-10} s SIGKILL to it and to every process it started
     [ -n "$LAUNCH" ] || return 0
+    # roslaunch starts each node in a session of its own: remember them, or a roslaunch killed
+    # while shutting down would leave them running.
+    local nodes
+    nodes=$(ps -o pid= --ppid "$LAUNCH" 2>/dev/null | tr '\n' ' ')
     kill -INT -- "-$LAUNCH" 2>/dev/null
     for _ in $(seq $((${1:-10} * 5))); do
-        kill -0 "$LAUNCH" 2>/dev/null || { LAUNCH=; return 0; }; sleep 0.2
+        kill -0 "$LAUNCH" 2>/dev/null || { LAUNCH=; return 0; }; sleep 0.2  # it stopped its nodes
     done
-    kill -KILL -- "-$LAUNCH" 2>/dev/null; LAUNCH=
+    kill -KILL -- "-$LAUNCH" 2>/dev/null
+    for pid in $nodes; do kill -KILL "$pid" 2>/dev/null; done
+    LAUNCH=
 }
 trap 'stop; exit 130' INT TERM
 
