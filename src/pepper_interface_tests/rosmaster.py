@@ -79,22 +79,34 @@ def free_port():
 
 def stop_group(proc, sig=signal.SIGINT, timeout=20.0):
     """Send `sig` to the process group of `proc` (started with start_new_session=True), then
-    SIGKILL if it has not ended after `timeout` s. Returns the exit code."""
+    SIGKILL if it has not ended after `timeout` s, together with the children it had (roslaunch
+    starts each node in a session of its own, so they are not in its group). Returns the exit
+    code."""
     if proc is None:
         return None
     if proc.poll() is not None:
         return proc.returncode
+    children = _children(proc.pid)
     try:
         os.killpg(proc.pid, sig)
         return proc.wait(timeout)
     except ProcessLookupError:
         return proc.wait()
     except subprocess.TimeoutExpired:
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
+        for pid in [proc.pid] + children:
+            try:
+                if pid == proc.pid:
+                    os.killpg(pid, signal.SIGKILL)
+                elif _parent(pid) in (proc.pid, 1):  # still ours, not a reused pid
+                    os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
         return proc.wait()
+
+
+def _children(pid):
+    """Pids of the direct children of `pid` (Linux /proc)."""
+    return [int(p) for p in os.listdir('/proc') if p.isdigit() and _parent(int(p)) == pid]
 
 
 class MasterError(RuntimeError):
