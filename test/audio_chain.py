@@ -69,21 +69,30 @@ class Procs(object):
         self.all.append(p)
         return p
 
-    def endpoint(self, port, *extra):
+    def endpoint(self, port=0, *extra):
+        """naoqiEndpoint on ``port`` (0: the system picks a free one); ``p.port`` is the port
+        it really listens on, read from its ready line."""
         p = self.start('endpoint', script('naoqiEndpoint') + ['--port', str(port)] + list(extra))
-        p.wait_for(r'NAOqi endpoint ready on tcp://127\.0\.0\.1:%d' % port)
+        text = p.wait_for(r'NAOqi endpoint ready on tcp://127\.0\.0\.1:%s\b'
+                          % (port or r'\d+'))
+        p.port = int(re.findall(r'ready on tcp://127\.0\.0\.1:(\d+)', text)[-1])
         return p
 
-    def publisher(self, master, ws_port, *extra):
+    def publisher(self, master, ws_port=0, *extra, env=None):
+        """naoqiAudioPublisher on ``ws_port`` (0: any free port); ``p.port`` is the real one."""
         p = self.start('publisher', script('naoqiAudioPublisher') + ['--port', str(ws_port)]
-                       + list(extra), master.env())
-        p.wait_for(r'listening on ws://127\.0\.0\.1:%d' % ws_port)
+                       + list(extra), master.env(**(env or {})))
+        text = p.wait_for(r'listening on ws://127\.0\.0\.1:%s\b' % (ws_port or r'\d+'))
+        p.port = int(re.findall(r'listening on ws://127\.0\.0\.1:(\d+)', text)[-1])
         return p
 
-    def capture(self, naoqi_port, ws_port, *extra):
-        return self.start('capture', script('naoqiAudio') + [
+    def capture(self, naoqi_port, ws_port, *extra, **kw):
+        """naoqiAudio; kw ``name`` (log name, starting with 'capture'), ``env`` (extra vars)."""
+        env = _plain_env()
+        env.update(kw.get('env') or {})
+        return self.start(kw.get('name', 'capture'), script('naoqiAudio') + [
             '--ip', '127.0.0.1', '--port', str(naoqi_port),
-            '--ws', 'ws://127.0.0.1:%d' % ws_port] + list(extra))
+            '--ws', 'ws://127.0.0.1:%d' % ws_port] + list(extra), env)
 
     def dumper(self, master, out):
         p = self.start('dump', [sys.executable, os.path.join(HERE, 'audio_dump.py'), str(out)],
@@ -93,7 +102,7 @@ class Procs(object):
 
     def stop_all(self):
         """Capture first (so it can still unsubscribe from NAOqi), then the rest, newest first."""
-        for p in sorted(reversed(self.all), key=lambda p: p.name != 'capture'):
+        for p in sorted(reversed(self.all), key=lambda p: not p.name.startswith('capture')):
             if p.alive():
                 p.stop()
             elif not p._log.closed:

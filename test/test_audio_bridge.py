@@ -9,6 +9,7 @@ import glob
 import os
 import re
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -20,9 +21,10 @@ import websocket  # websocket-client: the raw (hostile) client of these tests
 from audio_chain import (BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count,
                          wait_messages, wait_param)
 from pepper_interface_tests.audio_bridge import frame as fr
-from pepper_interface_tests.emulator.audio_source import (CHANNEL_NAMES, CHANNEL_TONES_HZ,
-                                                          expected_counter, find_counter_start)
-from rosmaster import ROOT, script
+from pepper_interface_tests.emulator.audio_source import (AudioSource, CHANNEL_NAMES,
+                                                          CHANNEL_TONES_HZ, expected_counter,
+                                                          find_counter_start)
+from rosmaster import ROOT, kill_group, script
 
 STATS = '/naoqiAudioPublisher/stats'
 CAPTURE_SIDE = [os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/capture.py'),
@@ -41,15 +43,16 @@ def procs(tmp_path, master):
 
 
 def chain(procs, master, tmp_path, pattern='counter', endpoint_args=(), capture_args=(),
-          publisher_args=()):
-    """Start the whole chain; return (naoqi_port, ws_port, dump_path, processes dict)."""
-    naoqi_port, ws_port = free_port(), free_port()
+          publisher_args=(), with_capture=True, publisher_env=None):
+    """Start the whole chain; return (naoqi_port, ws_port, dump_path, processes dict). Both
+    servers bind port 0 and report the port they got, so no two tests can collide."""
+    endpoint = procs.endpoint(0, '--pattern', pattern, *endpoint_args)
+    publisher = procs.publisher(master, 0, *publisher_args, env=publisher_env)
+    naoqi_port, ws_port = endpoint.port, publisher.port
     out = tmp_path / ('dump-%d.npz' % ws_port)
-    endpoint = procs.endpoint(naoqi_port, '--pattern', pattern, *endpoint_args)
-    publisher = procs.publisher(master, ws_port, *publisher_args)
     dumper = procs.dumper(master, out)
     dumper.wait_for('connected', 30)
-    capture = procs.capture(naoqi_port, ws_port, *capture_args)
+    capture = procs.capture(naoqi_port, ws_port, *capture_args) if with_capture else None
     return naoqi_port, ws_port, out, dict(endpoint=endpoint, publisher=publisher,
                                           dumper=dumper, capture=capture)
 
@@ -160,7 +163,7 @@ def test_capture_side_is_python27_compatible(tmp_path):
 
 @pytest.mark.parametrize('layout', ['planar', 'interleaved'])
 def test_chain_counter_is_sample_exact_in_the_right_fields(procs, master, tmp_path, layout):
-    extra = ('--interleaved',) if layout == 'interleaved' else ()
+    extra = ('--planar',) if layout == 'planar' else ()  # interleaved: the default
     _, _, out, p = chain(procs, master, tmp_path, 'counter', capture_args=extra)
     wait_messages(p['dumper'], 25, 40)
     assert p['capture'].stop(signal.SIGTERM) == 0
@@ -171,6 +174,8 @@ def test_chain_counter_is_sample_exact_in_the_right_fields(procs, master, tmp_pa
     assert len(starts) >= 25
     assert set(np.diff(starts)) == {BUFFER}, 'stream not contiguous: %s' % np.diff(starts)
     assert layout in p['publisher'].log()
+    # What NAOqi was asked for, as the endpoint saw it (naoqi_driver asks for interleaved).
+    assert 'SoundProcessingModule subscribed: channels ALL, %s' % layout in p['endpoint'].log()
     stats = get_param(master, STATS)
     assert stats['lost_in_gaps'] == 0 and stats['dropped_bad'] == 0
     assert stats['published'] >= len(blocks)
@@ -261,12 +266,10 @@ def test_capture_resubscribes_after_naoqi_restart(procs, master, tmp_path):
     assert 'Traceback' not in p['capture'].log()
 
 
-def test_hostile_frames_rejected_while_good_traffic_continues(procs, master, tmp_path):
+def test_hostile_frames_rejected_then_good_traffic_flows(procs, master, tmp_path):
     token = 's3cret-token'
-    _, ws_port, out, p = chain(procs, master, tmp_path, 'counter',
-                               capture_args=('--token', token),
-                               publisher_args=('--token', token))
-    wait_messages(p['dumper'], 5, 40)
+    naoqi_port, ws_port, out, p = chain(procs, master, tmp_path, 'counter', with_capture=False,
+                                        publisher_env={'PEPPER_AUDIO_TOKEN': token})
     url = 'ws://127.0.0.1:%d' % ws_port
     for header in ([], [fr.TOKEN_HEADER + ': wrong']):
         with pytest.raises(websocket.WebSocketBadStatusException) as err:
@@ -304,8 +307,9 @@ def test_hostile_frames_rejected_while_good_traffic_continues(procs, master, tmp
         except AssertionError:
             if attempt == 2:
                 raise
-    n = message_count(p['dumper'])
-    wait_messages(p['dumper'], n + 12, 40)
+    # The real capture (token from the environment, as the launch files pass it) now streams.
+    p['capture'] = procs.capture(naoqi_port, ws_port, env={'PEPPER_AUDIO_TOKEN': token})
+    wait_messages(p['dumper'], 12, 40)
     blocks, _ = finish_dump(p['dumper'], out)
     starts = counter_starts(blocks)
     assert set(np.diff(starts)) == {BUFFER}, 'good traffic was disturbed'
@@ -318,6 +322,142 @@ def test_hostile_frames_rejected_while_good_traffic_continues(procs, master, tmp
     log = p['publisher'].log()
     assert p['publisher'].alive() and 'Traceback' not in log
     assert len([l for l in log.splitlines() if 'bad magic' in l]) <= 2, 'warnings not limited'
+    assert token not in log + p['capture'].log()
+
+
+def test_second_capture_is_refused_never_mixed(procs, master, tmp_path):
+    """Issue 8/9: a second capture process, with the same NAOqi module name (refused by NAOqi:
+    reported with the holder and the fix) or another one (refused by the publisher: 409)."""
+    naoqi_port, ws_port, out, p = chain(procs, master, tmp_path, 'counter')
+    wait_messages(p['dumper'], 5, 40)
+    same = procs.capture(naoqi_port, ws_port, name='capture-same')
+    text = same.wait_for('already registered', 20)
+    assert 'SoundProcessingModule' in text and '--module-name' in text
+    assert 'held by process %d' % p['capture'].proc.pid in text, text
+    other = procs.capture(naoqi_port, ws_port, '--module-name', 'SecondCapture',
+                          name='capture-other')
+    other.wait_for('subscribed to ALAudioDevice', 30)
+    other.wait_for('refuses this capture: HTTP 409', 20)
+    n = message_count(p['dumper'])
+    wait_messages(p['dumper'], n + 15, 40)
+    assert same.log().count('already registered') == 1, 'the report repeats:\n' + same.log()
+    stats = get_param(master, STATS)
+    blocks, _ = finish_dump(p['dumper'], out)
+    starts = counter_starts(blocks)
+    # Both captures get the same samples from NAOqi: any frame of the second one in the topic
+    # would repeat a block (difference 0) or go back.
+    assert set(np.diff(starts)) == {BUFFER}, 'streams were mixed: %s' % np.diff(starts)
+    assert stats['bad_causes'].get('second capture', 0) >= 1, stats
+    assert stats['rejected_connections'] >= 1 and stats['stream_resets'] == 0
+    log = p['publisher'].log()
+    assert 'refused a second capture connection' in log and 'Fix:' in log
+    assert len([l for l in log.splitlines() if 'refused a second' in l]) <= 3
+
+
+def raw_publisher_frames(stream_id, first, n, planar=False, pattern='counter', declared=None):
+    """n good 4 x BUFFER frames of one stream from AudioSource; ``declared`` may lie about the
+    layout (default: the truth)."""
+    src = AudioSource(pattern=pattern)
+    frames = []
+    for seq in range(first, first + n):
+        block = src.read(BUFFER)
+        data = (np.ascontiguousarray(block.T) if planar else block).astype('<i2').tobytes()
+        frames.append(fr.encode_frame(data, 4, BUFFER, RATE, seq, 0, 0,
+                                      planar=planar if declared is None else declared,
+                                      stream_id=stream_id))
+    return frames
+
+
+def test_stats_keep_updating_after_a_huge_sequence_number(procs, master, tmp_path):
+    """One frame with the stream's own id and sequence 10**12 once stopped ~stats for good
+    (XML-RPC ints are 32-bit). It is dropped as implausible; the stream goes on, no loss."""
+    pub = procs.publisher(master, 0)
+    ws = websocket.create_connection('ws://127.0.0.1:%d' % pub.port, timeout=5)
+    frames = raw_publisher_frames(0xABCDEF01, 0, 10)
+    for f in frames[:5]:
+        ws.send_binary(f)
+    wait_param(master, STATS, lambda s: s['published'] == 5, 10)
+    forged = fr.decode_frame(frames[5])
+    ws.send_binary(fr.encode_frame(forged.payload, 4, BUFFER, RATE, 10 ** 12, 0, 0,
+                                   planar=False, stream_id=0xABCDEF01))
+    for f in frames[5:]:
+        ws.send_binary(f)
+    stats = wait_param(master, STATS, lambda s: s['received'] == 11, 10)
+    assert stats['published'] == 10 and stats['last_sequence'] == '9', stats
+    assert stats['lost_in_gaps'] == 0 and stats['bad_causes'] == {'implausible sequence': 1}
+    # A new stream whose first sequence is beyond 2**31 is accounted too, as a string.
+    for f in raw_publisher_frames(0x01, 10 ** 12, 3):
+        ws.send_binary(f)
+    stats = wait_param(master, STATS, lambda s: s['received'] == 14, 10)
+    assert stats['last_sequence'] == str(10 ** 12 + 2) and stats['stream_resets'] == 1
+    ws.close()
+    assert 'implausible' in pub.log() and 'could not update ~stats' not in pub.log()
+
+
+def test_non_ascii_token_gets_401_counted_and_logged(procs, master, tmp_path):
+    token = 's\u00e9cret-\u4f60\u597d'
+    pub = procs.publisher(master, 0, env={'PEPPER_AUDIO_TOKEN': token})
+
+    def handshake(value):
+        with socket.create_connection(('127.0.0.1', pub.port), timeout=5) as s:
+            s.sendall(b'GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n'
+                      b'Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n'
+                      b'Sec-WebSocket-Version: 13\r\n' + fr.TOKEN_HEADER.encode() + b': '
+                      + value + b'\r\n\r\n')
+            return s.recv(200).split(b'\r\n')[0]
+    assert b' 401 ' in handshake('wr\u00f6ng-\u00e9'.encode('utf-8'))
+    assert b' 401 ' in handshake(b'\xff\xfe latin junk')
+    assert b' 101 ' in handshake(token.encode('utf-8'))  # the right UTF-8 token is accepted
+    stats = wait_param(master, STATS, lambda s: s['rejected_connections'] == 2, 10)
+    assert stats['bad_causes'] == {'wrong token': 2}, stats
+    log = pub.wait_for('rejected websocket connection from 127.0.0.1:\\d+: wrong token')
+    assert 'Traceback' not in log and token not in log
+
+
+def test_mislabelled_layout_is_refused_not_mixed(procs, master, tmp_path):
+    """A buffer declared interleaved that is planar (and the reverse) is never published; a
+    correctly labelled stream of either layout is, with each microphone in its field."""
+    pub = procs.publisher(master, 0)
+    out = tmp_path / 'dump.npz'
+    dumper = procs.dumper(master, out)
+    ws = websocket.create_connection('ws://127.0.0.1:%d' % pub.port, timeout=5)
+    dumper.wait_for('connected', 30)
+    for f in raw_publisher_frames(1, 0, 6, planar=True, pattern='tones', declared=False):
+        ws.send_binary(f)
+    for f in raw_publisher_frames(2, 0, 6, planar=False, pattern='tones', declared=True):
+        ws.send_binary(f)
+    for sid, planar in ((3, True), (4, False)):
+        for f in raw_publisher_frames(sid, 0, 6, planar=planar, pattern='tones'):
+            ws.send_binary(f)
+    stats = wait_param(master, STATS, lambda s: s['received'] == 24, 15)
+    assert stats['published'] == 12 and stats['bad_causes'] == {'layout mismatch': 12}, stats
+    wait_messages(dumper, 12, 20)
+    ws.close()
+    blocks, _ = finish_dump(dumper, out)
+    assert len(blocks) == 12
+    for block in blocks:
+        for c, name in enumerate(CHANNEL_NAMES):
+            assert abs(dominant_hz(block[:, c]) - CHANNEL_TONES_HZ[name]) < 15, name
+    log = pub.log()
+    assert 'declared interleaved but looks planar' in log
+    assert 'declared planar but looks interleaved' in log
+    assert 'refused from now on' in log
+
+
+def test_layout_rule_on_the_emulated_microphones():
+    """The rule's margins on every signal the emulator makes, speech included (pure code)."""
+    from pepper_interface_tests.audio_bridge.layout import suspect
+    for pattern, silent in (('tones', ()), ('counter', ()), ('tones', ('rearRight',))):
+        src = AudioSource(pattern=pattern, silent_channels=silent)
+        src.say('Hello, this is the Pepper microphone test.')
+        time.sleep(1.0)
+        for _ in range(30):
+            block = src.read(BUFFER)
+            inter = block.astype('<i2').tobytes()
+            planar = np.ascontiguousarray(block.T).astype('<i2').tobytes()
+            assert suspect(False, inter, 4) is None and suspect(True, planar, 4) is None
+            assert suspect(True, inter, 4) and suspect(False, planar, 4)
+    assert suspect(False, b'\0' * 8 * BUFFER, 4) is None  # silence decides nothing
 
 
 def test_usage_errors_and_waiting_for_peers(master, tmp_path):
@@ -354,3 +494,69 @@ def test_usage_errors_and_waiting_for_peers(master, tmp_path):
         assert first.stop(signal.SIGTERM) == 0
     finally:
         procs.stop_all()
+
+
+def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_path):
+    """pepperEmulator.launch with the token in a file named by $PEPPER_AUDIO_TOKEN_FILE: the
+    bridge works with it, and it is in no command line, no parameter and no log (roslaunch
+    writes every process's environment into its log, so the token itself must not be in one)."""
+    from pepper_interface_tests.rosmaster import _descends, free_ports
+    token = 'tok-%d-secret' % os.getpid()
+    token_file = tmp_path / 'token'
+    token_file.write_text(token + '\n')
+    token_file.chmod(0o600)
+    ros_home = tmp_path / 'ros_home'
+    naoqi_port, ws_port = free_ports(2)
+    log_path = tmp_path / 'roslaunch.log'
+    env = master.env(PEPPER_AUDIO_TOKEN_FILE=str(token_file), ROS_HOME=str(ros_home))
+    with open(str(log_path), 'wb') as log:
+        launch = subprocess.Popen(
+            ['roslaunch', os.path.join(ROOT, 'launch', 'pepperEmulator.launch'),
+             'naoqi_port:=%d' % naoqi_port, 'ws_port:=%d' % ws_port], env=env, stdout=log,
+            stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        dumper = procs.dumper(master, tmp_path / 'dump.npz')
+        wait_messages(dumper, 5, 90)
+        with pytest.raises(websocket.WebSocketBadStatusException) as err:
+            websocket.create_connection('ws://127.0.0.1:%d' % ws_port, timeout=5)
+        assert err.value.status_code == 401  # the publisher did get the token
+        mine = [int(p) for p in os.listdir('/proc') if p.isdigit()
+                and _descends(int(p), launch.pid)]
+        assert len(mine) >= 4, mine  # roslaunch, endpoint, emulator, publisher, capture
+        for pid in mine:
+            try:
+                with open('/proc/%d/cmdline' % pid, 'rb') as f:
+                    cmdline = f.read()
+            except OSError:
+                continue
+            assert token.encode() not in cmdline, cmdline
+        params = xmlrpc_get(master, '/')
+        assert token not in repr(params)
+        assert '/naoqiAudioPublisher/port' in repr(params) or 'naoqiAudioPublisher' in repr(params)
+    finally:
+        kill_group(launch, signal.SIGINT, 30)
+    texts = [log_path.read_text()]
+    for root, _, files in os.walk(str(ros_home)):
+        for name in files:
+            with open(os.path.join(root, name), 'rb') as f:
+                texts.append(f.read().decode('utf-8', 'replace'))
+    assert len(texts) > 1 and str(token_file) in ''.join(texts)  # the logs were read
+    assert not [t for t in texts if token in t], 'token found in a log'
+
+
+def xmlrpc_get(master, name):
+    import xmlrpc.client
+    code, _, value = xmlrpc.client.ServerProxy(master.uri).getParam('/audio_test', name)
+    return value if code == 1 else None
+
+
+def test_token_file_errors_are_one_line(tmp_path):
+    missing = tmp_path / 'nope'
+    empty = tmp_path / 'empty'
+    empty.write_text('\n')
+    for path, words in ((missing, 'cannot read the token file'), (empty, 'is empty')):
+        res = subprocess.run(script('naoqiAudio') + ['--token-file', str(path)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=60)
+        err = res.stderr.decode()
+        assert res.returncode == 2 and words in err and str(path) in err, err
+        assert len(err.strip().splitlines()) == 1 and 'Traceback' not in err

@@ -13,7 +13,7 @@ import time
 import numpy as np
 import pytest
 
-from audio_chain import Procs, free_port
+from audio_chain import Procs
 from pepper_interface_tests.emulator.audio_source import (
     CHANNEL_NAMES, CHANNEL_TONES_HZ, AudioSource, expected_counter, find_counter_start)
 from rosmaster import script
@@ -136,8 +136,9 @@ def test_audio_source_rejects_unknown_names():
 # ---------------------------------------------------------------- endpoint over libqi
 
 def test_endpoint_layouts_several_subscribers_and_pace(procs, tmp_path):
-    port = free_port()
-    endpoint = procs.endpoint(port, '--pattern', 'counter')
+    endpoint = procs.endpoint(0, '--pattern', 'counter')  # port 0: it binds a free one
+    port = endpoint.port
+    assert port > 0
     data = run_probe(port, tmp_path / 'probe.npz', 3.0,
                      ['Planar:0:1', 'Inter:0:0'], '--check-unsubscribe')
     planar, inter = buffers(data, 'Planar'), buffers(data, 'Inter')
@@ -164,8 +165,8 @@ def test_endpoint_layouts_several_subscribers_and_pace(procs, tmp_path):
 
 
 def test_endpoint_tts_raises_level_silent_channel_and_16k(procs, tmp_path):
-    port = free_port()
-    endpoint = procs.endpoint(port, '--pattern', 'tones', '--silent-channel', 'rearRight')
+    endpoint = procs.endpoint(0, '--pattern', 'tones', '--silent-channel', 'rearRight')
+    port = endpoint.port
     data = run_probe(port, tmp_path / 'probe.npz', 5.0, ['All:0:1', 'Left16k:1:1'],
                      '--say-at', '1.2', '--say', 'Hello, this is the Pepper microphone test.')
     say_time = float(data['say_time'])
@@ -195,7 +196,7 @@ def test_endpoint_tts_raises_level_silent_channel_and_16k(procs, tmp_path):
 
 
 def test_endpoint_usage_errors(tmp_path):
-    for args in (['--port', '0'], ['--port', 'x'], ['--silent-channel', 'middle'],
+    for args in (['--port', '-1'], ['--port', 'x'], ['--silent-channel', 'middle'],
                  ['--host', 'not-an-ip'], ['--pattern', 'noise']):
         res = subprocess.run(script('naoqiEndpoint') + args, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, timeout=30)

@@ -1,40 +1,75 @@
 #!/usr/bin/env bash
 # The main job without a robot: start the Pepper emulator, the NAOqi endpoint and the audio
 # bridge (pepperEmulator.launch) on free ports, wait for their topics, run sensorTest in
-# parallel mode over every robot sensor, then stop everything. Exit code = sensorTest's.
-# Extra arguments go to sensorTest, e.g.  tools/demo.sh --quick   or   --duration 5
+# parallel mode over every robot sensor, then stop everything. Exit code = sensorTest's
+# (2 when the emulator could not start). Extra arguments go to sensorTest, e.g.
+#   tools/demo.sh --quick   or   --duration 5
+# Ports: three distinct free ports below the kernel's ephemeral range (rosmaster.free_ports);
+# if one is taken anyway before its server binds it (or roslaunch finds somebody else's master
+# there), the launch is stopped and started again on other ports, up to DEMO_ATTEMPTS (3)
+# times. Any other start-up failure is reported at once with the dead process's own words.
+# DEMO_PORTS="master naoqi websocket" fixes the first attempt's ports (used by the tests).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 source tools/env.sh
-free_port() { python -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'; }
-MASTER_PORT=$(free_port); NAOQI_PORT=$(free_port); WS_PORT=$(free_port)
-export ROS_MASTER_URI="http://127.0.0.1:$MASTER_PORT" ROS_IP=127.0.0.1
+export ROS_IP=127.0.0.1
 unset ROS_HOSTNAME
 export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 LOG="$ROS_HOME/demo-emulator.log"
 mkdir -p "$ROS_HOME"
-
-echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge (log: $LOG)"
-setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
-    realsense:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
-LAUNCH=$!
-stop() { kill -INT -- "-$LAUNCH" 2>/dev/null; for _ in $(seq 50); do kill -0 "$LAUNCH" 2>/dev/null || return; sleep 0.2; done; kill -KILL -- "-$LAUNCH" 2>/dev/null; }
+LAUNCH=
+stop() {  # Ctrl-C to the launch; after ${1:-10} s SIGKILL to it and to every process it started
+    [ -n "$LAUNCH" ] || return 0
+    # roslaunch starts each node in a session of its own: remember them, or a roslaunch killed
+    # while shutting down would leave them running.
+    local nodes
+    nodes=$(ps -o pid= --ppid "$LAUNCH" 2>/dev/null | tr '\n' ' ')
+    kill -INT -- "-$LAUNCH" 2>/dev/null
+    for _ in $(seq $((${1:-10} * 5))); do
+        kill -0 "$LAUNCH" 2>/dev/null || { LAUNCH=; return 0; }; sleep 0.2  # it stopped its nodes
+    done
+    kill -KILL -- "-$LAUNCH" 2>/dev/null
+    for pid in $nodes; do kill -KILL "$pid" 2>/dev/null; done
+    LAUNCH=
+}
 trap 'stop; exit 130' INT TERM
 
-python - <<'PY' || { echo "demo: the emulator did not come up; see $LOG"; tail -20 "$LOG"; stop; exit 2; }
-import sys, time, rosgraph
-want = {'/naoqi_driver/audio', '/naoqi_driver/camera/front/image_raw', '/camera/color/image_raw', '/joint_states'}
-deadline = time.time() + 60
-while time.time() < deadline:
-    try:
-        topics = {t for t, _ in rosgraph.Master('/demo').getPublishedTopics('')}
-        if want <= topics:
-            sys.exit(0)
-    except Exception:
-        pass
-    time.sleep(0.3)
-sys.exit(1)
+attempts=${DEMO_ATTEMPTS:-3}
+for attempt in $(seq "$attempts"); do
+    if [ "$attempt" = 1 ] && [ -n "${DEMO_PORTS:-}" ]; then
+        read -r MASTER_PORT NAOQI_PORT WS_PORT <<<"$DEMO_PORTS"
+    else
+        read -r MASTER_PORT NAOQI_PORT WS_PORT < <(python -c \
+            'from pepper_interface_tests.rosmaster import free_ports; print(*free_ports(3))')
+    fi
+    export ROS_MASTER_URI="http://127.0.0.1:$MASTER_PORT"
+    echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge (ports: master" \
+         "$MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log: $LOG)"
+    setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
+        realsense:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
+    LAUNCH=$!
+    disown "$LAUNCH"  # stop() reaps it; no "Killed" line from bash
+    # Prints the failure's lines and exits 3 when a port was taken (retry), 2 for anything else.
+    python - "$LAUNCH" "$LOG" "$ROS_MASTER_URI" <<'PY'
+import sys
+from pepper_interface_tests.rosmaster import port_taken, wait_for_launch
+want = ['/naoqi_driver/audio', '/naoqi_driver/camera/front/image_raw', '/camera/color/image_raw',
+        '/joint_states']
+state, lines = wait_for_launch(int(sys.argv[1]), sys.argv[2], sys.argv[3], want, timeout=60)
+for line in lines:
+    print('demo:   ' + line)
+sys.exit(0 if state == 'up' else 3 if port_taken(lines) else 2)
 PY
+    rc=$?
+    [ "$rc" = 0 ] && break
+    stop 3   # it failed to start: nothing to save
+    if [ "$rc" = 3 ] && [ "$attempt" -lt "$attempts" ]; then
+        echo "demo: a port was taken by another program (above); starting again on other ports"
+        continue
+    fi
+    echo "demo: the emulator did not start (the reason is above; full log: $LOG)"
+    exit 2
+done
 
 python scripts/sensorTest --platform robot --mode parallel \
     --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech \

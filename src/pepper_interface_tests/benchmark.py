@@ -215,9 +215,10 @@ def run(args):
     try:
         try:
             master.start(timeout=20.0)
-        except MasterError:
-            print('roscore did not start')
+        except MasterError as exc:
+            print(str(exc))
             return 2
+        env['ROS_MASTER_URI'] = master.uri  # start() moves to another port if its was taken
         pub = subprocess.Popen([sys.executable, os.path.abspath(sys.argv[0]), '--publisher',
                                 '--publish', '%g' % publish_s], env=env, stdout=subprocess.PIPE,
                                text=True, start_new_session=True)

@@ -6,8 +6,18 @@ log rate limiter, a one-line usage-error parser, a TCP port argument, dropping r
 remapping arguments); it stays Python 2.7 compatible because the capture side imports it.
 """
 import argparse
+import io
+import os
+import stat
 import threading
 import time
+
+# Where both sides take the shared websocket token from, best first. The file is the way under
+# roslaunch: roslaunch writes every process's whole environment into its log file
+# (ros_comm 1.15 roslaunch/nodeprocess.py:152, create_node_process:
+# _logger.info('process[%s]: env[%s]', ...)), and command lines are visible in ``ps``.
+TOKEN_FILE_ENV = 'PEPPER_AUDIO_TOKEN_FILE'
+TOKEN_ENV = 'PEPPER_AUDIO_TOKEN'
 
 
 class RateLimiter(object):
@@ -56,6 +66,47 @@ def port_arg(value):
     if not 1 <= port <= 65535:
         raise PortError('port %r is not a TCP port (1..65535)' % (value,))
     return port
+
+
+def listen_port_arg(value):
+    """A port a server binds: 0 (any free port, chosen by the system) or 1..65535."""
+    if str(value).strip() == '0':
+        return 0
+    return port_arg(value)
+
+
+class TokenError(ValueError):
+    """The token file cannot be used; the message names it and the fix."""
+
+
+def read_token(cli_token=None, cli_file=None, environ=None):
+    """(token, where it came from, warning or None). Order: --token, --token-file,
+    $PEPPER_AUDIO_TOKEN_FILE, $PEPPER_AUDIO_TOKEN; ('', None, None) when none is set."""
+    environ = os.environ if environ is None else environ
+    if cli_token:
+        return cli_token, '--token', ('--token puts the token on the command line, visible in '
+                                      'ps; use $%s instead' % TOKEN_FILE_ENV)
+    path = cli_file or environ.get(TOKEN_FILE_ENV, '')
+    if path:
+        where = '--token-file' if cli_file else '$' + TOKEN_FILE_ENV
+        try:
+            with io.open(path, encoding='utf-8') as f:
+                token = f.read().strip()
+            mode = os.stat(path).st_mode
+        except (IOError, OSError, UnicodeError) as exc:
+            raise TokenError('cannot read the token file %s (%s): %s; fix: write the token '
+                             'into it, readable by this user only (chmod 600)'
+                             % (path, where, getattr(exc, 'strerror', None) or exc))
+        if not token:
+            raise TokenError('the token file %s (%s) is empty; fix: write the token into it'
+                             % (path, where))
+        warning = None
+        if mode & (stat.S_IRGRP | stat.S_IROTH):
+            warning = 'the token file %s is readable by other users; fix: chmod 600 %s' % (
+                path, path)
+        return token, where, warning
+    token = environ.get(TOKEN_ENV, '')
+    return token, ('$' + TOKEN_ENV) if token else None, None
 
 
 def without_remappings(argv):

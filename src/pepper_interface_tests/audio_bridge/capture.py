@@ -5,8 +5,12 @@ Runs wherever ``qi`` reaches NAOqi, including on the robot under Python 2.7 with
 ``Thread(daemon=...)``; no ROS imports). It
 
 - registers a service (``--module-name``, default SoundProcessingModule) whose ``processRemote``
-  receives the buffers, then calls ``ALAudioDevice.setClientPreferences(name, 48000, 0, 1)`` and
-  ``subscribe(name)``; re-registers and re-subscribes whenever NAOqi goes away and comes back;
+  receives the buffers, then calls ``ALAudioDevice.setClientPreferences(name, 48000, 0, 0)``
+  (all channels, interleaved: what naoqi_driver asks for, ros-naoqi/naoqi_driver
+  src/event/audio.cpp:107-113; ``--planar`` asks for deinterleaved, 1) and ``subscribe(name)``;
+  re-registers and re-subscribes whenever NAOqi goes away and comes back. When another process
+  already holds that service name (a second capture, or the CSSR4Africa naoqi_driver's own
+  naoqiAudio.py), it says so once, naming that process and the fix, and retries quietly;
 - wraps every buffer in a frame (see frame.py) with a sequence number that grows by one per
   buffer and a random stream id per process start;
 - sends the frames over one websocket client connection (websocket-client), reconnecting with
@@ -26,7 +30,8 @@ import sys
 import threading
 import time
 
-from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, port_arg,
+from pepper_interface_tests.audio_bridge import (TOKEN_FILE_ENV, OneLineParser, RateLimiter,
+                                                 TokenError, port_arg, read_token,
                                                  without_remappings)
 from pepper_interface_tests.audio_bridge.frame import FrameError, TOKEN_HEADER, encode_frame
 
@@ -34,7 +39,6 @@ LOG = logging.getLogger('naoqiAudio')
 SAMPLE_RATE = 48000
 CHANNELS_ALL = 0
 SUMMARY_INTERVAL = 60.0
-TOKEN_ENV = 'PEPPER_AUDIO_TOKEN'
 
 
 class UsageError(Exception):
@@ -102,6 +106,14 @@ class FrameQueue(object):
             return len(self._items)
 
 
+REFUSALS = {
+    401: 'HTTP 401, missing or wrong token (fix: the same token on both sides, e.g. one '
+         '$%s for both)' % TOKEN_FILE_ENV,
+    409: 'HTTP 409, another capture is already streaming to it (fix: stop the other naoqiAudio, '
+         'or give this one its own naoqiAudioPublisher --port and --topic)',
+}
+
+
 class WebsocketSender(object):
     """Sends queued frames over a websocket, reconnecting with backoff; answers server pings."""
 
@@ -127,9 +139,13 @@ class WebsocketSender(object):
         header = [TOKEN_HEADER + ': ' + self.token] if self.token else []
         try:
             ws = websocket.create_connection(self.url, timeout=5, header=header)
-        except Exception as exc:  # refused, unreachable, handshake rejected (401) ...
+        except Exception as exc:  # refused, unreachable, handshake rejected (401, 409) ...
             delay = self._backoff.next()
-            if self._limiter.hit('connect'):
+            status = getattr(exc, 'status_code', None)
+            if status in (401, 409) and self._limiter.hit('status %d' % status):
+                LOG.error('publisher at %s refuses this capture: %s; retrying every <= %.0f s',
+                          self.url, REFUSALS[status], self._backoff.maximum)
+            elif status not in (401, 409) and self._limiter.hit('connect'):
                 LOG.warning('websocket %s not available (%s); retrying every <= %.0f s, '
                             '%d buffer(s) queued', self.url, _one_line(exc),
                             self._backoff.maximum, len(self.queue))
@@ -215,7 +231,7 @@ def _make_module(on_buffer):
 class Capture(object):
     """Turns processRemote calls into frames on the queue."""
 
-    def __init__(self, queue, planar=True):
+    def __init__(self, queue, planar=False):
         self.queue, self.planar = queue, planar
         self.stream_id = random.getrandbits(32)
         self.sequence = 0
@@ -253,11 +269,12 @@ class Capture(object):
 class NaoqiLink(object):
     """Connects to NAOqi, registers the module and subscribes; redoes it after NAOqi restarts."""
 
-    def __init__(self, url, name, module, stop, planar=True, listen_url=None):
+    def __init__(self, url, name, module, stop, planar=False, listen_url=None):
         self.url, self.name, self.module, self.stop, self.planar = url, name, module, stop, planar
         self.listen_url = listen_url
         self._backoff = Backoff()
         self._limiter = RateLimiter(30.0)
+        self._taken_limiter = RateLimiter(300.0)
 
     def run(self):
         """Blocks until ``stop`` is set; leaves NAOqi unsubscribed."""
@@ -295,8 +312,17 @@ class NaoqiLink(object):
         try:
             self._sid = session.registerService(self.name, self.module)
         except RuntimeError as exc:
-            LOG.warning('cannot register service %r on NAOqi (%s); another naoqiAudio with '
-                        'this --module-name?', self.name, _one_line(exc))
+            holder = _service_holder(session, self.name)
+            if holder is None and 'already registered' not in str(exc):
+                LOG.warning('cannot register service %r on NAOqi (%s)', self.name, _one_line(exc))
+            elif self._taken_limiter.hit('taken'):
+                LOG.error('a module named %r is already registered on NAOqi at %s (%s), so this '
+                          'capture gets no audio. It is another audio capture: a second '
+                          'naoqiAudio, or the CSSR4Africa naoqi_driver\'s own naoqiAudio.py '
+                          '(its naoqi_driver.launch starts it unless launch_audio:=false). '
+                          'Fix: stop the other one, or give this one another --module-name. '
+                          'Retrying quietly every <= %.0f s until the name is free.', self.name,
+                          self.url, holder or 'owner unknown', self._backoff.maximum)
             return False
         try:
             device = session.service('ALAudioDevice')
@@ -321,6 +347,22 @@ class NaoqiLink(object):
             LOG.info('unsubscribed from ALAudioDevice')
         except RuntimeError as exc:
             LOG.warning('could not unsubscribe cleanly: %s', _one_line(exc))
+
+
+def _service_holder(session, name):
+    """'process P on machine M (endpoints)' of the service ``name``, or None if not listed."""
+    fields = ('name', 'serviceId', 'machineId', 'processId', 'endpoints')  # qi ServiceInfo
+    try:
+        for info in session.services():
+            if not isinstance(info, dict):  # some SDKs give the struct as a list
+                info = dict(zip(fields, info))
+            if info.get('name') == name:
+                return 'held by process %s on machine %s, %s' % (
+                    info.get('processId', '?'), str(info.get('machineId', '?'))[:8],
+                    ' '.join(info.get('endpoints') or []) or 'no endpoint')
+    except Exception:  # an SDK of yet another shape: the error text still says it
+        pass
+    return None
 
 
 def _close(session):
@@ -357,9 +399,12 @@ def parse_args(argv):
     p.add_argument('--port', type=port_arg, default=9559, help='NAOqi port (default 9559)')
     p.add_argument('--ws', default='ws://127.0.0.1:9090',
                    help='websocket URL of naoqiAudioPublisher (default ws://127.0.0.1:9090)')
-    p.add_argument('--token', default=os.environ.get(TOKEN_ENV, ''),
-                   help='shared token sent in the %s handshake header (default: $%s)'
-                   % (TOKEN_HEADER, TOKEN_ENV))
+    p.add_argument('--token', default=None,
+                   help='shared token sent in the %s handshake header; visible in ps: prefer '
+                   '$%s (a file holding it) or $PEPPER_AUDIO_TOKEN' % (TOKEN_HEADER,
+                                                                      TOKEN_FILE_ENV))
+    p.add_argument('--token-file', default=None,
+                   help='file holding the token (default: $%s)' % TOKEN_FILE_ENV)
     p.add_argument('--module-name', default='SoundProcessingModule',
                    help='name of the NAOqi service that receives the buffers')
     p.add_argument('--queue-seconds', type=float, default=2.0,
@@ -368,8 +413,11 @@ def parse_args(argv):
                    help='where NAOqi reaches this side\'s service (default: tcp://127.0.0.1:0 '
                    'when NAOqi is on this machine, else libqi\'s choice), e.g. '
                    'tcp://0.0.0.0:0 when capturing from another machine')
+    p.add_argument('--planar', action='store_true',
+                   help='ask NAOqi for deinterleaved (planar) buffers; default interleaved, as '
+                   'naoqi_driver (src/event/audio.cpp setClientPreferences(..., 0, 0))')
     p.add_argument('--interleaved', action='store_true',
-                   help='ask NAOqi for interleaved buffers (default planar, as the original)')
+                   help='ask for interleaved buffers (the default; kept for old command lines)')
     args = p.parse_args(argv)
     if not (args.ws.startswith('ws://') or args.ws.startswith('wss://')):
         p.error('--ws must be a ws:// or wss:// URL, not %r' % args.ws)
@@ -377,6 +425,8 @@ def parse_args(argv):
         p.error('--queue-seconds must be in (0, 60]')
     if not args.module_name.replace('_', '').isalnum():
         p.error('--module-name must be letters, digits and underscores')
+    if args.planar and args.interleaved:
+        p.error('--planar and --interleaved exclude each other')
     return args
 
 
@@ -386,9 +436,12 @@ def main(argv=None):
                         format='naoqiAudio: %(levelname)s: %(message)s')
     try:
         _check_host(args.ip)
-    except UsageError as exc:
+        token, _, warning = read_token(args.token, args.token_file)
+    except (UsageError, TokenError) as exc:
         sys.stderr.write('naoqiAudio: error: %s\n' % exc)
         return 2
+    if warning:
+        LOG.warning(warning)
     try:
         import qi
     except ImportError:
@@ -405,8 +458,8 @@ def main(argv=None):
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     queue = FrameQueue(args.queue_seconds)
-    capture = Capture(queue, planar=not args.interleaved)
-    sender = WebsocketSender(args.ws, args.token, queue, stop)
+    capture = Capture(queue, planar=args.planar)
+    sender = WebsocketSender(args.ws, token, queue, stop)
     sender.start()
     summary = threading.Thread(target=_summaries, args=(capture, sender, queue, stop))
     summary.daemon = True
@@ -416,7 +469,7 @@ def main(argv=None):
     if listen is None and (args.ip.startswith('127.') or args.ip == 'localhost'):
         listen = 'tcp://127.0.0.1:0'
     NaoqiLink(url, args.module_name, _make_module(capture.on_buffer), stop,
-              planar=not args.interleaved, listen_url=listen).run()
+              planar=args.planar, listen_url=listen).run()
     sender.join(3.0)
     LOG.info('stopped: %d buffer(s) received, %d sent, %d dropped (queue full)',
              capture.received, sender.sent, queue.dropped)

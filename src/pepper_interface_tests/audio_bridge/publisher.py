@@ -8,34 +8,58 @@ frontRight, whatever the layout (planar or interleaved) of the frame.
 
 Sequence accounting: within a stream (same stream id) a jump of the sequence number counts the
 missing buffers in ``lost_in_gaps``; a new stream id (capture restarted) counts a stream reset,
-not a loss. The last stream id and sequence are kept in ``~stats``, so a restarted publisher also
-counts what was lost while it was down (after a hard kill that snapshot may be up to one second
-old, so the count may then include up to a second of buffers the dead process did publish).
+not a loss; a jump of more than ``MAX_GAP`` buffers (years of audio) is not a loss but a bad
+frame (``implausible sequence``), dropped. The last stream id and sequence are kept in
+``~stats``, so a restarted publisher also counts what was lost while it was down (after a hard
+kill that snapshot may be up to one second old, so the count may then include up to a second of
+buffers the dead process did publish).
+
+One capture at a time: a second websocket connection while another one is streaming (a frame
+in the last ``ACTIVE_WINDOW`` s) is refused (HTTP 409 at the handshake, or closed if it got in
+at the same moment), counted and logged; its frames are never published.
+
+Layout: each frame says whether its samples are planar or interleaved; ``layout.py`` checks
+that the data looks like the declared layout and frames of a stream proven mislabelled are
+dropped (``layout mismatch``), never published with mixed channels.
 
 Options (command line wins over the private parameter of the same name):
-  --host / ~host (127.0.0.1)  --port / ~port (9090)  --token / ~token ('')
+  --host / ~host (127.0.0.1)  --port / ~port (9090; 0 = any free port, the log says which)
   --topic / ~topic (/naoqi_driver/audio)
+  token: $PEPPER_AUDIO_TOKEN_FILE (a file holding it; the way under roslaunch) or
+  $PEPPER_AUDIO_TOKEN, kept out of ``ps`` and of the parameter server; --token-file FILE;
+  --token and ~token still work but warn, and ~token is deleted once read.
 ``~stats`` (dict, updated once a second): received, published, dropped_bad, lost_in_gaps,
-connections, rejected_connections, stream_resets, bad_causes, stream_id, last_sequence,
-latency_ms_mean, latency_ms_max (buffer end to publish, last second; -1 when no data).
+connections, rejected_connections, stream_resets, bad_causes, stream_id, last_sequence (a
+decimal string: sequence numbers are 64-bit, XML-RPC ints 32-bit), latency_ms_mean,
+latency_ms_max (buffer end to publish, last second; -1 when no data).
 """
 import hmac
 import http
 import logging
+import os
 import sys
 import threading
 import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, port_arg
+from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, listen_port_arg,
+                                                 read_token)
 from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_HEADER,
                                                        decode_frame)
+from pepper_interface_tests.audio_bridge.layout import LayoutGuard
 
 NODE = 'naoqiAudioPublisher'
 DEFAULTS = {'host': '127.0.0.1', 'port': 9090, 'token': '', 'topic': '/naoqi_driver/audio'}
 WARN_INTERVAL = 5.0
 STATS_INTERVAL = 1.0
+# A jump of the sequence number beyond this many buffers is not a loss: at NAOqi's ~12 buffers/s
+# 2**31 buffers are 5.8 years of audio, so such a frame is corrupt or forged.
+MAX_GAP = 2 ** 31
+# A connection that published a frame within this many seconds is "streaming"; NAOqi sends a
+# buffer every 85 ms (4096 samples at 48 kHz; ~170 ms on a robot), so 2 s is >10 missed buffers.
+ACTIVE_WINDOW = 2.0
+XMLRPC_INT_MAX = 2 ** 31 - 1
 
 
 class SequenceTracker(object):
@@ -62,6 +86,10 @@ class SequenceTracker(object):
         self.stream_id, self.last = stream_id, sequence
         self.lost += missing
         return missing, event
+
+    def implausible(self, stream_id, sequence):
+        """True for a jump of more than MAX_GAP buffers within the current stream."""
+        return stream_id == self.stream_id and sequence - self.last > MAX_GAP
 
 
 class Stats(object):
@@ -97,10 +125,20 @@ class Stats(object):
         out['lost_in_gaps'] = tracker.lost
         out['stream_resets'] = tracker.resets
         out['stream_id'] = '' if tracker.stream_id is None else '%08x' % tracker.stream_id
-        out['last_sequence'] = -1 if tracker.last is None else tracker.last
+        out['last_sequence'] = '' if tracker.last is None else str(tracker.last)
         out['latency_ms_mean'] = round(float(np.mean(lat)), 2) if lat else -1.0
         out['latency_ms_max'] = round(float(np.max(lat)), 2) if lat else -1.0
-        return out
+        return xmlrpc_safe(out)
+
+
+def xmlrpc_safe(value):
+    """``value`` with every int outside XML-RPC's 32-bit range turned into a float, so a
+    rospy.set_param of it can never fail (it did: one sequence of 10**12 stopped ~stats)."""
+    if isinstance(value, dict):
+        return dict((k, xmlrpc_safe(v)) for k, v in value.items())
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > XMLRPC_INT_MAX:
+        return float(value)
+    return value
 
 
 def to_message(frame, msg_class):
@@ -117,12 +155,15 @@ def to_message(frame, msg_class):
 class Bridge(object):
     """Websocket connection handler: validate, account, publish."""
 
-    def __init__(self, publish, msg_class, token, log):
+    def __init__(self, publish, msg_class, token, log, clock=time.monotonic):
         self.publish, self.msg_class, self.token, self.log = publish, msg_class, token, log
         self.stats = Stats()
         self.tracker = SequenceTracker()
+        self.layout = LayoutGuard()
         self._track_lock = threading.Lock()
         self._limiter = RateLimiter(WARN_INTERVAL)
+        self._clock = clock
+        self._owner = None  # (peer, connection id, time of its last published frame)
 
     def warn_limited(self, key, text):
         n = self._limiter.hit(key)
@@ -130,18 +171,44 @@ class Bridge(object):
             self.log.warning('%s (%d in the last %.0f s)' % (text, n, WARN_INTERVAL))
 
     def check_token(self, connection, request):
-        """websockets process_request hook: 401 unless the handshake carries the token."""
-        if not self.token:
+        """websockets process_request hook: 401 unless the handshake carries the token; 409
+        while another capture connection is streaming."""
+        if self.token:
+            given = request.headers.get(TOKEN_HEADER)
+            # websockets keeps non-ASCII header bytes as surrogate escapes: back to the raw
+            # bytes, compared with the UTF-8 token (a plain .encode() raised: HTTP 500).
+            raw = None if given is None else given.encode('ascii', 'surrogateescape')
+            if raw is None or not hmac.compare_digest(raw, self.token.encode('utf-8')):
+                cause = 'no token' if given is None else 'wrong token'
+                self.stats.add('rejected_connections')
+                self.stats.bad(cause)
+                self.warn_limited(cause, 'rejected websocket connection from %s: %s'
+                                  % (_peer(connection), cause))
+                return connection.respond(http.HTTPStatus.UNAUTHORIZED,
+                                          'missing or wrong token\n')
+        owner = self._streaming_owner()
+        if owner is not None:
+            self._refuse_second(_peer(connection), owner)
+            return connection.respond(http.HTTPStatus.CONFLICT, 'another capture (%s) is '
+                                      'streaming to this publisher\n' % owner)
+        return None
+
+    def _streaming_owner(self, exclude=None):
+        """Peer of the connection that published within ACTIVE_WINDOW s (not ``exclude``)."""
+        with self._track_lock:
+            owner = self._owner
+        if owner is None or owner[1] == exclude or self._clock() - owner[2] > ACTIVE_WINDOW:
             return None
-        given = request.headers.get(TOKEN_HEADER)
-        if given is not None and hmac.compare_digest(given.encode(), self.token.encode()):
-            return None
-        cause = 'no token' if given is None else 'wrong token'
+        return owner[0]
+
+    def _refuse_second(self, peer, owner):
         self.stats.add('rejected_connections')
-        self.stats.bad(cause)
-        self.warn_limited(cause, 'rejected websocket connection from %s: %s'
-                          % (_peer(connection), cause))
-        return connection.respond(http.HTTPStatus.UNAUTHORIZED, 'missing or wrong token\n')
+        self.stats.bad('second capture')
+        self.warn_limited('second capture', 'refused a second capture connection from %s: %s '
+                          'is already streaming to this publisher, and two streams would be '
+                          'published interleaved. Fix: run one naoqiAudio per publisher (stop '
+                          'the other one, e.g. a naoqi_driver audio bridge), or give each its '
+                          'own publisher --port and --topic' % (peer, owner))
 
     def handle(self, connection):
         """One capture connection: runs in its own thread until the peer goes away."""
@@ -152,7 +219,8 @@ class Bridge(object):
         try:
             for message in connection:
                 try:
-                    self.on_message(message, peer)
+                    if self.on_message(message, peer, id(connection)) == 'second capture':
+                        connection.close(1008, 'another capture is streaming')
                 except Exception as exc:  # e.g. publishing during shutdown: never kill the node
                     self.warn_limited('internal', 'frame from %s not published: %s: %s'
                                       % (peer, type(exc).__name__, exc))
@@ -163,7 +231,8 @@ class Bridge(object):
                                   ' %d bytes' % (peer, MAX_FRAME_BYTES))
         self.log.info('capture connection from %s closed' % peer)
 
-    def on_message(self, message, peer):
+    def on_message(self, message, peer, conn=None):
+        """Validate, account and publish one message; returns the drop cause or None."""
         self.stats.add('received')
         if isinstance(message, str):
             self.stats.bad('text message')
@@ -176,12 +245,40 @@ class Bridge(object):
                                  'needs the 4 of ALAudioDevice ALL' % frame.channels)
         except FrameError as exc:
             self.stats.bad(exc.cause)
-            return self.warn_limited(exc.cause, 'dropped bad frame from %s: %s' % (peer, exc))
+            self.warn_limited(exc.cause, 'dropped bad frame from %s: %s' % (peer, exc))
+            return exc.cause
+        owner = self._streaming_owner(exclude=conn)
+        if owner is not None:  # got past the handshake check at the same moment
+            self._refuse_second(peer, owner)
+            return 'second capture'
+        problem = self.layout.check(frame)
+        if problem:
+            kind, why = problem
+            self.stats.bad('layout mismatch')
+            text = 'dropped frame %d of stream %08x from %s: %s' % (frame.sequence,
+                                                                   frame.stream_id, peer, why)
+            if kind == 'confirmed':
+                self.log.warning(text)
+            else:
+                self.warn_limited('layout ' + kind, text)
+            return 'layout mismatch'
         msg = to_message(frame, self.msg_class)
         with self._track_lock:  # publish first: a frame that failed to publish counts as lost
-            self.publish(msg)
-            previous = self.tracker.last
-            missing, event = self.tracker.observe(frame.stream_id, frame.sequence)
+            if self.tracker.implausible(frame.stream_id, frame.sequence):
+                event = 'implausible'
+            else:
+                self.publish(msg)
+                previous = self.tracker.last
+                missing, event = self.tracker.observe(frame.stream_id, frame.sequence)
+                self._owner = (peer, conn, self._clock())
+        if event == 'implausible':
+            self.stats.bad('implausible sequence')
+            self.warn_limited('implausible sequence', 'dropped frame from %s: implausible sequence %d '
+                              'jumps %d buffers past %d in stream %08x (more than %d: corrupt '
+                              'or forged)' % (peer, frame.sequence, frame.sequence
+                                              - self.tracker.last, self.tracker.last,
+                                              frame.stream_id, MAX_GAP))
+            return 'implausible sequence'
         self.stats.add('published')
         end = frame.ts_sec + frame.ts_usec / 1e6 + frame.samples_per_channel / float(
             frame.sample_rate)
@@ -220,16 +317,35 @@ def parse_args(argv):
     for name in ('host', 'port', 'token', 'topic'):
         p.add_argument('--' + name, default=None,
                        help='overrides ~%s (default %r)' % (name, DEFAULTS[name]))
+    p.add_argument('--token-file', default=None,
+                   help='file holding the token (default: $PEPPER_AUDIO_TOKEN_FILE)')
     return p.parse_args(argv)
 
 
 def _options(args, rospy):
+    """Options from the command line, else the private params, else DEFAULTS. The token: see
+    read_token (--token, --token-file, $PEPPER_AUDIO_TOKEN_FILE, $PEPPER_AUDIO_TOKEN); a ~token
+    param still works but is readable by every node: it gets a warning and is deleted once
+    read. Raises ValueError (TokenError, PortError) with the fix."""
     opts = {}
     for name, default in DEFAULTS.items():
-        cli = getattr(args, name)
-        opts[name] = cli if cli is not None else rospy.get_param('~' + name, default)
-    opts['port'] = port_arg(opts['port'])
-    opts['token'] = str(opts['token'])
+        if name != 'token':
+            cli = getattr(args, name)
+            opts[name] = cli if cli is not None else rospy.get_param('~' + name, default)
+    opts['port'] = listen_port_arg(opts['port'])
+    token, where, warning = read_token(args.token, args.token_file)
+    if rospy.has_param('~token'):
+        param = str(rospy.get_param('~token'))
+        rospy.delete_param('~token')
+        if not token and param:
+            token, warning = param, ('token taken from the ~token param, readable by every '
+                                     'node (now deleted); use $PEPPER_AUDIO_TOKEN_FILE')
+    if warning:
+        rospy.logwarn(warning)
+    if where == '$PEPPER_AUDIO_TOKEN' and any(a.startswith('__log:=') for a in sys.argv):
+        rospy.logwarn('token taken from $PEPPER_AUDIO_TOKEN under roslaunch, which writes every '
+                      'process\'s environment into its log file; use $PEPPER_AUDIO_TOKEN_FILE')
+    opts['token'] = token
     return opts
 
 
@@ -246,10 +362,16 @@ def _wait_for_master(log):
 def _resume(bridge, rospy):
     """Continue sequence accounting from the previous run's ``~stats``, if any."""
     old = rospy.get_param('~stats', None)
-    if isinstance(old, dict) and old.get('stream_id') and old.get('last_sequence', -1) >= 0:
-        bridge.tracker = SequenceTracker(int(old['stream_id'], 16), int(old['last_sequence']))
+    if not isinstance(old, dict) or not old.get('stream_id'):
+        return
+    try:
+        stream_id, last = int(old['stream_id'], 16), int(old.get('last_sequence', ''))
+    except (TypeError, ValueError):
+        return
+    if last >= 0:
+        bridge.tracker = SequenceTracker(stream_id, last)
         rospy.loginfo('continuing sequence accounting of stream %s after sequence %d (from '
-                      'the previous ~stats)', old['stream_id'], old['last_sequence'])
+                      'the previous ~stats)', old['stream_id'], last)
 
 
 def _stats_loop(bridge, stop, rospy):
@@ -296,15 +418,16 @@ def main(argv=None):
                        max_size=MAX_FRAME_BYTES, process_request=bridge.check_token,
                        logger=quiet)
     except OSError as exc:
-        rospy.logerr('cannot listen on %s:%d: %s' % (opts['host'], opts['port'], exc.strerror
-                                                      or exc))
+        rospy.logerr('cannot listen on %s:%d: %s (fix: another --port / ~port, or 0 for any '
+                     'free port)' % (opts['host'], opts['port'], exc.strerror or exc))
         return 1
     stop = threading.Event()
     threading.Thread(target=server.serve_forever, name='websocket', daemon=True).start()
     threading.Thread(target=_stats_loop, args=(bridge, stop, rospy), name='stats',
                      daemon=True).start()
+    port = server.socket.getsockname()[1]  # the real one when --port 0 let the system choose
     rospy.loginfo('listening on ws://%s:%d%s, publishing %s' % (
-        opts['host'], opts['port'], ' (token required)' if opts['token'] else '',
+        opts['host'], port, ' (token required)' if opts['token'] else '',
         rospy.resolve_name(opts['topic'])))
 
     def shutdown():

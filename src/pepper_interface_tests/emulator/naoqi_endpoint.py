@@ -30,7 +30,7 @@ import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, port_arg,
+from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, listen_port_arg,
                                                  without_remappings)
 from pepper_interface_tests.emulator.audio_source import AudioSource, CHANNEL_NAMES
 
@@ -224,7 +224,8 @@ def _host(value):
 
 def parse_args(argv):
     p = OneLineParser(prog='naoqiEndpoint', description=__doc__.split('\n')[0])
-    p.add_argument('--port', type=port_arg, default=9559, help='TCP port (default 9559)')
+    p.add_argument('--port', type=listen_port_arg, default=9559,
+                   help='TCP port (default 9559; 0 = any free port, the ready line says which)')
     p.add_argument('--host', type=_host, default='127.0.0.1',
                    help='address to listen on (default 127.0.0.1)')
     p.add_argument('--pattern', choices=('tones', 'counter'), default='tones',
@@ -267,7 +268,8 @@ def main(argv=None):
     ids = [app.session.registerService('ALAudioDevice', ALAudioDeviceService(device)),
            app.session.registerService('ALTextToSpeech', ALTextToSpeechService(source))]
     device.start()
-    sys.stdout.write('NAOqi endpoint ready on %s\n' % url)
+    bound = [u for u in app.session.endpoints() if u.startswith('tcp://%s:' % args.host)]
+    sys.stdout.write('NAOqi endpoint ready on %s\n' % (bound[0] if bound else url))
     sys.stdout.flush()
     while not stop.wait(0.5):
         pass
