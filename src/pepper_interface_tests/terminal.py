@@ -45,6 +45,7 @@ class Terminal:
                      else ('robot' if run.source == 'live' else 'bag ' + run.source),
                      plan.mode, 'quick' if plan.quick else '%g s each' % round(plan.duration, 1),
                      plan.output_dir))
+        for note in getattr(plan, 'notes', ()): self.line('  note: ' + note)  # noqa: E701 (what is left out, windows)
 
     def sensor_started(self, sensor_run):
         p = sensor_run.plan
