@@ -130,6 +130,7 @@ def format_compare(a, b, rows, threshold=RATE_FLAG, total=80):
     else:
         lines.append('no verdict changed')
     flagged = [r for r in rows if r['rate_flag']]
+    lines.append('')
     if flagged:
         lines.append('%d rate change%s over %g%%:' % (len(flagged), '' if len(flagged) == 1 else 's',
                                                        100 * threshold))
