@@ -45,7 +45,7 @@ class Terminal:
                      else ('robot' if run.source == 'live' else 'bag ' + run.source),
                      plan.mode, 'quick' if plan.quick else '%g s each' % round(plan.duration, 1),
                      plan.output_dir))
-        for note in getattr(plan, 'notes', ()): self.line('  note: ' + note)  # noqa: E701 (what is left out, windows)
+        for note in getattr(plan, 'notes', ()): self.line(textwrap.fill(note, max(40, shutil.get_terminal_size((80, 20)).columns - 1), initial_indent='  note: ', subsequent_indent=' ' * 8))  # noqa: E501,E701 (what is left out and why; windows)
 
     def sensor_started(self, sensor_run):
         p = sensor_run.plan
