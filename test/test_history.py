@@ -360,6 +360,13 @@ def test_failed_prints_the_options_that_rerun_what_failed(two_runs, module_maste
                                                           '--output-dir', str(rerun_out)])
     data = load(rerun_out / 'sensorTestResults.json')
     assert [s['name'] for s in data['sensors']] == ['laser'] and proc.returncode == 1
+    # sensorTest --rerun-failed does the same from the output folder's latest JSON (here: the
+    # laser's failed re-run above); the header says so
+    again = sensor_test(module_master, ['--rerun-failed', '--duration', '1', '--wait', '1',
+                                        '--output-dir', str(rerun_out)])
+    assert again.returncode == 1, again.stdout + again.stderr
+    assert [s['name'] for s in load(rerun_out / 'sensorTestResults.json')['sensors']] == ['laser']
+    assert 'note: re-running what did not pass in run %s: laser' % data['run_id'] in again.stdout
     # every verdict that is not PASS or SKIPPED counts (e.g. an INTERRUPTED sensor), in run order
     mine, _ = copy_history(two_runs, tmp_path)
     add_run(mine, '29990101-000000', json.dumps({'platform': 'simulator', 'source': 'live', 'sensors': [

@@ -626,3 +626,29 @@ def test_malformed_expectations_name_the_line(files, text, line, words):
 def test_expectations_of_the_other_platform_are_not_checked(files):
     write(files.expectations, 'simulator:\n  laser:\n    rate: 5\n')
     assert load_plan(files.options(sensors=('laser',))).platform == 'robot'
+
+
+# ------------------------------------------------------------------ --rerun-failed
+
+def test_rerun_failed_reads_the_latest_run_of_the_output_folder(files):
+    import json
+    os.makedirs(files.out)
+    path = os.path.join(files.out, 'sensorTestResults.json')
+    e = error_of(files.options(rerun_failed=True))
+    assert 'no previous run in %s' % files.out in e.message and 'without --rerun-failed' in e.fix
+    run = {'run_id': '20260101-000000', 'platform': 'robot', 'sensors': [
+        {'name': 'laser', 'verdict': 'FAIL'}, {'name': 'imu', 'verdict': 'PASS'},
+        {'name': 'odometry', 'verdict': 'INTERRUPTED'}, {'name': 'speech', 'verdict': 'SKIPPED'}]}
+    write(path, json.dumps(run))
+    plan = load_plan(files.options(rerun_failed=True))
+    assert plan_names(plan) == ['laser', 'odometry']
+    assert 're-running what did not pass in run 20260101-000000: laser, odometry' in plan.notes
+    e = error_of(files.options(rerun_failed=True, platform='simulator', topics=files.sim))
+    assert 'on the robot platform' in e.message and e.fix == 'add --platform robot'
+    assert '--sensors' in error_of(files.options(rerun_failed=True, sensors=('imu',))).message
+    for s in run['sensors']:
+        s['verdict'] = 'PASS'
+    write(path, json.dumps(run))
+    assert 'nothing to re-run' in error_of(files.options(rerun_failed=True)).message
+    write(path, '{"sensors": "laser"}')
+    assert 'is not a sensorTest result' in error_of(files.options(rerun_failed=True)).message

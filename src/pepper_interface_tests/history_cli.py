@@ -230,10 +230,15 @@ def cmd_open(args, runs, out):
     return EXIT_OK
 
 
+def not_passed(data):
+    """Names of a run's sensors that did not pass (FAIL, INTERRUPTED, ...), in run order."""
+    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
+
+
 def cmd_failed(args, runs, out):
     run = _run_or_latest(runs, args.run, lambda r: '' if r.complete else 'cannot be read: ' + r.problem,
                          'a readable %s' % results.JSON_FILE)
-    failed = [s['name'] for s in run.data.get('sensors', []) if s.get('verdict') not in PASSING]
+    failed = not_passed(run.data)
     if not failed:
         _note('no sensor failed in run %s: nothing to re-run' % run.run_id)
         return EXIT_NOTHING

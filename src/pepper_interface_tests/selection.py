@@ -88,6 +88,38 @@ def sensors_option_notes(order, cameras):
     return notes
 
 
+def rerun_failed(output_dir, platform, options):
+    """--rerun-failed: the sensors that did not pass in the latest run of `output_dir` (its
+    sensorTestResults.json, the spec's path) -> (sensor names, notes). Same names and rule as
+    `sensorTestHistory failed`."""
+    import os
+    from . import history, results
+    from .history_cli import not_passed
+    path = os.path.join(output_dir, results.JSON_FILE)
+    fix = 'run sensorTest once without --rerun-failed, or point --output-dir at the folder of that run'
+    if options.sensors:
+        raise ConfigError('--rerun-failed and --sensors both choose the sensors',
+                          fix='give one of them (sensorTestHistory failed prints the --sensors of the last run)')
+    try:
+        data = results.load_json(path)
+    except FileNotFoundError:
+        raise ConfigError('--rerun-failed: no previous run in %s (no %s)' % (output_dir, results.JSON_FILE), fix=fix)
+    except (OSError, ValueError) as e:
+        raise ConfigError('--rerun-failed: cannot read %s: %s' % (path, e), fix=fix)
+    why = history.malformed(data)
+    if why:
+        raise ConfigError('--rerun-failed: %s is not a sensorTest result (%s)' % (path, why), fix=fix)
+    run_id = data.get('run_id') or '?'
+    if data.get('platform') not in (None, platform):
+        raise ConfigError('--rerun-failed: run %s was on the %s platform, this run is on the %s'
+                          % (run_id, data['platform'], platform), fix='add --platform %s' % data['platform'])
+    failed = not_passed(data)
+    if not failed:
+        raise ConfigError('--rerun-failed: nothing to re-run: no sensor failed in run %s (%s)' % (run_id, path),
+                          fix='run sensorTest without --rerun-failed to test every sensor')
+    return tuple(failed), ['re-running what did not pass in run %s: %s' % (run_id, _names(failed))]
+
+
 def require_heard_notes(plans, options, input_path):
     """--require-heard: refuse a live run with speech but no microphone; a note when it has no
     effect. `plans` are the run's SensorPlans."""

@@ -73,6 +73,7 @@ class Options:
     diagnostics: Optional[bool] = None
     report: Optional[bool] = None
     debug: Optional[bool] = None
+    rerun_failed: Optional[bool] = None
 
     def merged(self, other):
         """Values of `other` where given, else ours."""
@@ -269,6 +270,12 @@ def load_plan(options=Options()):
     topics = read_topics(topics_path)
     expectations = read_expectations(expect_path, platform)
 
+    output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
+        else default_output_dir()
+    rerun_notes = []
+    if options.rerun_failed:
+        sensors, rerun_notes = selection.rerun_failed(output_dir, platform, options)
+        options = replace(options, sensors=sensors)
     if options.sensors is not None and not options.sensors:
         raise ConfigError('--sensors names no sensor', fix='give sensor names, e.g. --sensors laser,imu '
                           '(valid: %s), or leave --sensors out to run the input file' % _valid_names())
@@ -281,7 +288,7 @@ def load_plan(options=Options()):
                                   fix='valid sensors: ' + _valid_names())
             if name not in [n for n, _ in order]:
                 order.append((name, True))
-        notes = selection.sensors_option_notes([n for n, _ in order], cameras)
+        notes = rerun_notes + selection.sensors_option_notes([n for n, _ in order], cameras)
     else:
         names, notes = selection.select(read_input(input_path), cameras, os.path.basename(input_path),
                                         platform)
@@ -307,8 +314,6 @@ def load_plan(options=Options()):
         plans.append(SensorPlan(sensor, topic, expectations[name], skip))
     notes += selection.require_heard_notes(plans, options, input_path)
 
-    output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
-        else default_output_dir()
     files = MappingProxyType({'configuration': config_path, 'input': input_path,
                               'topics': topics_path, 'expectations': expect_path})
     return TestPlan(platform=platform, mode=mode, duration=duration, wait=wait,
