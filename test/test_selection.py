@@ -112,3 +112,29 @@ def test_header_tells_the_microphone_window_in_sequential_mic_mode(module_master
     assert 'microphone listens 4 s: --mic-mode sequential, each of the 4 microphones for 1 s' in said, proc.stdout
     window = results_of(tmp_path)['microphone']['window_s']
     assert 3.8 <= window <= 4.6, window                    # what the header says is what happened
+
+
+def test_emulator_launch_with_realsense_tests_the_realsense(master, tmp_path):
+    """Before: `pepperEmulator.launch realsense:=true run_test:=true` published the RealSense
+    topics but sensorTest never listened to them (cameras=both kept the input file's false)."""
+    import time
+    from rosmaster import ROOT
+    out_dir = tmp_path / 'results'
+    log_path = tmp_path / 'roslaunch.log'
+    with open(str(log_path), 'w') as log:
+        launch = spawn(['roslaunch', os.path.join(ROOT, 'launch', 'pepperEmulator.launch'), 'realsense:=true',
+                        'run_test:=true', 'audio:=direct', 'duration:=3', 'output_dir:=%s' % out_dir],
+                       master.env(), stdout=log, stderr=subprocess.STDOUT)
+        try:
+            deadline = time.monotonic() + 150
+            while launch.poll() is None and time.monotonic() < deadline:
+                time.sleep(0.5)
+        finally:
+            kill_group(launch)
+    text = log_path.read_text()
+    r = results_of(out_dir)
+    for name in ('realsenseRGBCamera', 'realsenseDepthCamera'):
+        assert r[name]['verdict'] != 'SKIPPED' and r[name]['messages'] > 0, (name, r[name], text[-3000:])
+    assert all(r[n]['verdict'] != 'SKIPPED' for n in PEPPER_CAMS)        # both = Pepper's cameras too
+    assert any(n.startswith('cameras: bottomCamera, frontCamera, realsenseRGBCamera, realsenseDepthCamera')
+               for n in notes(text)), text
