@@ -307,6 +307,15 @@ def compare(a, b, threshold=RATE_FLAG):
     return rows
 
 
+PASSING = (results.PASS, results.SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
+
+
+def not_passed(data):
+    """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
+    `sensorTest --rerun-failed`)."""
+    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
+
+
 def main(argv=None, out=None):
     """sensorTestHistory; its commands live in history_cli.py."""
     from .history_cli import main as cli_main

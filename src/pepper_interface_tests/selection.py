@@ -94,7 +94,6 @@ def rerun_failed(output_dir, platform, options):
     `sensorTestHistory failed`."""
     import os
     from . import history, results
-    from .history_cli import not_passed
     path = os.path.join(output_dir, results.JSON_FILE)
     fix = 'run sensorTest once without --rerun-failed, or point --output-dir at the folder of that run'
     if options.sensors:
@@ -113,7 +112,7 @@ def rerun_failed(output_dir, platform, options):
     if data.get('platform') not in (None, platform):
         raise ConfigError('--rerun-failed: run %s was on the %s platform, this run is on the %s'
                           % (run_id, data['platform'], platform), fix='add --platform %s' % data['platform'])
-    failed = not_passed(data)
+    failed = history.not_passed(data)
     if not failed:
         raise ConfigError('--rerun-failed: nothing to re-run: no sensor failed in run %s (%s)' % (run_id, path),
                           fix='run sensorTest without --rerun-failed to test every sensor')
