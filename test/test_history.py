@@ -16,8 +16,12 @@ from report_helpers import printed_path, sensor_test, start_publishers, stop
 BACK, LASER = '/naoqi_driver/sonar/back', '/naoqi_driver/laser'
 
 
-def history(*args):
-    return subprocess.run(script('sensorTestHistory') + list(args), capture_output=True, text=True, timeout=60)
+def history(*args, env=None):
+    environment = dict(os.environ)
+    environment.pop('COLUMNS', None)          # 80 columns unless the test says otherwise
+    environment.update(env or {})
+    return subprocess.run(script('sensorTestHistory') + list(args), capture_output=True, text=True,
+                          timeout=60, env=environment)
 
 
 def load(path):
@@ -100,8 +104,9 @@ def test_compare_shows_verdict_and_rate_changes(two_runs):
     back = next(line for line in p.stdout.splitlines() if line.startswith('backSonar '))
     change = float(re.search(r'(-?\d+\.\d)%', back).group(1))
     assert back.endswith('!') and -55.0 < change < -45.0           # about -50 %, flagged
-    assert '1 verdict change: laser PASS -> FAIL' in p.stdout
-    assert 'rate change' in p.stdout and 'over 20%' in p.stdout
+    assert '1 verdict change:' in p.stdout
+    assert re.search(r'^  laser +PASS +FAIL +no publisher on /naoqi_driver/laser', p.stdout, re.M), p.stdout
+    assert '2 rate changes over 20%:' in p.stdout and re.search(r'backSonar +\d+\.\d\d Hz +-> +\d', p.stdout)
     explicit = history('--output-dir', str(out), 'compare', runs[0], runs[1], '--json')
     rows = {r['sensor']: r for r in json.loads(explicit.stdout)['sensors']}
     assert rows['laser']['verdict_changed'] and rows['backSonar']['rate_flag']
@@ -260,3 +265,154 @@ def test_compare_skips_an_incomplete_latest_run(two_runs, tmp_path):
     shutil.rmtree(str(out / 'runs' / runs[0]))
     few = history('--output-dir', str(out), 'compare')
     assert few.returncode == 2 and 'needs two runs' in few.stderr and 'has 1 complete' in few.stderr and '2 incomplete' in few.stderr
+
+
+# ------------------------------------------------------------------ the command line: options, open, failed, prune
+
+def test_output_dir_before_or_after_the_command(two_runs):
+    """Before: `sensorTestHistory list --output-dir DIR` was a usage error (exit 2)."""
+    out, *_ = two_runs
+    before = history('--output-dir', str(out), 'list')
+    after = history('list', '--output-dir', str(out))
+    assert after.returncode == 0, after.stderr
+    assert after.stdout == before.stdout and '2 runs in %s' % (out / 'runs') in after.stdout
+    for cmd in (['compare'], ['path'], ['open'], ['failed'], ['prune', '--keep', '5', '--dry-run']):
+        p = history(*cmd, '--output-dir', str(out))
+        assert p.returncode == 0 and p.stdout, (cmd, p.stdout, p.stderr)
+        assert p.stdout == history('--output-dir', str(out), *cmd).stdout, cmd
+    # both given: the one after the command wins; neither: sensorTest's default (not an error)
+    p = history('--output-dir', '/nonexistent/x', 'path', '--output-dir', str(out))
+    assert p.returncode == 0 and p.stdout.startswith(str(out))
+
+
+@pytest.mark.parametrize('columns', [80, 120])
+def test_compare_prints_verdict_changes_as_a_table_that_fits(two_runs, columns):
+    """Before: one line "1 verdict change: laser PASS -> FAIL (no publisher on ...)" of any length."""
+    out, *_ = two_runs
+    p = history('--output-dir', str(out), 'compare', env={'COLUMNS': str(columns)})
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert max(len(line) for line in lines) <= columns, '\n'.join(l for l in lines if len(l) > columns)
+    i = lines.index('1 verdict change:')
+    assert lines[i + 1].split() == ['sensor', 'A', 'B', 'why']
+    assert lines[i + 2].split()[:3] == ['laser', 'PASS', 'FAIL']
+    col = lines[i + 1].index('why')
+    reason_lines = [lines[i + 2][col:]]
+    for line in lines[i + 3:]:
+        if not line.startswith(' ' * col):
+            break
+        reason_lines.append(line[col:])
+    reasons = load(out / 'sensorTestResults.json')['sensors'][1]['reasons']
+    assert ' '.join(reason_lines) == '; '.join(reasons)          # the whole reason, in its column
+    if columns == 80:
+        assert len(reason_lines) > 1                          # wrapped inside the column
+
+
+def test_open_prints_the_latest_report_and_never_blocks(two_runs, tmp_path):
+    out, *_ = two_runs
+    runs = sorted(os.listdir(out / 'runs'))
+    report = str(out / 'runs' / runs[1] / 'sensorTestReport.html')
+    p = history('--output-dir', str(out), 'open', env={'DISPLAY': ''})
+    assert p.returncode == 0 and p.stdout == report + '\n', p.stderr
+    assert history('--output-dir', str(out), 'open', runs[0]).stdout.startswith(str(out / 'runs' / runs[0]))
+    # --browser without a display (CI): the path, a note, exit 0, nothing started
+    env = {'DISPLAY': '', 'WAYLAND_DISPLAY': ''}
+    p = history('--output-dir', str(out), 'open', '--browser', env=env)
+    assert p.returncode == 0 and p.stdout == report + '\n' and 'no display' in p.stderr
+    # with a display: xdg-open is started and not waited for (this one takes 60 s to return)
+    bin_dir = tmp_path / 'bin'
+    bin_dir.mkdir()
+    log = tmp_path / 'opened.txt'
+    (bin_dir / 'xdg-open').write_text('#!/bin/sh\necho "$$ $1" > %s\nexec sleep 60\n' % log)
+    (bin_dir / 'xdg-open').chmod(0o755)
+    t0 = time.monotonic()
+    p = history('--output-dir', str(out), 'open', '--browser',
+                env={'DISPLAY': ':99', 'PATH': '%s:%s' % (bin_dir, os.environ['PATH'])})
+    took = time.monotonic() - t0
+    assert p.returncode == 0 and p.stdout == report + '\n', p.stderr
+    assert took < 10, took
+    deadline = time.monotonic() + 10
+    while not (log.exists() and log.read_text()) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    pid, opened = log.read_text().split()
+    os.kill(int(pid), signal.SIGTERM)                        # the stand-in browser this test made
+    assert opened == report
+    # a run without a report (--no-report, still going): skipped with a note, or named: exit 2
+    mine, ids = copy_history(two_runs, tmp_path)
+    add_run(mine, '29990101-000000', '{"sensors": []}')
+    p = history('--output-dir', str(mine), 'open')
+    assert p.returncode == 0 and p.stdout.startswith(str(mine / 'runs' / ids[1])), p.stderr
+    assert 'skipping run 29990101-000000' in p.stderr and 'no sensorTestReport.html' in p.stderr
+    named = history('--output-dir', str(mine), 'open', '29990101')
+    assert named.returncode == 2 and 'has no sensorTestReport.html' in named.stderr
+
+
+def test_failed_prints_the_options_that_rerun_what_failed(two_runs, module_master, tmp_path):
+    out, *_ = two_runs
+    runs = sorted(os.listdir(out / 'runs'))
+    p = history('--output-dir', str(out), 'failed')
+    assert p.returncode == 0 and p.stdout == '--sensors laser\n', p.stdout + p.stderr
+    nothing = history('--output-dir', str(out), 'failed', runs[0])       # run 1: all passed
+    assert nothing.returncode == 1 and nothing.stdout == '' and 'no sensor failed' in nothing.stderr
+    # what it prints is what sensorTest takes: only the laser runs
+    rerun_out = tmp_path / 'rerun'
+    proc = sensor_test(module_master, p.stdout.split() + ['--duration', '1', '--wait', '1',
+                                                          '--output-dir', str(rerun_out)])
+    data = load(rerun_out / 'sensorTestResults.json')
+    assert [s['name'] for s in data['sensors']] == ['laser'] and proc.returncode == 1
+    # sensorTest --rerun-failed does the same from the output folder's latest JSON (here: the
+    # laser's failed re-run above); the header says so
+    again = sensor_test(module_master, ['--rerun-failed', '--duration', '1', '--wait', '1',
+                                        '--output-dir', str(rerun_out)])
+    assert again.returncode == 1, again.stdout + again.stderr
+    assert [s['name'] for s in load(rerun_out / 'sensorTestResults.json')['sensors']] == ['laser']
+    assert 'note: re-running what did not pass in run %s: laser' % data['run_id'] in again.stdout
+    # every verdict that is not PASS or SKIPPED counts (e.g. an INTERRUPTED sensor), in run order
+    mine, _ = copy_history(two_runs, tmp_path)
+    add_run(mine, '29990101-000000', json.dumps({'platform': 'simulator', 'source': 'live', 'sensors': [
+        {'name': 'imu', 'verdict': 'INTERRUPTED'}, {'name': 'laser', 'verdict': 'PASS'},
+        {'name': 'odometry', 'verdict': 'FAIL'}, {'name': 'speech', 'verdict': 'SKIPPED'}]}))
+    p = history('--output-dir', str(mine), 'failed')
+    assert p.stdout == '--platform simulator --sensors imu,odometry\n', p.stdout + p.stderr
+
+
+def test_prune_keeps_the_last_runs_and_says_why_it_keeps_the_published_one(two_runs, tmp_path):
+    import shutil
+    out, *_ = two_runs
+    mine, ids = copy_history(two_runs, tmp_path)
+    shutil.copy(str(out / '.sensorTestLatest.json'), str(mine))       # the output folder holds run 2
+    for old in ('20200101-000000', '20200102-000000'):                   # two old runs (real copies)
+        shutil.copytree(str(mine / 'runs' / ids[0]), str(mine / 'runs' / old))
+    add_run(mine, '29990101-000000', '{"sensors": []}')                   # newer than the published run
+    before = sorted(os.listdir(mine / 'runs'))
+    dry = history('--output-dir', str(mine), 'prune', '--keep', '1', '--dry-run', env={'COLUMNS': '80'})
+    assert dry.returncode == 0, dry.stderr
+    assert sorted(os.listdir(mine / 'runs')) == before                  # a dry run deletes nothing
+    assert 'would delete 3 runs' in dry.stdout and 'dry run: nothing deleted' in dry.stdout
+    assert max(len(line) for line in dry.stdout.splitlines()[:-1]) <= 80
+    p = history('--output-dir', str(mine), 'prune', '--keep', '1')
+    assert p.returncode == 0, p.stderr
+    # kept: the newest run and the run the latest files point at, with a line saying so
+    assert sorted(os.listdir(mine / 'runs')) == [ids[1], '29990101-000000']
+    keep = ' '.join(line for line in p.stdout.splitlines() if ids[1] in line or line.startswith(' '))
+    assert 'keep' in keep and "latest files" in keep and "this run's" in keep, p.stdout
+    assert 'deleted 3 runs' in p.stdout and all(r in p.stdout for r in ('20200101-000000', ids[0]))
+    # --days: the 2999 run is "newer"; nothing else left to delete but the published run
+    p = history('--output-dir', str(mine), 'prune', '--days', '30')
+    assert p.returncode == 0 and sorted(os.listdir(mine / 'runs')) == [ids[1], '29990101-000000']
+    # usage errors: no rule, a negative count
+    assert history('--output-dir', str(mine), 'prune').returncode == 2
+    bad = history('--output-dir', str(mine), 'prune', '--keep', '-1')
+    assert bad.returncode == 2 and 'whole number' in bad.stderr
+
+
+def test_prune_keeps_a_run_that_may_still_be_going(two_runs, tmp_path):
+    mine, ids = copy_history(two_runs, tmp_path)
+    going = add_run(mine, '20200101-000000')                 # old id, no JSON, files just written
+    (going / 'sensorTestOutput.dat').write_text('[START TIME]\n')
+    odd = mine / 'runs' / 'my-notes'
+    odd.mkdir()
+    p = history('--output-dir', str(mine), 'prune', '--keep', '0')
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(mine / 'runs')) == ['20200101-000000', 'my-notes']
+    assert 'may still be going' in p.stdout and 'not a run id' in p.stdout

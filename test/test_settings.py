@@ -155,7 +155,7 @@ def test_every_spelling_works_in_all_three_files(files, spelling):
         write(files.topics, '%s /spelled/%d\n' % (key, i))
         write(files.expectations, 'defaults:\n  min_messages: 3\nrobot:\n  %s:\n    nominal: %d\n'
               % (key, 40 + i))
-        plan = load_plan(files.options(cameras='both'))
+        plan = load_plan(files.options())      # the input file decides: the cameras too
         assert plan_names(plan) == [name], key
         assert plan.sensors[0].topic == '/spelled/%d' % i, key
         assert plan.sensors[0].expect.nominal == 40 + i, key
@@ -374,23 +374,106 @@ def test_input_file_order_is_execution_order(files):
     assert plan_names(load_plan(files.options())) == order
 
 
-@pytest.mark.parametrize('cameras, skipped', [
-    ('pepper', {'realsenseRGBCamera', 'realsenseDepthCamera'}),
-    ('realsense', {'frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera'}),
-    ('both', set()),
-    ('BOTH', set()),
+PEPPER_CAMS = ['bottomCamera', 'frontCamera', 'depthCamera', 'stereoCamera']
+REALSENSE = ['realsenseRGBCamera', 'realsenseDepthCamera']
+
+
+def shipped_like_input(files):
+    """The shipped input file's choice: every sensor on but the two RealSense cameras."""
+    write(files.input, ''.join('%s %s\n' % (n, 'false' if n in REALSENSE else 'true') for n in ALL))
+
+
+@pytest.mark.parametrize('cameras, tested, skipped', [
+    (None, PEPPER_CAMS, []),                            # the input file decides
+    ('pepper', PEPPER_CAMS, []),
+    ('realsense', REALSENSE, PEPPER_CAMS),              # before: 4 SKIPPED, no camera tested
+    ('both', PEPPER_CAMS + REALSENSE, []),              # before: never the RealSense
+    ('BOTH', PEPPER_CAMS + REALSENSE, []),
 ])
-def test_cameras_choice(files, cameras, skipped):
+def test_cameras_option_selects_the_cameras_it_names(files, cameras, tested, skipped):
+    shipped_like_input(files)
     plan = load_plan(files.options(cameras=cameras))
+    active = [s.name for s in plan.active if s.sensor.camera]
+    assert sorted(active) == sorted(tested)
     got = {s.name: s.skip_reason for s in plan.sensors if s.skip_reason}
-    assert set(got) == skipped
-    for reason in got.values():
-        assert 'cameras=%s' % cameras.lower() in reason
-    assert plan_names(plan) == ALL     # skipped sensors keep their place
+    assert sorted(got) == sorted(skipped)
+    assert all(r == 'left out by --cameras realsense' for r in got.values())
+    # the other sensors are the input file's, in its order; the cameras keep the file's order
+    assert plan_names(plan) == [n for n in ALL if n not in REALSENSE or n in tested]
+    notes = '\n'.join(plan.notes)
+    if cameras is None:        # the header says what is left out and how to test it
+        assert 'not tested: realsenseRGBCamera, realsenseDepthCamera (false in input.ini)' in notes
+        assert '--cameras realsense' in notes and '--cameras both' in notes
+    else:
+        assert 'cameras: %s (--cameras %s' % (', '.join(n for n in ALL if n in tested), cameras.lower()) in notes
+    if skipped:
+        assert 'skipped: %s (left out by --cameras realsense)' % ', '.join(
+            n for n in ALL if n in skipped) in notes
 
 
-def test_cameras_default_is_both(files):
-    assert load_plan(files.options()).cameras == 'both'
+def test_cameras_option_adds_cameras_missing_from_the_input_file(files):
+    write(files.input, 'laser true\nfrontCamera false\n')
+    plan = load_plan(files.options(cameras='realsense'))
+    assert plan_names(plan) == ['laser'] + REALSENSE
+    assert [s.name for s in plan.active] == ['laser'] + REALSENSE
+    assert any('not tested: frontCamera (false in input.ini)' in n for n in plan.notes), plan.notes
+
+
+def test_cameras_option_with_sensors_only_leaves_out(files):
+    """--sensors is exact: --cameras adds nothing to it and SKIPS the other group's cameras."""
+    plan = load_plan(files.options(sensors=('laser', 'frontCamera', 'realsenseRGBCamera'), cameras='pepper'))
+    assert plan_names(plan) == ['laser', 'frontCamera', 'realsenseRGBCamera']
+    assert {s.name: s.skip_reason for s in plan.sensors if s.skip_reason} == \
+        {'realsenseRGBCamera': 'left out by --cameras pepper'}
+    assert any('adds no camera to --sensors' in n and 'bottomCamera' in n for n in plan.notes), plan.notes
+
+
+def test_cameras_default_is_the_input_file(files):
+    assert load_plan(files.options()).cameras is None
+    shipped_like_input(files)
+    assert [s.name for s in load_plan(files.options()).active if s.sensor.camera] == PEPPER_CAMS
+
+
+def test_realsense_in_the_simulator_is_skipped_with_its_reason(files):
+    plan = load_plan(files.options(platform='simulator', cameras='realsense'))
+    got = {s.name: s.skip_reason for s in plan.sensors if s.sensor.camera}
+    assert got['realsenseRGBCamera'] == got['realsenseDepthCamera'] == 'not available in the simulator'
+    shipped_like_input(files)     # no hint to use --cameras realsense where there is none
+    assert not any('--cameras realsense' in n for n in load_plan(files.options(platform='simulator')).notes)
+
+
+# ------------------------------------------------------------------ --require-heard, windows in the header
+
+def test_require_heard_without_the_microphone_is_refused(files):
+    """Before: speech passed with no note (nothing could hear it)."""
+    e = error_of(files.options(sensors=('speech', 'laser'), require_heard=True))
+    assert '--require-heard' in e.message and 'microphone is not in this run' in e.message
+    assert '--sensors speech,microphone' in e.fix and 'input.ini' in e.fix
+    write(files.input, 'speech true\nmicrophone false\n')
+    assert 'microphone is not in this run' in error_of(files.options(require_heard=True)).message
+    plan = load_plan(files.options(sensors=('speech', 'microphone'), require_heard=True))
+    assert any('passes only when the microphones hear' in n for n in plan.notes)
+
+
+@pytest.mark.parametrize('extra, words', [
+    (dict(sensors=('laser',)), 'speech is not in this run'),
+    (dict(platform='simulator'), 'speech is not available in the simulator'),
+    (dict(bag='/tmp/x.bag'), 'speech is not checked from a bag'),
+])
+def test_require_heard_without_speech_has_no_effect_and_says_so(files, extra, words):
+    plan = load_plan(files.options(require_heard=True, **extra))
+    assert any('--require-heard has no effect' in n and words in n for n in plan.notes), plan.notes
+
+
+def test_header_notes_tell_each_window(files):
+    """Before: the header said "2 s each" while the microphone listened 8 s."""
+    plan = load_plan(files.options(mic_mode='sequential', duration=2.0))
+    assert 'microphone listens 8 s: --mic-mode sequential, each of the 4 microphones for 2 s' in plan.notes
+    assert any(n.startswith('speech: one sentence') and 'listen 4 s' in n for n in plan.notes)
+    # computed from the plan as it is run (cli.run_bag changes the duration after loading)
+    assert 'microphone listens 20 s' in '\n'.join(settings.replace(plan, duration=5.0).notes)
+    together = load_plan(files.options(duration=2.0, sensors=('microphone', 'laser')))
+    assert not any('listens' in n for n in together.notes)
 
 
 def test_simulator_skips_what_the_simulator_lacks(files):
@@ -543,3 +626,29 @@ def test_malformed_expectations_name_the_line(files, text, line, words):
 def test_expectations_of_the_other_platform_are_not_checked(files):
     write(files.expectations, 'simulator:\n  laser:\n    rate: 5\n')
     assert load_plan(files.options(sensors=('laser',))).platform == 'robot'
+
+
+# ------------------------------------------------------------------ --rerun-failed
+
+def test_rerun_failed_reads_the_latest_run_of_the_output_folder(files):
+    import json
+    os.makedirs(files.out)
+    path = os.path.join(files.out, 'sensorTestResults.json')
+    e = error_of(files.options(rerun_failed=True))
+    assert 'no previous run in %s' % files.out in e.message and 'without --rerun-failed' in e.fix
+    run = {'run_id': '20260101-000000', 'platform': 'robot', 'sensors': [
+        {'name': 'laser', 'verdict': 'FAIL'}, {'name': 'imu', 'verdict': 'PASS'},
+        {'name': 'odometry', 'verdict': 'INTERRUPTED'}, {'name': 'speech', 'verdict': 'SKIPPED'}]}
+    write(path, json.dumps(run))
+    plan = load_plan(files.options(rerun_failed=True))
+    assert plan_names(plan) == ['laser', 'odometry']
+    assert 're-running what did not pass in run 20260101-000000: laser, odometry' in plan.notes
+    e = error_of(files.options(rerun_failed=True, platform='simulator', topics=files.sim))
+    assert 'on the robot platform' in e.message and e.fix == 'add --platform robot'
+    assert '--sensors' in error_of(files.options(rerun_failed=True, sensors=('imu',))).message
+    for s in run['sensors']:
+        s['verdict'] = 'PASS'
+    write(path, json.dumps(run))
+    assert 'nothing to re-run' in error_of(files.options(rerun_failed=True)).message
+    write(path, '{"sensors": "laser"}')
+    assert 'is not a sensorTest result' in error_of(files.options(rerun_failed=True)).message

@@ -23,9 +23,9 @@ from .settings import ConfigError, Options
 PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
           'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
           'play_audio', 'delete_file', 'mic_mode', 'require_heard', 'history', 'diagnostics',
-          'report', 'debug')
+          'report', 'debug', 'rerun_failed')
 BOOL_PARAMS = ('quick', 'record', 'show', 'play_audio', 'delete_file', 'require_heard',
-               'history', 'diagnostics', 'report', 'debug')
+               'history', 'diagnostics', 'report', 'debug', 'rerun_failed')
 
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
@@ -60,7 +60,8 @@ def build_parser():
     r.add_argument('--duration', metavar='S', help='seconds each sensor is listened to (default 10)')
     r.add_argument('--wait', metavar='S', help='seconds allowed for the first message (default 5)')
     r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores the input file)')
-    r.add_argument('--cameras', metavar='WHICH', help='pepper, realsense or both (default both)')
+    r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did not pass in the latest run of the output folder (its sensorTestResults.json)')
+    r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or both, whatever the input file says (default: the input file decides)')
     r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
@@ -73,7 +74,7 @@ def build_parser():
     m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True, help='play the recorded microphones afterwards (spec behaviour)')
     m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the WAV after playing it')
     m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential (each microphone in turn, as the spec)')
-    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the microphones hear it')
+    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the microphones hear it (needs the microphone in the run)')
     o = p.add_argument_group('results')
     o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep this run in the run history')
     o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not publish /diagnostics')

@@ -22,9 +22,8 @@ but only when they are unchanged since they were published (same size and mtime,
 <output_dir>/.sensorTestLatest.json), so nothing a user put there is ever deleted.
 
 `list_runs()`, `resolve()` and `compare()` read the runs back for `sensorTestHistory`
-(see `main()` and docs/results.md).
+(its commands are in history_cli.py; see docs/results.md).
 """
-import argparse
 import itertools
 import json
 import os
@@ -289,38 +288,6 @@ def resolve(runs, ref):
                        % (ref, shown))
 
 
-def _counts(data):
-    c = data.get('summary') or {}
-    return c.get(results.PASS, 0), c.get(results.FAIL, 0), c.get(results.SKIPPED, 0)
-
-
-def format_list(runs, base):
-    if not runs:
-        return 'no runs in %s\n' % os.path.join(base, RUNS_DIR)
-    rows = [('run id', 'start', 'platform', 'mode', 'source', 'pass', 'fail', 'skip', 'failed sensors')]
-    for r in runs:
-        if not r.complete:
-            rows.append((r.run_id, '-', '-', '-', '-', '-', '-', '-', 'incomplete: ' + r.problem))
-            continue
-        d = r.data
-        p, f, s = _counts(d)
-        failed = ', '.join(x['name'] for x in d.get('sensors', []) if x.get('verdict') == results.FAIL)
-        if d.get('interrupted'):
-            failed = (failed + '; ' if failed else '') + 'INTERRUPTED'
-        source = d.get('source') or '-'
-        rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform') or '-',
-                     d.get('mode') or '-', 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
-                     failed or '-'))
-    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
-    lines = []
-    for row in rows:
-        cells = [row[i].rjust(widths[i]) if 5 <= i <= 7 else row[i].ljust(widths[i])
-                 for i in range(len(widths))]
-        lines.append('  '.join(cells + [row[-1]]).rstrip())
-    lines.append('%d run%s in %s' % (len(runs), '' if len(runs) == 1 else 's', os.path.join(base, RUNS_DIR)))
-    return '\n'.join(lines) + '\n'
-
-
 def compare(a, b, threshold=RATE_FLAG):
     """What changed from run `a` to run `b`: one row per sensor of either run."""
     for r in (a, b):
@@ -334,7 +301,7 @@ def compare(a, b, threshold=RATE_FLAG):
         row = {'sensor': name, 'verdict_a': x['verdict'] if x else None,
                'verdict_b': y['verdict'] if y else None,
                'rate_a': x.get('rate_hz') if x else None, 'rate_b': y.get('rate_hz') if y else None,
-               'reasons_b': (y or {}).get('reasons') or []}
+               'reasons_a': (x or {}).get('reasons') or [], 'reasons_b': (y or {}).get('reasons') or []}
         row['verdict_changed'] = row['verdict_a'] != row['verdict_b']
         ra, rb = row['rate_a'], row['rate_b']
         row['rate_change'] = (rb - ra) / ra if ra and rb is not None else None
@@ -345,146 +312,16 @@ def compare(a, b, threshold=RATE_FLAG):
     return rows
 
 
-def format_compare(a, b, rows, threshold=RATE_FLAG):
-    def rate(v):
-        return '%.2f' % v if v is not None else '-'
-
-    lines = ['compare %s (A) -> %s (B)' % (a.run_id, b.run_id)]
-    for tag, r in (('A', a), ('B', b)):
-        d = r.data
-        p, f, s = _counts(d)
-        lines.append('  %s: %s, %s, %s, %d passed, %d failed, %d skipped%s'
-                     % (tag, (d.get('start') or '-').replace('.', ' '), d.get('platform'), d.get('mode'), p, f, s,
-                        ', INTERRUPTED' if d.get('interrupted') else ''))
-    table = [('sensor', 'verdict A', 'verdict B', '', 'rate A Hz', 'rate B Hz', 'change')]
-    for row in rows:
-        change = '%+.1f%%' % (100 * row['rate_change']) if row['rate_change'] is not None else '-'
-        if row['rate_flag']:
-            change += ' !'
-        table.append((row['sensor'], row['verdict_a'] or '(absent)', row['verdict_b'] or '(absent)',
-                      '*' if row['verdict_changed'] else '', rate(row['rate_a']), rate(row['rate_b']), change))
-    widths = [max(len(t[i]) for t in table) for i in range(len(table[0]))]
-    lines.append('')
-    for t in table:
-        lines.append('  '.join(t[i].rjust(widths[i]) if i in (4, 5, 6) else t[i].ljust(widths[i])
-                               for i in range(len(t))).rstrip())
-    changed = [r for r in rows if r['verdict_changed']]
-    flagged = [r for r in rows if r['rate_flag']]
-    lines.append('')
-    if changed:
-        lines.append('%d verdict change%s: %s' % (len(changed), '' if len(changed) == 1 else 's', '; '.join(
-            '%s %s -> %s%s' % (r['sensor'], r['verdict_a'] or 'absent', r['verdict_b'] or 'absent',
-                               (' (' + '; '.join(r['reasons_b']) + ')') if r['reasons_b']
-                               and r['verdict_b'] == results.FAIL else '')
-            for r in changed)))
-    else:
-        lines.append('no verdict changed')
-    if flagged:
-        lines.append('%d rate change%s over %g%%: %s' % (
-            len(flagged), '' if len(flagged) == 1 else 's', 100 * threshold, ', '.join(
-                '%s %s -> %s' % (r['sensor'], rate(r['rate_a']) + ' Hz',
-                                 rate(r['rate_b']) + ' Hz' if r['rate_b'] is not None else 'no messages')
-                for r in flagged)))
-    else:
-        lines.append('no rate changed by more than %g%%' % (100 * threshold))
-    return '\n'.join(lines) + '\n'
+PASSING = (results.PASS, results.SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
 
 
-# ---------------------------------------------------------------- sensorTestHistory
-
-def _note_skipped(runs, since):
-    """One note on stderr per incomplete run after `since` (all of them when None)."""
-    later = runs if since is None else runs[runs.index(since) + 1:]
-    for r in later:
-        if not r.complete:
-            sys.stderr.write('sensorTestHistory: note: skipping run %s: %s\n' % (r.run_id, r.problem))
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):
-        self.print_usage(sys.stderr)
-        sys.stderr.write('%s: error: %s\n' % (self.prog, message))
-        sys.exit(EXIT_USAGE)
-
-
-def build_parser():
-    p = _Parser(prog='sensorTestHistory', formatter_class=argparse.RawDescriptionHelpFormatter,
-                description='List and compare past sensorTest runs kept in <output dir>/runs/.',
-                epilog='run ids: an exact id (20260121-091500), a unique prefix, "latest", or -1, -2, ...\n'
-                       'exit codes: 0 done, 2 unknown run id, no runs, or bad usage')
-    p.add_argument('--output-dir', metavar='DIR',
-                   help='the output folder sensorTest wrote to (default: sensorTest\'s default)')
-    sub = p.add_subparsers(dest='command', metavar='{list,compare,path}')
-    sub.required = True
-    ls = sub.add_parser('list', help='list past runs, oldest first')
-    ls.add_argument('--json', action='store_true', help='machine-readable output')
-    cmp_ = sub.add_parser('compare', help='sensors whose verdict or rate changed between two runs '
-                                          '(default: the last two; one id: that run vs the latest)')
-    cmp_.add_argument('a', nargs='?', metavar='A')
-    cmp_.add_argument('b', nargs='?', metavar='B')
-    cmp_.add_argument('--threshold', type=float, default=100 * RATE_FLAG, metavar='PERCENT',
-                      help='flag rate changes larger than this (default %(default)g %%)')
-    cmp_.add_argument('--json', action='store_true', help='machine-readable output')
-    path = sub.add_parser('path', help='print the folder of a run (default: the latest)')
-    path.add_argument('run', nargs='?', default='latest')
-    return p
+def not_passed(data):
+    """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
+    `sensorTest --rerun-failed`)."""
+    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
 
 
 def main(argv=None, out=None):
-    out = out or sys.stdout
-    args = build_parser().parse_args(argv)
-    if args.output_dir:
-        base = os.path.abspath(os.path.expanduser(args.output_dir))
-    else:
-        from .settings import default_output_dir
-        base = default_output_dir()
-    try:
-        runs = list_runs(base)
-        if args.command == 'list':
-            if args.json:
-                out.write(json.dumps([{'run_id': r.run_id, 'path': r.path, 'complete': r.complete,
-                                       'problem': r.problem,
-                                       'platform': (r.data or {}).get('platform'),
-                                       'mode': (r.data or {}).get('mode'),
-                                       'summary': (r.data or {}).get('summary'),
-                                       'failed': [s['name'] for s in (r.data or {}).get('sensors', [])
-                                                  if s.get('verdict') == results.FAIL]}
-                                      for r in runs], indent=1) + '\n')
-            else:
-                out.write(format_list(runs, base))
-            return EXIT_OK
-        if args.command == 'path':
-            out.write(resolve(runs, args.run).path + '\n')
-            return EXIT_OK
-        # compare: runs not named explicitly are the latest complete ones; incomplete runs
-        # (still going, killed, malformed JSON) are skipped with a note
-        complete = [r for r in runs if r.complete]
-        if args.a is None:
-            _note_skipped(runs, complete[-2] if len(complete) >= 2 else None)
-            if len(complete) < 2:
-                raise HistoryError('compare needs two runs; %s has %d complete%s'
-                                   % (os.path.join(base, RUNS_DIR), len(complete),
-                                      ' (and %d incomplete)' % (len(runs) - len(complete))
-                                      if len(runs) > len(complete) else ''))
-            a, b = complete[-2], complete[-1]
-        else:
-            a = resolve(runs, args.a)
-            if args.b is not None:
-                b = resolve(runs, args.b)
-            else:
-                _note_skipped(runs, a)
-                if not complete:
-                    raise HistoryError('no complete run to compare %s with' % a.run_id)
-                b = complete[-1]
-        threshold = args.threshold / 100.0
-        rows = compare(a, b, threshold)
-        if args.json:
-            out.write(json.dumps({'a': a.run_id, 'b': b.run_id, 'threshold': threshold, 'sensors': rows},
-                                 indent=1) + '\n')
-        else:
-            out.write(format_compare(a, b, rows, threshold))
-        return EXIT_OK
-    except HistoryError as e:
-        sys.stderr.write('sensorTestHistory: error: %s\n' % e)
-        return EXIT_USAGE
-
+    """sensorTestHistory; its commands live in history_cli.py."""
+    from .history_cli import main as cli_main
+    return cli_main(argv, out)

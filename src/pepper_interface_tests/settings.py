@@ -12,7 +12,7 @@ from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Optional, Tuple
 
-from . import catalog, expectations
+from . import catalog, expectations, selection
 from .textfile import ConfigError, read_text   # noqa: F401  (ConfigError is imported from here)
 
 PLATFORMS = ('robot', 'simulator')
@@ -73,6 +73,7 @@ class Options:
     diagnostics: Optional[bool] = None
     report: Optional[bool] = None
     debug: Optional[bool] = None
+    rerun_failed: Optional[bool] = None
 
     def merged(self, other):
         """Values of `other` where given, else ours."""
@@ -100,15 +101,22 @@ class TestPlan:
     duration: float
     wait: float
     quick: bool
-    cameras: str
+    cameras: Optional[str]      # --cameras, None: the input file decides
     output_dir: str
     sensors: Tuple[SensorPlan, ...]
     files: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     options: Options = Options()
+    selection_notes: Tuple[str, ...] = ()   # what is left out and why (selection.py)
 
     @property
     def active(self):
         return tuple(s for s in self.sensors if s.skip_reason is None)
+
+    @property
+    def notes(self):
+        """Lines for the run header: what is tested, what is left out and why, and every
+        sensor whose window is not `duration` (computed now: cli.run_bag changes duration)."""
+        return tuple(self.selection_notes) + tuple(selection.window_notes(self))
 
 
 # ---------------------------------------------------------------- low-level file reading
@@ -246,7 +254,7 @@ def load_plan(options=Options()):
         raise ConfigError('no platform given', config_path,
                           fix='add a line "platform robot" (or simulator), or pass --platform')
     mode = choice(options.mode, MODES, 'mode') if options.mode else config.get('mode', 'sequential')
-    cameras = choice(options.cameras or 'both', CAMERA_CHOICES, 'cameras')
+    cameras = choice(options.cameras, CAMERA_CHOICES, 'cameras') if options.cameras else None
     duration = positive_seconds(options.duration if options.duration is not None else 10.0, 'duration')
     wait = positive_seconds(options.wait if options.wait is not None else 5.0, 'wait')
     if options.mic_mode is not None:
@@ -262,6 +270,12 @@ def load_plan(options=Options()):
     topics = read_topics(topics_path)
     expectations = read_expectations(expect_path, platform)
 
+    output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
+        else default_output_dir()
+    rerun_notes = []
+    if options.rerun_failed:
+        sensors, rerun_notes = selection.rerun_failed(output_dir, platform, options)
+        options = replace(options, sensors=sensors)
     if options.sensors is not None and not options.sensors:
         raise ConfigError('--sensors names no sensor', fix='give sensor names, e.g. --sensors laser,imu '
                           '(valid: %s), or leave --sensors out to run the input file' % _valid_names())
@@ -274,8 +288,11 @@ def load_plan(options=Options()):
                                   fix='valid sensors: ' + _valid_names())
             if name not in [n for n, _ in order]:
                 order.append((name, True))
+        notes = rerun_notes + selection.sensors_option_notes([n for n, _ in order], cameras)
     else:
-        order = [(n, on) for n, on in read_input(input_path) if on]
+        names, notes = selection.select(read_input(input_path), cameras, os.path.basename(input_path),
+                                        platform)
+        order = [(n, True) for n in names]
         if not order:
             raise ConfigError('no sensor is selected: every sensor is false or missing', input_path,
                               fix='set at least one sensor to true (e.g. "laser true"), or name '
@@ -287,19 +304,18 @@ def load_plan(options=Options()):
         skip = None
         if platform == 'simulator' and not sensor.simulator:
             skip = 'not available in the simulator'
-        elif sensor.camera and cameras != 'both' and sensor.camera != cameras:
-            skip = 'camera excluded by cameras=%s' % cameras
+        else:
+            skip = selection.excluded_by_cameras(sensor, cameras)
         topic = topics.get(name)
         if topic is None and skip is None:
             raise ConfigError('no topic for sensor "%s"' % name, topics_path,
                               fix='add a line "%s /topic/name" or disable the sensor in %s'
                                   % (name, os.path.basename(input_path)))
         plans.append(SensorPlan(sensor, topic, expectations[name], skip))
+    notes += selection.require_heard_notes(plans, options, input_path)
 
-    output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
-        else default_output_dir()
     files = MappingProxyType({'configuration': config_path, 'input': input_path,
                               'topics': topics_path, 'expectations': expect_path})
     return TestPlan(platform=platform, mode=mode, duration=duration, wait=wait,
                     quick=bool(options.quick), cameras=cameras, output_dir=output_dir,
-                    sensors=tuple(plans), files=files, options=options)
+                    sensors=tuple(plans), files=files, options=options, selection_notes=tuple(notes))

@@ -111,6 +111,9 @@ class Terminal:
                      plan.output_dir))
         for text in param_lines(run):
             self.line('  ROS param ' + text)
+        width = max(40, shutil.get_terminal_size((80, 20)).columns - 1)
+        for note in plan.notes:      # what is left out and why; windows other than --duration
+            self.line(textwrap.fill(note, width, initial_indent='  note: ', subsequent_indent=' ' * 8))
 
     def sensor_started(self, sensor_run):
         p = sensor_run.plan

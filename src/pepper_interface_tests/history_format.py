@@ -1,0 +1,121 @@
+"""sensorTestHistory's text output: `list` and `compare` as tables that fit the terminal (its
+width, else $COLUMNS, else 80 columns), free-text cells wrapped inside their column."""
+import os
+import shutil
+import textwrap
+
+from . import results
+from .history import PASSING, RATE_FLAG, RUNS_DIR
+
+
+def width():
+    """Columns to fit: the terminal's, else $COLUMNS, else 80; never under 60."""
+    return max(60, shutil.get_terminal_size((80, 24)).columns)
+
+
+def _counts(data):
+    c = data.get('summary') or {}
+    return c.get(results.PASS, 0), c.get(results.FAIL, 0), c.get(results.SKIPPED, 0)
+
+
+def _table(rows, right=()):
+    """Columns padded to their widest cell; columns in `right` right-aligned."""
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    return ['  '.join(r[i].rjust(widths[i]) if i in right else r[i].ljust(widths[i])
+                      for i in range(len(r))).rstrip() for r in rows]
+
+
+def _wrapped_rows(rows, total):
+    """Rows whose last cell is free text, wrapped inside its column so every line fits `total`;
+    when the column would be narrower than 24, the text goes under the row, indented."""
+    head = [r[:-1] for r in rows]
+    widths = [max(len(r[i]) for r in head) for i in range(len(head[0]))]
+    indent = sum(widths) + 2 * len(widths)
+    lines = []
+    for r in rows:
+        start = '  '.join(r[i].ljust(widths[i]) for i in range(len(widths))) + '  '
+        if total - indent >= 24:
+            parts = textwrap.wrap(r[-1], total - indent) or ['']
+            lines.append((start + parts[0]).rstrip())
+            lines += [' ' * indent + p for p in parts[1:]]
+        else:
+            lines.append(start.rstrip())
+            lines += textwrap.wrap(r[-1], total - 4, initial_indent='    ', subsequent_indent='    ')
+    return lines
+
+
+def format_list(runs, base):
+    if not runs:
+        return 'no runs in %s\n' % os.path.join(base, RUNS_DIR)
+    rows = [('run id', 'start', 'platform', 'mode', 'source', 'pass', 'fail', 'skip', 'failed sensors')]
+    for r in runs:
+        if not r.complete:
+            rows.append((r.run_id, '-', '-', '-', '-', '-', '-', '-', 'incomplete: ' + r.problem))
+            continue
+        d = r.data
+        p, f, s = _counts(d)
+        failed = ', '.join(x['name'] for x in d.get('sensors', []) if x.get('verdict') == results.FAIL)
+        if d.get('interrupted'):
+            failed = (failed + '; ' if failed else '') + 'INTERRUPTED'
+        source = d.get('source') or '-'
+        rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform') or '-',
+                     d.get('mode') or '-', 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
+                     failed or '-'))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    lines = []
+    for row in rows:
+        cells = [row[i].rjust(widths[i]) if 5 <= i <= 7 else row[i].ljust(widths[i])
+                 for i in range(len(widths))]
+        lines.append('  '.join(cells + [row[-1]]).rstrip())
+    lines.append('%d run%s in %s' % (len(runs), '' if len(runs) == 1 else 's', os.path.join(base, RUNS_DIR)))
+    return '\n'.join(lines) + '\n'
+
+
+def format_compare(a, b, rows, threshold=RATE_FLAG, total=80):
+    """Every sensor of either run (verdicts, rates), then the verdict changes as a table with
+    the reasons wrapped inside their column, then the flagged rate changes; fits `total`."""
+    def rate(v):
+        return '%.2f' % v if v is not None else '-'
+
+    lines = ['compare %s (A) -> %s (B)' % (a.run_id, b.run_id)]
+    for tag, r in (('A', a), ('B', b)):
+        d = r.data
+        p, f, s = _counts(d)
+        lines += textwrap.wrap('%s: %s, %s, %s, %d passed, %d failed, %d skipped%s' % (
+            tag, (d.get('start') or '-').replace('.', ' '), d.get('platform'), d.get('mode'), p, f, s,
+            ', INTERRUPTED' if d.get('interrupted') else ''), total - 2,
+            initial_indent='  ', subsequent_indent='     ')
+    table = [('sensor', 'verdict A', 'verdict B', '', 'A Hz', 'B Hz', 'change')]
+    for row in rows:
+        change = '%+.1f%%' % (100 * row['rate_change']) if row['rate_change'] is not None else '-'
+        table.append((row['sensor'], row['verdict_a'] or '(absent)', row['verdict_b'] or '(absent)',
+                      '*' if row['verdict_changed'] else '', rate(row['rate_a']), rate(row['rate_b']),
+                      change + (' !' if row['rate_flag'] else '')))
+    lines += [''] + _table(table, right=(4, 5))
+    changed = [r for r in rows if r['verdict_changed']]
+    lines.append('')
+    if changed:
+        lines.append('%d verdict change%s:' % (len(changed), '' if len(changed) == 1 else 's'))
+        vt = [('sensor', 'A', 'B', 'why')]
+        for r in changed:
+            if r['verdict_b'] not in PASSING and r['verdict_b'] and r['reasons_b']:
+                why = '; '.join(r['reasons_b'])
+            elif r['verdict_a'] not in PASSING and r['verdict_a'] and r['reasons_a']:
+                why = 'was: ' + '; '.join(r['reasons_a'])
+            else:
+                why = '-'
+            vt.append((r['sensor'], r['verdict_a'] or '(absent)', r['verdict_b'] or '(absent)', why))
+        lines += ['  ' + line for line in _wrapped_rows(vt, total - 2)]
+    else:
+        lines.append('no verdict changed')
+    flagged = [r for r in rows if r['rate_flag']]
+    lines.append('')
+    if flagged:
+        lines.append('%d rate change%s over %g%%:' % (len(flagged), '' if len(flagged) == 1 else 's',
+                                                       100 * threshold))
+        lines += _table([('  ' + r['sensor'], rate(r['rate_a']) + ' Hz', '->',
+                          rate(r['rate_b']) + ' Hz' if r['rate_b'] is not None else 'no messages')
+                         for r in flagged], right=(1,))
+    else:
+        lines.append('no rate changed by more than %g%%' % (100 * threshold))
+    return '\n'.join(lines) + '\n'
