@@ -74,3 +74,32 @@ def test_simulator_rates_on_the_sim_clock(master, tmp_path, rtf):
         assert r['messages'] >= 0.8 * 3 * hz, (name, r['messages'])
     assert wall >= 3.0 / rtf * 0.9
     assert done.returncode == 0, done.stdout[-2000:]
+
+
+def test_use_sim_time_without_clock_is_named(master, tmp_path):
+    """/use_sim_time left true with nothing on /clock: ROS time is 0, so the reason names the
+    missing /clock and the fix, not "header stamps 1.8e9 s in the future" blaming the robot."""
+    import rosgraph
+    procs = []
+    topics = tmp_path / 'topics.dat'
+    topics.write_text('FrontSonar /d/sonar/front\n')
+    out = tmp_path / 'out'
+    try:
+        _spawn(master, procs, 'sonar', '/d/sonar/front', '--rate', 10, '--node', 'sonar_front')
+        time.sleep(1.5)              # the publisher runs on wall time, stamps ~1.8e9 s
+        rosgraph.Master('/test', master_uri=master.uri).setParam('/use_sim_time', True)
+        done = subprocess.run(script('sensorTest') + [
+            '--topics', str(topics), '--sensors', 'frontSonar', '--duration', '2', '--wait', '4',
+            '--output-dir', str(out), '--no-show', '--no-history', '--no-report', '--no-diagnostics'],
+            env=master.env(), capture_output=True, text=True, timeout=120)
+    finally:
+        for p in procs:
+            kill_group(p)
+    path = out / 'sensorTestResults.json'
+    assert path.exists(), done.stdout + done.stderr
+    sonar = json.loads(path.read_text())['sensors'][0]
+    assert done.returncode == 1 and sonar['verdict'] == 'FAIL', sonar
+    assert sonar['messages'] > 5, sonar
+    assert any('/use_sim_time is true but nothing publishes /clock' in r and
+               'rosparam set /use_sim_time false' in r for r in sonar['reasons']), sonar['reasons']
+    assert not any('future' in r or 'clock offset' in r for r in sonar['reasons']), sonar['reasons']

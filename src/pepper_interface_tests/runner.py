@@ -320,6 +320,11 @@ class SensorRun:
         if s.count < min_messages:
             out.append('only %d message%s in %.1f s (at least %d expected)'
                        % (s.count, '' if s.count == 1 else 's', elapsed, min_messages))
+        if self.sim_clock is not None and self.sim_t0 is None:
+            # rospy keeps ROS time at 0 until /clock ticks: stamps, sim rates and windows
+            # cannot be measured, and "1.8e9 s in the future" would blame the robot
+            out.append(NO_CLOCK)
+            return out
         if band and s.count >= 3:
             lo, hi = band
             rate_label = 'rate (sim clock)' if s.clock == 'sim' else 'rate'
@@ -389,6 +394,11 @@ def clock_offset(delay, max_delay, max_future):
             'the robot\'s clock is not synchronised with this one; sync both with chrony or ntp%s'
             % (abs(mean), side, delay['max'] - delay['min'],
                ' (or the driver stamps its data that late)' if side == 'behind' else ''))
+
+
+NO_CLOCK = ('/use_sim_time is true but nothing publishes /clock, so ROS time stands at 0 and no '
+            'stamp or simulation-time rate can be judged: start the simulator (it publishes /clock), '
+            'or clear a leftover setting with "rosparam set /use_sim_time false" and start again')
 
 
 def skipped_result(plan, run_start, now):
