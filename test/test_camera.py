@@ -74,6 +74,39 @@ def test_frozen_needs_frozen_frames_identical_frames_in_a_row(tmp_path, repeats,
     assert ('image frozen: %d identical consecutive frames' % repeats in text) is frozen, text
 
 
+def test_frozen_is_exact_a_change_in_one_pixel_is_a_new_frame(tmp_path):
+    base = pattern(160, 120, 7)
+    frames = []
+    for i in range(8):
+        px = base.copy()
+        px[61, 37, 1] = i                          # one byte, outside any strided sample
+        frames.append(image_msg(px, 'rgb8'))
+    c = feed(make_check('bottomCamera', tmp_path, record=False), frames)
+    assert c.values['longest_identical_run'] == 1 and c.failure_reasons() == []
+
+
+def test_frozen_frames_late_in_the_window_are_found(tmp_path):
+    same = image_msg(pattern(160, 120, 99), 'rgb8')
+    c = feed(make_check('frontCamera', tmp_path, record=False), good(40) + [same] * 6)
+    assert any(r.startswith('image frozen: 6 identical consecutive frames (until t=4.5 s')
+               for r in c.failure_reasons()), c.failure_reasons()
+
+
+@pytest.mark.parametrize('encoding', ['rgb8', 'bgr8', 'rgba8', 'bgra8', 'mono8'])
+def test_eight_bit_encodings_are_read_in_place_with_the_same_statistics(tmp_path, encoding):
+    px = pattern(160, 120, 3)
+    if encoding in ('rgba8', 'bgra8'):
+        px = np.dstack([px, np.zeros((120, 160), np.uint8)])     # alpha 0 must not darken the image
+    elif encoding == 'mono8':
+        px = px[:, :, 1]
+    c = feed(make_check('frontCamera', tmp_path, record=False, expect={'encoding': encoding}),
+             [image_msg(px, encoding)] * 2)
+    assert c.failure_reasons() == [] and c.converted == 2
+    colour = px[:, :, :3] if px.ndim == 3 else px
+    assert abs(c.values['brightness_mean']['mean'] - colour[::8, ::8].mean()) < 0.01
+    assert abs(c.values['brightness_spread']['mean'] - colour[::8, ::8].std()) < 0.01
+
+
 def test_black_in_most_frames_fails_and_in_few_frames_warns(tmp_path):
     black = [image_msg(np.zeros((120, 160, 3), np.uint8), 'rgb8') for _ in range(6)]
     c = feed(make_check('frontCamera', tmp_path, record=False), black + good(4))
