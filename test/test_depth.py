@@ -84,10 +84,12 @@ def test_video_uses_a_fixed_range_and_black_invalid_pixels(tmp_path):
     assert (b[0, 0] == 0).all() and b[5, 2].any()
     metres = colour(c, near.astype(np.float32) / 1000, 'depth_m')
     assert np.abs(metres.astype(int) - a.astype(int)).max() <= 2
-    # the table is OpenCV's JET over 0-5 m: near is blue, far is red, as before
-    jet = cv2.applyColorMap(np.array([[0], [255]], np.uint8), cv2.COLORMAP_JET).reshape(2, 3)
-    ends = colour(c, np.array([[1, 5000]], np.uint16), 'depth_mm')[0]
-    assert (ends == jet).all() and ends[0, 0] > 100 and ends[1, 2] > 100
+    # the table is the JET map over 0-5 m, as OpenCV draws it: near is blue, far is red
+    ramp = np.linspace(1, 5000, 256).astype(np.uint16).reshape(1, 256)
+    ours = colour(c, ramp, 'depth_mm')[0].astype(int)
+    opencv = cv2.applyColorMap(np.arange(256, dtype=np.uint8).reshape(1, 256), cv2.COLORMAP_JET)[0].astype(int)
+    assert np.abs(ours - opencv).max() <= 12, np.abs(ours - opencv).max()
+    assert ours[0, 0] > 100 and ours[0, 2] == 0 and ours[-1, 2] > 100 and ours[-1, 0] == 0
 
 
 def colour(check, depth, kind):

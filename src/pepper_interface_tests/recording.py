@@ -31,6 +31,7 @@ WavWriter
   * Incremental PCM_16 WAV through soundfile, also written under a temporary name and renamed
     on close. Opened on the first write (no data, no file).
 """
+import fcntl
 import os
 import queue
 import shutil
@@ -50,6 +51,8 @@ RATE_MAX_WAIT = 3.0      # open after this long even with fewer frames
 RATE_MAX_FRAMES = 16     # or once this many frames are buffered (memory)
 REMUX_TOLERANCE = 0.05
 PRESET = 'ultrafast'     # libx264: the least CPU per frame (docs/media.md, "Benchmark")
+F_SETPIPE_SZ = 1031       # fcntl.F_SETPIPE_SZ (Python >= 3.10 names it)
+PIPE_BYTES = 1 << 20      # at most /proc/sys/fs/pipe-max-size (1 MB by default)
 CHANNELS = {'gray': 1, 'rgb24': 3, 'bgr24': 3, 'bgra': 4, 'rgba': 4, 'bgr0': 4}
 
 
@@ -65,19 +68,20 @@ def _pix_fmt(frame):
     return 'bgr24' if frame.shape[2] == 3 else 'bgra'
 
 
-def to_bgr(frame, pix_fmt):
-    """A BGR copy of a frame in one of CHANNELS' formats (for JPEGs, the live view, resizing)."""
-    cv2 = _cv2()
+def to_rgb(frame, pix_fmt):
+    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats."""
     frame = np.asarray(frame)
     if pix_fmt == 'gray':
-        return cv2.cvtColor(np.ascontiguousarray(frame.reshape(frame.shape[:2])), cv2.COLOR_GRAY2BGR)
-    if pix_fmt == 'rgb24':
-        return cv2.cvtColor(frame, cv2.COLOR_RGB2BGR)
-    if pix_fmt == 'rgba':
-        return cv2.cvtColor(frame, cv2.COLOR_RGBA2BGR)
-    if pix_fmt in ('bgra', 'bgr0'):
-        return np.ascontiguousarray(frame[:, :, :3])
-    return np.ascontiguousarray(frame)
+        grey = frame.reshape(frame.shape[:2])
+        return np.dstack([grey, grey, grey])
+    if pix_fmt in ('rgb24', 'rgba'):
+        return frame[:, :, :3]
+    return frame[:, :, 2::-1]        # bgr24, bgra, bgr0
+
+
+def to_bgr(frame, pix_fmt):
+    """A contiguous BGR copy of a frame (JPEGs, the live view, resizing); numpy only."""
+    return np.ascontiguousarray(to_rgb(frame, pix_fmt)[:, :, ::-1])
 
 
 def _from_bgr(bgr, pix_fmt):
@@ -185,20 +189,17 @@ class VideoRecorder:
 
     @property
     def first_frame(self):
-        """The first frame queued, as BGR (for the JPEG artifact), or None."""
-        return self._bgr(self._first)
+        """(frame, pix_fmt) of the first frame queued (for the JPEG artifact), or None."""
+        return self._prepared_item(self._first)
 
     @property
     def last_frame(self):
-        return self._bgr(self._last)
+        return self._prepared_item(self._last)
 
-    def _bgr(self, item):
+    def _prepared_item(self, item):
         if item is None:
             return None
-        frame, pix_fmt = item
-        if self.prepare is not None:
-            frame, pix_fmt = self.prepare(frame, pix_fmt)
-        return to_bgr(frame, pix_fmt)
+        return self._prepared(*item)
 
     # ---- writer thread -----------------------------------------------------------------
     def _run(self):
@@ -268,6 +269,10 @@ class VideoRecorder:
              '-c:v', 'libx264', '-preset', PRESET, '-threads', '1', '-pix_fmt', 'yuv420p',
              '-movflags', '+faststart', '-f', 'mp4', self.tmp_path],
             stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._stderr, start_new_session=True)
+        try:    # a 1 MB pipe (Linux F_SETPIPE_SZ): a whole frame per write, fewer switches to ffmpeg
+            fcntl.fcntl(self._proc.stdin.fileno(), F_SETPIPE_SZ, PIPE_BYTES)
+        except OSError:
+            pass
         self.codec = 'avc1'
         while self._buffer:              # a frame leaves the buffer once it is written
             self._write(*self._buffer[0])
@@ -374,11 +379,20 @@ class VideoRecorder:
                 'late_frames': self.late, 'error': self.error, 'finish_s': self.encode_seconds}
 
 
-def save_jpeg(path, image, quality=90):
-    """Write one image as JPEG; True on success (never raises)."""
+def save_jpeg(path, image, pix_fmt='bgr24', quality=90):
+    """Write one image (BGR by default, or any of CHANNELS' formats) as JPEG; True on success
+    (never raises). Pillow (which matplotlib needs anyway) is used when present: importing it
+    costs 4 MB, importing OpenCV about 100 MB of memory."""
     try:
+        from PIL import Image
+    except ImportError:
+        Image = None
+    try:
+        if Image is not None:
+            Image.fromarray(np.ascontiguousarray(to_rgb(image, pix_fmt))).save(path, 'JPEG', quality=quality)
+            return True
         cv2 = _cv2()
-        return bool(cv2.imwrite(path, image, [cv2.IMWRITE_JPEG_QUALITY, quality]))
+        return bool(cv2.imwrite(path, to_bgr(image, pix_fmt), [cv2.IMWRITE_JPEG_QUALITY, quality]))
     except Exception:
         return False
 

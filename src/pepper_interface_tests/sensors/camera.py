@@ -83,7 +83,8 @@ class ImageCheck(Check):
                 ('Encoding', msg.encoding), ('Step', msg.step)]
 
     def start(self):
-        self._bridge()      # import cv_bridge now, not while the first frames arrive
+        # cv_bridge (and OpenCV) are imported only for an encoding that is not read in place
+        # (RAW_FORMATS, depth.DTYPES): they cost more CPU to import than a window of checks
         # a video of an earlier run must not pass for this one's
         if self.recorder is not None and os.path.exists(self.recorder.path):
             os.unlink(self.recorder.path)
@@ -193,7 +194,7 @@ class ImageCheck(Check):
             if image is None:
                 continue
             name = '%s_%s.jpg' % (self.plan.name, kind.split('_')[0])
-            if save_jpeg(os.path.join(self.ctx.output_dir, name), image):
+            if save_jpeg(os.path.join(self.ctx.output_dir, name), *image):
                 self.artifacts[kind] = name
 
 
@@ -229,9 +230,11 @@ class CameraCheck(ImageCheck):
         if image is None:
             return
         colour = image[:, :, :3] if image.shape[2] == 4 else image     # alpha is not brightness
-        small = colour[::STRIDE, ::STRIDE].astype(np.float64).ravel()
-        mean = float(small.sum()) / small.size
-        std = math.sqrt(max(0.0, float(np.dot(small, small)) / small.size - mean * mean))
+        # integer sums (exact; no BLAS call, whose thread pool would spin on every frame)
+        small = colour[::STRIDE, ::STRIDE].astype(np.uint32)
+        n = small.size
+        mean = int(small.sum(dtype=np.uint64)) / n
+        std = math.sqrt(max(0.0, int(np.square(small).sum(dtype=np.uint64)) / n - mean * mean))
         self.brightness.add(mean)
         self.spread.add(std)
         if len(self.series['brightness']) < SERIES_MAX:

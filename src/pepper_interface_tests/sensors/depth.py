@@ -13,7 +13,7 @@ message's bytes (no copy); the valid share (and so "all zero") counts every pixe
 min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
 Video: depth mapped to 8 bits over the fixed range `video_range` [m, m] of the sensor
 (default 0-5 m, the same for every frame, not normalised per frame), colour-mapped with
-OpenCV's JET map (near = blue, far = red); invalid pixels are black. For millimetre depth this
+the JET map (near = blue, far = red; MATLAB's formula, as OpenCV's COLORMAP_JET); invalid pixels are black. For millimetre depth this
 is one table look-up per pixel (65,536 entries, each a packed BGR0 pixel) done in the video
 writer's thread; ffmpeg converts BGR0 to the video's YUV (recording.py).
 """
@@ -30,6 +30,19 @@ M_ENCODINGS = ('32FC1',)
 DEFAULT_VIDEO_RANGE = (0.0, 5.0)
 STRIDE = 4        # statistics sample every 4th row and column
 DTYPES = {'16UC1': 'u2', 'mono16': 'u2', '32FC1': 'f4'}
+
+
+def jet_table():
+    """0..255 -> packed little-endian BGR0 pixel of the JET colour map (MATLAB's classic
+    piecewise-linear jet, which OpenCV's COLORMAP_JET samples: dark blue, blue, cyan, yellow,
+    red, dark red), computed with numpy so that recording depth does not import OpenCV."""
+    x = np.arange(256) / 255.0
+
+    def ramp(centre):
+        return np.round(255 * np.clip(1.5 - np.abs(4 * x - centre), 0, 1)).astype(np.uint32)
+
+    b, g, r = ramp(1.0), ramp(2.0), ramp(3.0)
+    return (b | (g << 8) | (r << 16)).astype('<u4')
 
 
 class DepthCheck(ImageCheck):
@@ -115,10 +128,7 @@ class DepthCheck(ImageCheck):
         video_range to 0..255, JET colour map, invalid pixels black."""
         lo, hi = self.video_range
         if self._jet is None:
-            import cv2
-            ramp = np.arange(256, dtype=np.uint8).reshape(256, 1)
-            bgr = cv2.applyColorMap(ramp, cv2.COLORMAP_JET).reshape(256, 3).astype(np.uint32)
-            self._jet = (bgr[:, 0] | (bgr[:, 1] << 8) | (bgr[:, 2] << 16)).astype('<u4')   # bytes B, G, R, 0
+            self._jet = jet_table()
         if kind == 'depth_mm' and depth.dtype.kind == 'u' and depth.dtype.itemsize == 2:
             if self._lut is None:   # one table for every 16-bit millimetre value
                 metres = np.arange(65536, dtype=np.float64) * 0.001
