@@ -220,6 +220,25 @@ def _recorded(out_dir, sensor):
     return ffprobe_frames(path), None
 
 
+def _wait_subscribed(uri, prefix, topics, timeout):
+    """Wait until a node whose name starts with `prefix` subscribes to every topic (on a
+    loaded machine `rostopic hz` may take seconds to start: sensorTest's window must not
+    begin before the publisher can)."""
+    import xmlrpc.client
+    master = xmlrpc.client.ServerProxy(uri)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            _, _, (_, subscribers, _) = master.getSystemState('/bench')
+            subs = {t: nodes for t, nodes in subscribers}
+            if all(any(n.startswith(prefix) for n in subs.get(t, ())) for t in topics):
+                return True
+        except OSError:
+            pass
+        time.sleep(0.1)
+    return False
+
+
 def _sensor_test_script():
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     path = os.path.join(root, 'scripts', 'sensorTest')
@@ -263,6 +282,8 @@ def _round(args, tmp, master, files, mode, label):
         hz_log = open(os.path.join(tmp, 'rostopic-hz-%s.log' % label), 'w')
         hz = subprocess.Popen(hz_cmd, env=env, stdout=hz_log, stderr=subprocess.STDOUT, start_new_session=True)
         procs.append(hz)
+        if not _wait_subscribed(master.uri, '/rostopic_', [s[1] for s in STREAMS], 60.0):
+            return {'error': 'rostopic hz did not subscribe within 60 s; log: %s' % hz_log.name}
         log = open(os.path.join(tmp, 'sensorTest-%s.log' % label), 'w')
         t0 = time.monotonic()
         st = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
