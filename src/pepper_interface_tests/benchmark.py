@@ -319,16 +319,22 @@ def _round(args, tmp, master, files, mode, label):
         media = [p for ext in ('mp4', 'wav') for p in glob.glob(os.path.join(out_dir, '*.' + ext))]
         last_file = (max(os.path.getmtime(p) for p in media) - window_end) if media else None
         cpu = usage.ru_utime + usage.ru_stime
+        videos = [(r.get('values') or {}).get('video') or {} for r in results.values()]
+        encoders = sum(v.get('encoder_cpu_s') or 0.0 for v in videos if isinstance(v, dict))
+        writers = sum(v.get('writer_cpu_s') or 0.0 for v in videos if isinstance(v, dict))
         hz_cpu = hz_usage.ru_utime + hz_usage.ru_stime
         m = {'label': label, 'mode': mode, 'exit': code, 'wall': wall, 'cpu': cpu, 'user': usage.ru_utime,
              'system': usage.ru_stime, 'hz_cpu': hz_cpu, 'ratio': cpu / hz_cpu if hz_cpu else float('inf'),
              'rss': max(peak[0], usage.ru_maxrss * 1024) / 1e6, 'rss_children': peak[1] / 1e6,
              'rss_total': peak[2] / 1e6, 'last_file': last_file if mode == 'on' else None,
              'counts_ok': ok_counts, 'streams': streams, 'late': published['finished_late_s'],
-             'profile': profile}
+             'profile': profile, 'encoders': encoders}
         print('\nsensorTest:  exit %s, wall %.1f s, CPU %.2f s (user %.2f + system %.2f, with its ffmpeg '
-              'children), peak RSS %.0f MB (+ %.0f MB in children; together at most %.0f MB)'
-              % (code, wall, cpu, usage.ru_utime, usage.ru_stime, m['rss'], m['rss_children'], m['rss_total']))
+              'children%s), peak RSS %.0f MB (+ %.0f MB in children; together at most %.0f MB)'
+              % (code, wall, cpu, usage.ru_utime, usage.ru_stime,
+                 ': %.2f s in the encoders, %.2f s in the writer threads' % (encoders, writers)
+                 if mode == 'on' else '',
+                 m['rss'], m['rss_children'], m['rss_total']))
         print('rostopic hz: CPU %.2f s (user %.2f + system %.2f)' % (hz_cpu, hz_usage.ru_utime, hz_usage.ru_stime))
         print('ratio: %.2fx (target <= %.1fx)%s' % (m['ratio'], TARGETS[mode],
                                                    '  [profiled: not comparable]' if profile else ''))

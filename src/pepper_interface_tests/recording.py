@@ -104,6 +104,23 @@ def ffprobe_frames(path):
         return None
 
 
+def _wait_cpu(proc, timeout):
+    """(exit code, CPU seconds) of a child process, killed after `timeout` s."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+        except ChildProcessError:       # already reaped
+            return proc.wait(), None
+        if pid:
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            return proc.returncode, usage.ru_utime + usage.ru_stime
+        if time.monotonic() > deadline:
+            proc.kill()
+            deadline = float('inf')
+        time.sleep(0.01)
+
+
 class VideoRecorder:
     """One H.264 mp4 file per camera, encoded by one ffmpeg process; see the module docstring."""
 
@@ -136,6 +153,8 @@ class VideoRecorder:
         self.error = None
         self.notes = []
         self.encode_seconds = None   # end of the recording -> file finished (wall)
+        self.encoder_cpu = None      # CPU seconds ffmpeg used (user + system)
+        self.writer_cpu = None       # CPU seconds of the writer thread (this process)
         self._first = None           # (frame, pix_fmt) of the first and last frame queued
         self._last = None
 
@@ -211,6 +230,7 @@ class VideoRecorder:
         if self._proc is None and self._buffer and not self.error:
             self._step(None)
         self._finish()
+        self.writer_cpu = time.thread_time()
 
     def _step(self, item):
         """Buffer, open or write; after an error the remaining frames are counted as dropped."""
@@ -327,11 +347,7 @@ class VideoRecorder:
                 self._proc.stdin.close()
             except OSError:          # ffmpeg already gone: its error is reported below
                 pass
-            try:
-                code = self._proc.wait(timeout=120)
-            except subprocess.TimeoutExpired:
-                self._proc.kill()
-                code = self._proc.wait()
+            code, self.encoder_cpu = _wait_cpu(self._proc, 120.0)
             self._proc = None
             if code != 0:       # the mp4 is not finished (no index): not a file anyone can play
                 self.error = 'ffmpeg failed (exit %d): %s; no video' % (code, self._ffmpeg_error() or self.error)
@@ -376,7 +392,9 @@ class VideoRecorder:
                 'height': self.size[1] if self.size else None,
                 'frames_received': self.received, 'frames_written': self.written,
                 'frames_dropped': self.dropped, 'frames_resized': self.resized,
-                'late_frames': self.late, 'error': self.error, 'finish_s': self.encode_seconds}
+                'late_frames': self.late, 'error': self.error, 'finish_s': self.encode_seconds,
+                'encoder_cpu_s': round(self.encoder_cpu, 3) if self.encoder_cpu is not None else None,
+                'writer_cpu_s': round(self.writer_cpu, 3) if self.writer_cpu is not None else None}
 
 
 def save_jpeg(path, image, pix_fmt='bgr24', quality=90):

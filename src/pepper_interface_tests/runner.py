@@ -50,6 +50,8 @@ class SensorRun:
         self.window = self.check.window(duration)
         self.lock = threading.Lock()
         self.cls = message_class(self.sensor.msg_type)
+        # a check may decode its messages itself (images: no copy of the pixels)
+        self.decode = getattr(self.check, 'decode', None) or (lambda buff: self.cls().deserialize(buff))
         self.stats = None
         self.t0 = None
         self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
@@ -77,7 +79,7 @@ class SensorRun:
                 self.wrong_types[type_name] = self.wrong_types.get(type_name, 0) + 1
                 return
             try:
-                msg = self.cls().deserialize(buff)
+                msg = self.decode(buff)
             except Exception as e:  # a corrupt message is a finding, not a crash
                 self.bad_messages += 1
                 self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)

@@ -24,6 +24,7 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 """
 import math
 import os
+import struct
 
 import numpy as np
 
@@ -38,11 +39,24 @@ BYTES_PER_PIXEL = {
     'bayer_rggb8': 1, 'bayer_bggr8': 1, 'bayer_gbrg8': 1, 'bayer_grbg8': 1,
 }
 SERIES_MAX = 2000
+_U32 = struct.Struct('<I')
+_HEADER = struct.Struct('<3I')       # seq, stamp secs, stamp nsecs
+_SIZE = struct.Struct('<2I')         # height, width
+_STEP = struct.Struct('<BI')         # is_bigendian, step
 STRIDE = 8        # statistics sample every 8th row and column
 # 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
 RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
                'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
                'mono8': (1, 'gray'), '8UC1': (1, 'gray')}
+
+
+def _string(view, pos):
+    """(position after, text) of the length-prefixed UTF-8 string at `pos`."""
+    (length,) = _U32.unpack_from(view, pos)
+    end = pos + 4 + length
+    if end > len(view):
+        raise struct.error('string runs past the end of the message')
+    return end, bytes(view[pos + 4:end]).decode('utf-8', 'replace')
 
 
 def bytes_per_pixel(encoding):
@@ -58,7 +72,10 @@ def bytes_per_pixel(encoding):
 
 class ImageCheck(Check):
     """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
-    buff_size = 1 << 24
+    # rospy's recv() size. 1 MB holds a 640x480 rgb8 frame; the often-quoted 2**24 makes every
+    # recv() allocate (mmap) and page-fault 16 MB afresh: on loopback it costs about twice the
+    # CPU of 1 MB for the same bytes (docs/media.md, "Benchmark")
+    buff_size = 1 << 20
     queue_seconds = 2.0
     prepare_frame = None        # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
 
@@ -77,6 +94,26 @@ class ImageCheck(Check):
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
         self.sizes = {}             # (w, h, encoding) -> count, when it changes
+
+    def decode(self, buff):
+        """sensor_msgs/Image from its serialized bytes with `data` a memoryview into `buff`:
+        genpy's deserialize copies the pixels (about 0.1-0.2 ms for a 640x480 frame), this
+        does not. The wire format is ROS's (header, height, width, encoding, is_bigendian,
+        step, data; strings and arrays prefixed by a uint32 length). A short buffer raises
+        struct.error as genpy does; a short data array stays short (the layout check says so)."""
+        from genpy import Time
+        from sensor_msgs.msg import Image
+        view = memoryview(buff)
+        msg = Image()
+        seq, secs, nsecs = _HEADER.unpack_from(view, 0)
+        pos, text = _string(view, 12)
+        msg.header.seq, msg.header.stamp, msg.header.frame_id = seq, Time(secs, nsecs), text
+        msg.height, msg.width = _SIZE.unpack_from(view, pos)
+        pos, msg.encoding = _string(view, pos + 8)
+        msg.is_bigendian, msg.step = _STEP.unpack_from(view, pos)
+        (length,) = _U32.unpack_from(view, pos + 5)
+        msg.data = view[pos + 9:pos + 9 + length]
+        return msg
 
     def fields(self, msg):
         return [('Image Width', msg.width), ('Image Height', msg.height),
@@ -255,15 +292,24 @@ class CameraCheck(ImageCheck):
         self.show_and_record(image, t, pix_fmt)
 
     def _frozen(self, msg, t):
-        """Identical = the same geometry and byte-for-byte the same data as the previous frame."""
-        image = ((msg.width, msg.height, msg.encoding, msg.step), msg.data)
-        if image == self.last_image:
+        """Identical = the same geometry and byte-for-byte the same data as the previous frame:
+        about 900 bytes spread over the frame are compared first (a changing image differs
+        there), and only when they match, every byte."""
+        geometry = (msg.width, msg.height, msg.encoding, msg.step)
+        data = np.frombuffer(msg.data, np.uint8)
+        same = False
+        if self.last_image is not None and self.last_image[0] == geometry:
+            last = self.last_image[1]
+            stride = max(1, len(data) // 900)
+            same = len(last) == len(data) and np.array_equal(last[::stride], data[::stride]) \
+                and np.array_equal(last, data)
+        if same:
             self.run += 1
             if self.run == self.frozen_frames:
                 self.frozen_runs += 1
         else:
             self.run = 1
-        self.last_image = image
+        self.last_image = (geometry, data)
         if self.run > self.longest_run:
             self.longest_run, self.longest_run_at = self.run, round(t, 2)
 
