@@ -82,6 +82,13 @@ def test_rate_is_corrected_when_the_stream_slows_down(tmp_path):
     assert any('frame rate corrected' in n for n in rec.notes)
 
 
+def test_odd_sizes_are_padded_to_even_for_h264(tmp_path):
+    rec = record(tmp_path / 'odd.mp4', [pattern(161, 121, i) for i in range(12)], rate=10.0)
+    summary = rec.close()
+    assert summary['error'] is None and summary['frames_written'] == 12
+    assert video_info(str(tmp_path / 'odd.mp4'))[:3] == (12, 162, 122)
+
+
 def test_without_ffmpeg_there_is_no_video_and_a_clear_error(tmp_path, monkeypatch):
     monkeypatch.setenv('PATH', str(tmp_path))      # a PATH without ffmpeg
     rec = record(tmp_path / 'frontCameraOutput.mp4', [pattern(64, 48, i) for i in range(10)], rate=10.0)

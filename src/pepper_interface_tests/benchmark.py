@@ -168,7 +168,7 @@ def _expectations(duration):
     return '\n'.join(lines) + '\n'
 
 
-def _sample_rss(pid, peak, stop):
+def _sample_rss(pid, peak, stop, threads=None):
     """peak = [own RSS, RSS of the children (ffmpeg) at the same moment, sum]: maxima over the run."""
     try:
         import psutil
@@ -184,6 +184,12 @@ def _sample_rss(pid, peak, stop):
                         pass
             except psutil.Error:
                 return
+            if threads is not None:
+                try:
+                    for th in proc.threads():
+                        threads[th.id] = th.user_time + th.system_time
+                except psutil.Error:
+                    pass
             peak[0] = max(peak[0], own)
             peak[1] = max(peak[1], kids)
             peak[2] = max(peak[2], own + kids)
@@ -289,7 +295,8 @@ def _round(args, tmp, master, files, mode, label):
         st = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
         procs.append(st)
         peak, stop = [0, 0, 0], threading.Event()
-        sampler = threading.Thread(target=_sample_rss, args=(st.pid, peak, stop), daemon=True)
+        threads = {} if args.threads else None
+        sampler = threading.Thread(target=_sample_rss, args=(st.pid, peak, stop, threads), daemon=True)
         sampler.start()
         line = pub.stdout.readline()         # the publisher reports once it has published everything
         published = json.loads(line) if line.strip() else {'error': 'publisher printed nothing'}
@@ -343,6 +350,9 @@ def _round(args, tmp, master, files, mode, label):
                                                               else 'no file'))
         print('publisher: %g s of publishing, finished %.3f s late' % (published['seconds'],
                                                                       published['finished_late_s']))
+        if threads:
+            print('CPU per thread (sampled every 0.1 s; the main thread first): %s'
+                  % ', '.join('%.2f' % threads[t] for t in sorted(threads, key=lambda t: (t != st.pid, -threads[t]))))
         if profile and os.path.exists(profile):
             _print_profile(profile)
         return m
@@ -484,6 +494,7 @@ def main(argv=None):
                    help='only the round with recording off (same as --modes off)')
     p.add_argument('--target', type=float, default=0.99, help='share that must be received and recorded')
     p.add_argument('--profile', metavar='DIR', help='run sensorTest under py-spy, profiles into DIR')
+    p.add_argument('--threads', action='store_true', help='print the CPU of each sensorTest thread')
     p.add_argument('--keep', action='store_true', help='keep the temporary folder (videos, logs)')
     p.add_argument('--publisher', action='store_true', help=argparse.SUPPRESS)
     p.add_argument('--subscribers', type=int, default=1, help=argparse.SUPPRESS)

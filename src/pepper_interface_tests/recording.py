@@ -281,12 +281,15 @@ class VideoRecorder:
             self._buffer = []
             return
         self._stderr = tempfile.TemporaryFile('w+')
+        # yuv420p needs even sides: an odd one gets a black line (the summary keeps the real size)
+        odd = self.size[0] % 2 or self.size[1] % 2
+        pad = ['-vf', 'pad=ceil(iw/2)*2:ceil(ih/2)*2'] if odd else []
         # own session: a Ctrl-C to sensorTest's process group must not end ffmpeg before the
         # queued frames are in; it ends when its input pipe is closed
         self._proc = subprocess.Popen(
             ['ffmpeg', '-v', 'error', '-y', '-f', 'rawvideo', '-pix_fmt', pix_fmt,
-             '-s', '%dx%d' % self.size, '-r', '%.6f' % self.fps, '-i', 'pipe:0', '-an',
-             '-c:v', 'libx264', '-preset', PRESET, '-threads', '1', '-pix_fmt', 'yuv420p',
+             '-s', '%dx%d' % self.size, '-r', '%.6f' % self.fps, '-i', 'pipe:0', '-an'] + pad +
+            ['-c:v', 'libx264', '-preset', PRESET, '-threads', '1', '-pix_fmt', 'yuv420p',
              '-movflags', '+faststart', '-f', 'mp4', self.tmp_path],
             stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._stderr, start_new_session=True)
         try:    # a 1 MB pipe (Linux F_SETPIPE_SZ): a whole frame per write, fewer switches to ffmpeg
