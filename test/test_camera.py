@@ -32,7 +32,7 @@ def test_good_frames_pass_with_the_spec_fields_and_measured_values(tmp_path):
 
 def test_stream_sized_subscriber_queue_and_large_buffer(tmp_path):
     c = make_check('frontCamera', tmp_path)            # robot rate band [1, 35] Hz
-    assert c.buff_size == 1 << 20                      # a VGA frame per recv(), see camera.py
+    assert c.buff_size == 1 << 18                      # measured cheapest, see camera.py
     assert c.queue_size == 70                          # ~2 s at the highest expected rate
 
 

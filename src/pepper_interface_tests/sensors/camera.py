@@ -72,10 +72,11 @@ def bytes_per_pixel(encoding):
 
 class ImageCheck(Check):
     """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
-    # rospy's recv() size. 1 MB holds a 640x480 rgb8 frame; the often-quoted 2**24 makes every
-    # recv() allocate (mmap) and page-fault 16 MB afresh: on loopback it costs about twice the
-    # CPU of 1 MB for the same bytes (docs/media.md, "Benchmark")
-    buff_size = 1 << 20
+    # rospy's recv() size (bytes read per call). Measured on this machine with the benchmark's
+    # streams (docs/media.md, "Benchmark"): 256 KB and 64 KB cost the same, 1 MB about 35 % more
+    # CPU per receive thread and the often-quoted 2**24 about 50 % more: a recv() buffer above
+    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call.
+    buff_size = 1 << 18
     queue_seconds = 2.0
     prepare_frame = None        # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
 
