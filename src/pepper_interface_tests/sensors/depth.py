@@ -13,9 +13,10 @@ message's bytes (no copy); the valid share (and so "all zero") counts every pixe
 min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
 Video: depth mapped to 8 bits over the fixed range `video_range` [m, m] of the sensor
 (default 0-5 m, the same for every frame, not normalised per frame), colour-mapped with
-the JET map (near = blue, far = red; MATLAB's formula, as OpenCV's COLORMAP_JET); invalid pixels are black. For millimetre depth this
-is one table look-up per pixel (65,536 entries, each a packed BGR0 pixel) done in the video
-writer's thread; ffmpeg converts BGR0 to the video's YUV (recording.py).
+the JET map (near = blue, far = red; MATLAB's formula, as OpenCV's COLORMAP_JET); invalid
+pixels are black. For millimetre depth this is one table look-up per pixel (65,536 entries,
+each a packed BGR0 pixel) done in the video writer's thread; ffmpeg converts BGR0 to the
+video's YUV (recording.py).
 """
 import math
 
@@ -133,8 +134,9 @@ class DepthCheck(ImageCheck):
             if self._lut is None:   # one table for every 16-bit millimetre value
                 metres = np.arange(65536, dtype=np.float64) * 0.001
                 grey = np.clip((metres - lo) / (hi - lo) * 255.0, 0, 255).astype(np.uint8)
-                self._lut = self._jet[grey]
-                self._lut[0] = 0
+                lut = self._jet[grey]
+                lut[0] = 0          # invalid: black (assigned whole: the viewer may call this too)
+                self._lut = lut
             packed = np.take(self._lut, depth)
         else:
             metres = depth.astype(np.float32) * np.float32(0.001 if kind == 'depth_mm' else 1.0)
