@@ -32,7 +32,7 @@ def test_good_frames_pass_with_the_spec_fields_and_measured_values(tmp_path):
 
 def test_stream_sized_subscriber_queue_and_large_buffer(tmp_path):
     c = make_check('frontCamera', tmp_path)            # robot rate band [1, 35] Hz
-    assert c.buff_size == 1 << 24
+    assert c.buff_size == 1 << 18                      # measured cheapest, see camera.py
     assert c.queue_size == 70                          # ~2 s at the highest expected rate
 
 
@@ -72,6 +72,61 @@ def test_frozen_needs_frozen_frames_identical_frames_in_a_row(tmp_path, repeats,
     assert c.values['longest_identical_run'] == repeats
     text = ' | '.join(c.failure_reasons())
     assert ('image frozen: %d identical consecutive frames' % repeats in text) is frozen, text
+
+
+def test_frozen_is_exact_a_change_in_one_pixel_is_a_new_frame(tmp_path):
+    base = pattern(160, 120, 7)
+    frames = []
+    for i in range(8):
+        px = base.copy()
+        px[61, 37, 1] = i                          # one byte, outside any strided sample
+        frames.append(image_msg(px, 'rgb8'))
+    c = feed(make_check('bottomCamera', tmp_path, record=False), frames)
+    assert c.values['longest_identical_run'] == 1 and c.failure_reasons() == []
+
+
+def test_frozen_frames_late_in_the_window_are_found(tmp_path):
+    same = image_msg(pattern(160, 120, 99), 'rgb8')
+    c = feed(make_check('frontCamera', tmp_path, record=False), good(40) + [same] * 6)
+    assert any(r.startswith('image frozen: 6 identical consecutive frames (until t=4.5 s')
+               for r in c.failure_reasons()), c.failure_reasons()
+
+
+@pytest.mark.parametrize('encoding', ['rgb8', 'bgr8', 'rgba8', 'bgra8', 'mono8'])
+def test_eight_bit_encodings_are_read_in_place_with_the_same_statistics(tmp_path, encoding):
+    px = pattern(160, 120, 3)
+    if encoding in ('rgba8', 'bgra8'):
+        px = np.dstack([px, np.zeros((120, 160), np.uint8)])     # alpha 0 must not darken the image
+    elif encoding == 'mono8':
+        px = px[:, :, 1]
+    c = feed(make_check('frontCamera', tmp_path, record=False, expect={'encoding': encoding}),
+             [image_msg(px, encoding)] * 2)
+    assert c.failure_reasons() == [] and c.converted == 2
+    colour = px[:, :, :3] if px.ndim == 3 else px
+    assert abs(c.values['brightness_mean']['mean'] - colour[::8, ::8].mean()) < 0.01
+    assert abs(c.values['brightness_spread']['mean'] - colour[::8, ::8].std()) < 0.01
+
+
+def test_decode_reads_the_wire_format_like_genpy_without_copying_the_pixels(tmp_path):
+    import io
+    import struct
+    from sensor_msgs.msg import Image
+    msg = image_msg(pattern(160, 120, 4), 'rgb8')
+    msg.header.seq, msg.header.frame_id = 42, 'CameraTop_optical_frame'
+    msg.header.stamp.secs, msg.header.stamp.nsecs = 1700000000, 123456789
+    buff = io.BytesIO()
+    msg.serialize(buff)
+    raw = buff.getvalue()
+    c = make_check('frontCamera', tmp_path, record=False)
+    ours, genpy = c.decode(raw), Image().deserialize(raw)
+    for field in ('height', 'width', 'encoding', 'is_bigendian', 'step'):
+        assert getattr(ours, field) == getattr(genpy, field), field
+    assert ours.header.frame_id == genpy.header.frame_id and ours.header.seq == 42
+    assert ours.header.stamp == genpy.header.stamp and ours.header.stamp.to_sec() == genpy.header.stamp.to_sec()
+    assert bytes(ours.data) == genpy.data and isinstance(ours.data, memoryview)
+    with pytest.raises(struct.error):
+        c.decode(raw[:30])                         # cut inside the header: "could not be decoded"
+    assert len(c.decode(raw[:-5]).data) == len(raw) - 5 - (len(raw) - len(genpy.data))   # short data stays short
 
 
 def test_black_in_most_frames_fails_and_in_few_frames_warns(tmp_path):

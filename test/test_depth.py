@@ -2,9 +2,11 @@
 encodings, valid share and median limits, the fixed-range colour video; and through sensorTest."""
 import os
 
+import cv2
 import numpy as np
 
 from media_tools import Publishers, explain, image_msg, make_check, sensor_test, video_info
+from pepper_interface_tests.recording import to_bgr
 
 
 def feed(check, frames, rate=10.0):
@@ -77,11 +79,39 @@ def test_video_uses_a_fixed_range_and_black_invalid_pixels(tmp_path):
     mixed = near.copy()
     mixed[:, 5:] = 4900
     mixed[0, 0] = 0
-    a, b = c.colourise(near, 0.001), c.colourise(mixed, 0.001)
+    a, b = colour(c, near, 'depth_mm'), colour(c, mixed, 'depth_mm')
     assert (a[5, 2] == b[5, 2]).all()              # same depth, same colour, whatever else is in view
     assert (b[0, 0] == 0).all() and b[5, 2].any()
-    metres = c.colourise(near.astype(np.float32) / 1000, 1.0)
+    metres = colour(c, near.astype(np.float32) / 1000, 'depth_m')
     assert np.abs(metres.astype(int) - a.astype(int)).max() <= 2
+    # the table is the JET map over 0-5 m, as OpenCV draws it: near is blue, far is red
+    ramp = np.linspace(1, 5000, 256).astype(np.uint16).reshape(1, 256)
+    ours = colour(c, ramp, 'depth_mm')[0].astype(int)
+    opencv = cv2.applyColorMap(np.arange(256, dtype=np.uint8).reshape(1, 256), cv2.COLORMAP_JET)[0].astype(int)
+    assert np.abs(ours - opencv).max() <= 12, np.abs(ours - opencv).max()
+    assert ours[0, 0] > 100 and ours[0, 2] == 0 and ours[-1, 2] > 100 and ours[-1, 0] == 0
+
+
+def colour(check, depth, kind):
+    return to_bgr(*check.prepare_frame(depth, kind))
+
+
+def test_one_valid_pixel_anywhere_is_not_an_all_zero_frame(tmp_path):
+    a = np.zeros((120, 160), np.uint16)
+    a[57, 93] = 1200                               # outside the every-4th-pixel sample
+    c = feed(make_check('depthCamera', tmp_path, record=False), [image_msg(a, '16UC1')] * 3)
+    assert c.values['frames_all_zero'] == 0
+    assert not any('depth all zero' in r or 'no valid pixel' in r for r in c.failure_reasons())
+
+
+def test_big_endian_and_padded_rows_are_read_right(tmp_path):
+    a = np.full((120, 160), 1500, np.uint16)
+    padded = np.zeros((120, 170), '>u2')
+    padded[:, :160] = a
+    msg = image_msg(padded, '16UC1', width=160)
+    msg.is_bigendian = 1
+    c = feed(make_check('depthCamera', tmp_path, record=False), [msg] * 3)
+    assert c.failure_reasons() == [] and c.values['depth_m']['median'] == 1.5
 
 
 # ---------------------------------------------------------------- through sensorTest

@@ -17,15 +17,20 @@ from pepper_interface_tests.viewer import Viewer
 from rosmaster import kill_group, script, spawn
 
 
-def record(path, frames, rate, codec='mp4v', **kw):
-    rec = VideoRecorder(str(path), codec=codec, **kw)
+def record(path, frames, rate, **kw):
+    rec = VideoRecorder(str(path), **kw)
     for i, f in enumerate(frames):
         rec.add(f, i / rate)
     return rec
 
 
-def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path, monkeypatch):
-    monkeypatch.setenv('SENSORTEST_VIDEO_TRANSCODE', '0')     # the mp4v file as OpenCV wrote it
+def ffprobe_stream(path, entries='codec_name,pix_fmt'):
+    out = subprocess.run(['ffprobe', '-v', 'error', '-select_streams', 'v:0', '-show_entries',
+                          'stream=' + entries, '-of', 'csv=p=0', str(path)], capture_output=True, text=True)
+    return out.stdout.strip()
+
+
+def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path):
     path = tmp_path / 'frontCameraOutput.mp4'
     rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
     time.sleep(0.5)
@@ -35,54 +40,37 @@ def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(t
     assert (frames, w, h) == (36, 160, 120)
     assert abs(fps - 12.0) < 0.05 and summary['fps'] == 12.0
     assert summary['frames_written'] == 36 and summary['frames_dropped'] == 0
-    assert video_codec(str(path)) == 'mpeg4'
+    # browser-playable H.264 in one pass, straight from the raw frames
+    assert ffprobe_stream(path) == 'h264,yuv420p' and summary['codec'] == 'avc1'
     assert not [p for p in os.listdir(tmp_path) if p.startswith('.')]
 
 
-def test_mp4v_recordings_are_transcoded_to_h264_frame_for_frame(tmp_path):
-    if not recording.shutil.which('ffmpeg'):
-        pytest.skip('ffmpeg not installed')
-    path = tmp_path / 'bottomCameraOutput.mp4'
-    rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
-    summary = rec.close()
-    frames, w, h, fps = video_info(str(path))
-    assert (frames, w, h) == (36, 160, 120) and abs(fps - 12.0) < 0.05
-    assert video_codec(str(path)) == 'h264' and summary['codec'] == 'avc1'
-    assert any('transcoded to H.264' in n for n in rec.notes), rec.notes
-    assert not [p for p in os.listdir(tmp_path) if p.startswith('.')]
+@pytest.mark.parametrize('pix_fmt,order', [('rgb24', (2, 1, 0)), ('bgr24', (0, 1, 2)), ('rgba', (2, 1, 0, 3)),
+                                           ('bgra', (0, 1, 2, 3))])
+def test_ffmpeg_converts_the_raw_colour_order(tmp_path, pix_fmt, order):
+    import cv2
+    bgr = np.zeros((96, 128, 3), np.uint8)
+    bgr[:, :64] = (255, 0, 0)                      # blue | red, in OpenCV's BGR
+    bgr[:, 64:] = (0, 0, 255)
+    if len(order) == 4:
+        bgr = np.dstack([bgr, np.zeros((96, 128), np.uint8)])
+    raw = np.ascontiguousarray(bgr[:, :, list(order)])
+    rec = VideoRecorder(str(tmp_path / 'c.mp4'))
+    for i in range(6):
+        rec.add(raw, i / 10.0, pix_fmt)
+    assert rec.close()['frames_written'] == 6
+    ok, frame = cv2.VideoCapture(str(tmp_path / 'c.mp4')).read()
+    assert ok
+    left, right = frame[48, 20].astype(int), frame[48, 100].astype(int)
+    assert left[0] > 200 and left[2] < 60 and right[2] > 200 and right[0] < 60, (left, right)
+    assert recording.save_jpeg(str(tmp_path / 'first.jpg'), *rec.first_frame)
+    jpeg = cv2.imread(str(tmp_path / 'first.jpg'))   # the JPEG's colours are right whatever came in
+    assert jpeg[48, 20, 0] > 200 and jpeg[48, 20, 2] < 60 and jpeg[48, 100, 2] > 200 and jpeg[48, 100, 0] < 60
 
 
-def test_avc1_writes_h264_when_the_build_can(tmp_path):
-    if not recording.avc1_available():
-        pytest.skip('this OpenCV build cannot write H.264')
-    path = tmp_path / 'bottomCameraOutput.mp4'
-    rec = record(path, [pattern(160, 120, i) for i in range(20)], rate=10.0, codec='avc1')
-    assert rec.close()['codec'] == 'avc1'
-    assert video_codec(str(path)) == 'h264' and video_info(str(path))[0] == 20
-
-
-def test_auto_codec_follows_the_encoding_budget(tmp_path, monkeypatch):
-    if not recording.avc1_available():
-        pytest.skip('this OpenCV build cannot write H.264')
-    monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '0')
-    rec = record(tmp_path / 'a.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
-    rec.close()
-    assert any('mp4v chosen' in n for n in rec.notes), rec.notes
-    assert rec.codec == 'avc1' and any('transcoded to H.264' in n for n in rec.notes), rec.notes
-    monkeypatch.setenv('SENSORTEST_VIDEO_BUDGET', '50')
-    rec = record(tmp_path / 'b.mp4', [pattern(160, 120, i) for i in range(12)], rate=10.0, codec='auto')
-    rec.close()
-    assert rec.codec == 'avc1' and any('avc1 chosen' in n for n in rec.notes), rec.notes
-    assert recording.BUDGET.committed == 0.0       # a closed recorder gives its share back
-
-
-@pytest.mark.parametrize('transcode', ['1', '0'], ids=['transcoded', 'stream_copy'])
-def test_rate_is_corrected_when_the_stream_slows_down(tmp_path, monkeypatch, transcode):
-    if not recording.shutil.which('ffmpeg'):
-        pytest.skip('ffmpeg not installed')
-    monkeypatch.setenv('SENSORTEST_VIDEO_TRANSCODE', transcode)
+def test_rate_is_corrected_when_the_stream_slows_down(tmp_path):
     path = tmp_path / 'depthCameraOutput.mp4'
-    rec = VideoRecorder(str(path), codec='mp4v')
+    rec = VideoRecorder(str(path))
     times = [i / 30.0 for i in range(31)] + [1.0 + i / 10.0 for i in range(1, 41)]   # 30 Hz, then 10 Hz
     for i, t in enumerate(times):
         rec.add(pattern(96, 64, i), t)
@@ -92,6 +80,40 @@ def test_rate_is_corrected_when_the_stream_slows_down(tmp_path, monkeypatch, tra
     frames, _, _, fps = video_info(str(path))
     assert frames == len(times) and abs(fps - overall) < 0.3, fps
     assert any('frame rate corrected' in n for n in rec.notes)
+
+
+def test_odd_sizes_are_padded_to_even_for_h264(tmp_path):
+    rec = record(tmp_path / 'odd.mp4', [pattern(161, 121, i) for i in range(12)], rate=10.0)
+    summary = rec.close()
+    assert summary['error'] is None and summary['frames_written'] == 12
+    assert video_info(str(tmp_path / 'odd.mp4'))[:3] == (12, 162, 122)
+
+
+def test_without_ffmpeg_there_is_no_video_and_a_clear_error(tmp_path, monkeypatch):
+    monkeypatch.setenv('PATH', str(tmp_path))      # a PATH without ffmpeg
+    rec = record(tmp_path / 'frontCameraOutput.mp4', [pattern(64, 48, i) for i in range(10)], rate=10.0)
+    summary = rec.close()
+    assert summary['error'] == 'ffmpeg not found: no video (install ffmpeg)' and summary['file'] is None
+    assert summary['frames_dropped'] == 10 and summary['frames_written'] == 0
+    assert not os.listdir(tmp_path)
+
+
+def test_an_encoder_that_dies_is_reported_and_the_rest_counted(tmp_path):
+    rec = VideoRecorder(str(tmp_path / 'bottomCameraOutput.mp4'))
+    for i in range(20):
+        rec.add(pattern(160, 120, i), i / 10.0)
+    deadline = time.time() + 20
+    while rec._proc is None and time.time() < deadline:     # ffmpeg starts after ~1 s of frames
+        time.sleep(0.05)
+    os.killpg(rec._proc.pid, signal.SIGKILL)      # a real encoder crash
+    time.sleep(0.3)
+    for i in range(20, 60):
+        rec.add(pattern(160, 120, i), i / 10.0)
+    summary = rec.close()
+    assert summary['error'] and ('ffmpeg' in summary['error'] or 'video writer failed' in summary['error'])
+    assert summary['frames_written'] + summary['frames_dropped'] == summary['frames_received'] == 60
+    assert summary['frames_dropped'] > 0 and summary['file'] is None      # an unfinished mp4 is not kept
+    assert not os.listdir(tmp_path)
 
 
 def test_other_sizes_are_resized_grey_is_converted_and_late_frames_ignored(tmp_path):
@@ -110,7 +132,7 @@ def test_other_sizes_are_resized_grey_is_converted_and_late_frames_ignored(tmp_p
 
 def test_frames_that_do_not_fit_the_queue_are_counted_not_lost_silently(tmp_path):
     path = tmp_path / 'realsenseRGBOutput.mp4'
-    rec = VideoRecorder(str(path), codec='avc1' if recording.avc1_available() else 'mp4v', queue_bytes=1)
+    rec = VideoRecorder(str(path), queue_bytes=1)
     big = [pattern(640, 480, i) for i in range(6)]
     for i in range(200):                           # far faster than any encoder
         rec.add(big[i % 6], i / 30.0)

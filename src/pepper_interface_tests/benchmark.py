@@ -1,25 +1,36 @@
-"""sensorTestBenchmark: how much of a heavy media load sensorTest receives and records.
+"""sensorTestBenchmark: what sensorTest costs next to `rostopic hz` on the same heavy streams.
 
-It starts its own roscore on a free port, a publisher process (rospy) with
+It starts its own roscore on a free port and a publisher process (rospy) with the streams of
+issue 12 (about 1 GB in 10 s):
   frontCamera, bottomCamera  640x480 rgb8 at 30 Hz
   depthCamera                320x240 16UC1 at 20 Hz
-  stereoCamera               1280x360 rgb8 at 15 Hz
   realsenseRGBCamera         640x480 rgb8 at 30 Hz
   realsenseDepthCamera       640x480 16UC1 at 30 Hz
   microphone                 AudioCustomMsg 4 x 4096 samples at 48 kHz (11.7 buffers/s)
-and runs `sensorTest --platform robot --mode parallel --duration D` over those topics as a
-subprocess, with a temporary topics file, input file, expectations file and output folder.
-The publisher waits until sensorTest has subscribed to every topic, then publishes for
-`--publish` seconds (default D - 2) and stops, so the number published is exact and falls
-inside the listening window (the temporary expectations accept the quiet tail).
+Each round runs, side by side on those topics, `rostopic hz` (the floor for a rospy listener:
+AnyMsg, no deserialisation) and `sensorTest --platform robot --mode parallel --duration D` (default 15)
+with a temporary topics, input and expectations file and output folder. The publisher waits
+until both have subscribed to every topic, publishes for `--publish` seconds (default 10)
+and stops, so the number published is exact and falls inside the listening window (the
+temporary expectations accept the quiet tail); `rostopic hz` is stopped (SIGINT) once the
+publisher is done, sensorTest ends on its own.
 
-Printed per topic: published, received (sensorTest's count), recorded (frames decoded from the
-mp4 by ffprobe; buffers' worth of samples in the WAV), rate, verdict, video codec; then the
-sensorTest process's CPU seconds (user + system, including its ffmpeg children) and peak RSS
-(from wait4), and the machine. Exit code 0 when every stream reached the target share
-(default 99 %) received and recorded, 1 otherwise.
+A round is `off` (sensorTest --no-record: every check, no recording) or `on` (checks and
+recording); by default both, `--runs` times. Printed per round: published, received
+(sensorTest's count) and recorded (frames decoded from the mp4 by ffprobe; buffers' worth of
+samples in the WAV) per stream; the CPU seconds (user + system, from wait4: the process and
+its reaped children, so sensorTest's ffmpeg encoders and any encoding after the window count)
+of sensorTest and of `rostopic hz` and their ratio; the time from the end of the window to
+the last recording written (mtime); sensorTest's peak RSS (psutil, sampled every 0.1 s; the
+ffmpeg children's RSS added apart). Then one summary line per round with the targets of
+issue 12: ratio <= 1.5 with recording off, <= 5 with recording on, last file <= 2 s after the
+window, peak RSS <= 300 MB, every message received (>= --target) and recorded.
+Exit code 0 when every round met every target, 1 otherwise, 2 when a round could not run.
+`--profile DIR` runs sensorTest under py-spy (if installed) and prints the top entries
+(CPU ratios of such a round include the profiler and are not comparable).
 """
 import argparse
+import glob
 import json
 import os
 import shutil
@@ -39,7 +50,6 @@ STREAMS = [
     ('frontCamera', '/bench/front/image_raw', 'rgb8', 640, 480, 30.0),
     ('bottomCamera', '/bench/bottom/image_raw', 'rgb8', 640, 480, 30.0),
     ('depthCamera', '/bench/depth/image_raw', '16UC1', 320, 240, 20.0),
-    ('stereoCamera', '/bench/stereo/image_raw', 'rgb8', 1280, 360, 15.0),
     ('realsenseRGBCamera', '/bench/color/image_raw', 'rgb8', 640, 480, 30.0),
     ('realsenseDepthCamera', '/bench/aligned_depth_to_color/image_raw', '16UC1', 640, 480, 30.0),
     ('microphone', '/bench/audio', 'audio', 4096, 4, 48000.0 / 4096),
@@ -65,8 +75,9 @@ def _frames(encoding, w, h):
     return out
 
 
-def publish(seconds, wait):
-    """Publisher process: wait for sensorTest's subscriptions, publish for `seconds`, report counts."""
+def publish(seconds, wait, subscribers=1):
+    """Publisher process: wait for `subscribers` subscriptions per topic, publish for `seconds`,
+    report counts."""
     import rospy
     from sensor_msgs.msg import Image
     from pepper_interface_tests.msg import AudioCustomMsg
@@ -82,9 +93,9 @@ def publish(seconds, wait):
         else:
             payloads[name] = _frames(enc, w, h)
     deadline = time.monotonic() + wait
-    while any(p.get_num_connections() == 0 for p in pubs.values()):
+    while any(p.get_num_connections() < subscribers for p in pubs.values()):
         if time.monotonic() > deadline:
-            missing = [n for n, p in pubs.items() if p.get_num_connections() == 0]
+            missing = [n for n, p in pubs.items() if p.get_num_connections() < subscribers]
             print(json.dumps({'error': 'no subscriber on: ' + ', '.join(missing)}), flush=True)
             return 1
         time.sleep(0.05)
@@ -132,6 +143,11 @@ def publish(seconds, wait):
 
 # ---------------------------------------------------------------- driver
 
+TARGETS = {'off': 1.5, 'on': 5.0}     # issue 12: CPU of sensorTest / CPU of rostopic hz
+TARGET_LAST_FILE_S = 2.0
+TARGET_RSS_MB = 300.0
+
+
 def _expectations(duration):
     lines = ['# written by sensorTestBenchmark: the benchmark streams\' rates; the publisher stops',
              '# before the window ends, so a quiet tail of up to 5 s is accepted (max_gap_factor).',
@@ -152,18 +168,46 @@ def _expectations(duration):
     return '\n'.join(lines) + '\n'
 
 
-def _sample_rss(pid, peak, stop):
+def _sample_rss(pid, peak, stop, threads=None):
+    """peak = [own RSS, RSS of the children (ffmpeg) at the same moment, sum]: maxima over the run."""
     try:
         import psutil
         proc = psutil.Process(pid)
         while not stop.is_set():
             try:
-                peak[0] = max(peak[0], proc.memory_info().rss)
+                own = proc.memory_info().rss
+                kids = 0
+                for child in proc.children(recursive=True):
+                    try:
+                        kids += child.memory_info().rss
+                    except psutil.Error:
+                        pass
             except psutil.Error:
                 return
-            stop.wait(0.2)
+            if threads is not None:
+                try:
+                    for th in proc.threads():
+                        threads[th.id] = th.user_time + th.system_time
+                except psutil.Error:
+                    pass
+            peak[0] = max(peak[0], own)
+            peak[1] = max(peak[1], kids)
+            peak[2] = max(peak[2], own + kids)
+            stop.wait(0.1)
     except ImportError:
         return
+
+
+def _wait4(pid, timeout):
+    """(exit code, rusage) of a child, waiting at most `timeout` s (None, None when it did not end)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        done, status, usage = os.wait4(pid, os.WNOHANG)
+        if done:
+            return os.waitstatus_to_exitcode(status), usage
+        if time.monotonic() > deadline:
+            return None, None
+        time.sleep(0.02)
 
 
 def _recorded(out_dir, sensor):
@@ -182,14 +226,169 @@ def _recorded(out_dir, sensor):
     return ffprobe_frames(path), None
 
 
-def run(args):
+def _wait_subscribed(uri, prefix, topics, timeout):
+    """Wait until a node whose name starts with `prefix` subscribes to every topic (on a
+    loaded machine `rostopic hz` may take seconds to start: sensorTest's window must not
+    begin before the publisher can)."""
+    import xmlrpc.client
+    master = xmlrpc.client.ServerProxy(uri)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            _, _, (_, subscribers, _) = master.getSystemState('/bench')
+            subs = {t: nodes for t, nodes in subscribers}
+            if all(any(n.startswith(prefix) for n in subs.get(t, ())) for t in topics):
+                return True
+        except OSError:
+            pass
+        time.sleep(0.1)
+    return False
+
+
+def _sensor_test_script():
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    sensor_test = os.path.join(root, 'scripts', 'sensorTest')
-    if not os.path.exists(sensor_test):
+    path = os.path.join(root, 'scripts', 'sensorTest')
+    if not os.path.exists(path):
         import rospkg
-        sensor_test = os.path.join(rospkg.RosPack().get_path('pepper_interface_tests'), 'scripts', 'sensorTest')
+        path = os.path.join(rospkg.RosPack().get_path('pepper_interface_tests'), 'scripts', 'sensorTest')
+    return root, path
+
+
+def _round(args, tmp, master, files, mode, label):
+    """One side-by-side round; a dict of measurements (or {'error': text})."""
+    root, sensor_test = _sensor_test_script()
+    topics, inputs, expect = files
+    out_dir = os.path.join(tmp, 'out-' + label)
+    env = master.env()
+    # 10 s of streams as in issue 12; the window is longer so that a publisher that starts late
+    # (on a loaded machine) still ends inside it
+    publish_s = args.publish if args.publish else min(10.0, max(1.0, args.duration - 2.0))
+    cmd = [sys.executable, sensor_test, '--topics', topics, '--input', inputs, '--expectations', expect,
+           '--platform', 'robot', '--mode', 'parallel', '--duration', '%g' % args.duration,
+           '--wait', '10', '--output-dir', out_dir, '--no-show', '--no-history', '--no-diagnostics',
+           '--no-report'] + ([] if mode == 'on' else ['--no-record'])
+    profile = None
+    if args.profile:
+        spy = shutil.which('py-spy')
+        if spy:
+            os.makedirs(args.profile, exist_ok=True)
+            profile = os.path.join(os.path.abspath(args.profile), 'sensorTest-%s.txt' % label)
+            cmd = [spy, 'record', '--format', 'raw', '--rate', '200', '--nonblocking', '-o', profile, '--'] + cmd
+        else:
+            print('py-spy not found: no profile')
+    hz_cmd = [shutil.which('rostopic') or 'rostopic', 'hz'] + [s[1] for s in STREAMS]
+    print('\n== round %s: recording %s ==' % (label, mode))
+    print('sensorTest: ' + ' '.join(cmd[cmd.index(sensor_test) + 1:]).replace(root + '/', ''))
+    print('alongside:  ' + ' '.join(['rostopic'] + hz_cmd[1:]))
+    procs = []
+    try:
+        pub = subprocess.Popen([sys.executable, os.path.abspath(sys.argv[0]), '--publisher', '--subscribers', '2',
+                                '--publish', '%g' % publish_s], env=env, stdout=subprocess.PIPE,
+                               text=True, start_new_session=True)
+        procs.append(pub)
+        time.sleep(1.0)
+        hz_log = open(os.path.join(tmp, 'rostopic-hz-%s.log' % label), 'w')
+        hz = subprocess.Popen(hz_cmd, env=env, stdout=hz_log, stderr=subprocess.STDOUT, start_new_session=True)
+        procs.append(hz)
+        if not _wait_subscribed(master.uri, '/rostopic_', [s[1] for s in STREAMS], 60.0):
+            return {'error': 'rostopic hz did not subscribe within 60 s; log: %s' % hz_log.name}
+        log = open(os.path.join(tmp, 'sensorTest-%s.log' % label), 'w')
+        t0 = time.monotonic()
+        st = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+        procs.append(st)
+        peak, stop = [0, 0, 0], threading.Event()
+        threads = {} if args.threads else None
+        sampler = threading.Thread(target=_sample_rss, args=(st.pid, peak, stop, threads), daemon=True)
+        sampler.start()
+        line = pub.stdout.readline()         # the publisher reports once it has published everything
+        published = json.loads(line) if line.strip() else {'error': 'publisher printed nothing'}
+        time.sleep(0.5)                      # let the last messages arrive at rostopic hz
+        if hz.poll() is None:
+            os.killpg(hz.pid, signal.SIGINT)
+        hz_code, hz_usage = _wait4(hz.pid, 20.0)
+        hz.returncode = hz_code
+        hz_log.close()
+        code, usage = _wait4(st.pid, args.duration + 120.0)
+        st.returncode = code
+        wall = time.monotonic() - t0
+        stop.set()
+        log.close()
+        if 'error' in published:
+            return {'error': 'publisher: ' + published['error']}
+        if usage is None or hz_usage is None:
+            return {'error': 'sensorTest or rostopic hz did not end; logs in %s' % tmp}
+        results_path = os.path.join(out_dir, 'sensorTestResults.json')
+        if not os.path.exists(results_path):
+            return {'error': 'sensorTest wrote no results (exit %s); log: %s' % (code, log.name)}
+        with open(results_path) as f:
+            run = json.load(f)
+        results = {s['name']: s for s in run['sensors']}
+        streams, ok_counts = _table(results, published, out_dir, args.target, mode == 'on')
+        window_end = run['start_unix'] + max(s['ended_at'] for s in run['sensors'])
+        media = [p for ext in ('mp4', 'wav') for p in glob.glob(os.path.join(out_dir, '*.' + ext))]
+        last_file = (max(os.path.getmtime(p) for p in media) - window_end) if media else None
+        cpu = usage.ru_utime + usage.ru_stime
+        videos = [(r.get('values') or {}).get('video') or {} for r in results.values()]
+        encoders = sum(v.get('encoder_cpu_s') or 0.0 for v in videos if isinstance(v, dict))
+        writers = sum(v.get('writer_cpu_s') or 0.0 for v in videos if isinstance(v, dict))
+        hz_cpu = hz_usage.ru_utime + hz_usage.ru_stime
+        m = {'label': label, 'mode': mode, 'exit': code, 'wall': wall, 'cpu': cpu, 'user': usage.ru_utime,
+             'system': usage.ru_stime, 'hz_cpu': hz_cpu, 'ratio': cpu / hz_cpu if hz_cpu else float('inf'),
+             'rss': max(peak[0], usage.ru_maxrss * 1024) / 1e6, 'rss_children': peak[1] / 1e6,
+             'rss_total': peak[2] / 1e6, 'last_file': last_file if mode == 'on' else None,
+             'counts_ok': ok_counts, 'streams': streams, 'late': published['finished_late_s'],
+             'profile': profile, 'encoders': encoders}
+        print('\nsensorTest:  exit %s, wall %.1f s, CPU %.2f s (user %.2f + system %.2f, with its ffmpeg '
+              'children%s), peak RSS %.0f MB (+ %.0f MB in children; together at most %.0f MB)'
+              % (code, wall, cpu, usage.ru_utime, usage.ru_stime,
+                 ': %.2f s in the encoders, %.2f s in the writer threads' % (encoders, writers)
+                 if mode == 'on' else '',
+                 m['rss'], m['rss_children'], m['rss_total']))
+        print('rostopic hz: CPU %.2f s (user %.2f + system %.2f)' % (hz_cpu, hz_usage.ru_utime, hz_usage.ru_stime))
+        print('ratio: %.2fx (target <= %.1fx)%s' % (m['ratio'], TARGETS[mode],
+                                                   '  [profiled: not comparable]' if profile else ''))
+        if mode == 'on':
+            print('end of window -> last file written: %s' % ('%.2f s' % last_file if last_file is not None
+                                                              else 'no file'))
+        print('publisher: %g s of publishing, finished %.3f s late' % (published['seconds'],
+                                                                      published['finished_late_s']))
+        if threads:
+            print('CPU per thread (sampled every 0.1 s; the main thread first): %s'
+                  % ', '.join('%.2f' % threads[t] for t in sorted(threads, key=lambda t: (t != st.pid, -threads[t]))))
+        if profile and os.path.exists(profile):
+            _print_profile(profile)
+        return m
+    finally:
+        for p in reversed(procs):
+            stop_group(p, timeout=10.0)
+
+
+def _print_profile(path, top=15):
+    """Top entries of a py-spy raw (collapsed stacks) profile: self and inclusive samples."""
+    own, incl, total = {}, {}, 0
+    with open(path) as f:
+        for line in f:
+            stack, _, n = line.rstrip().rpartition(' ')
+            if not stack:
+                continue
+            n = int(n)
+            total += n
+            frames = [fr.split(' (')[0] + ' (' + fr.split(' (')[1].split(':')[0].split('/')[-1] + ')'
+                      if ' (' in fr else fr for fr in stack.split(';')]
+            own[frames[-1]] = own.get(frames[-1], 0) + n
+            for fr in set(frames):
+                incl[fr] = incl.get(fr, 0) + n
+    print('profile %s: %d samples' % (path, total))
+    print('  top self:')
+    for fr, n in sorted(own.items(), key=lambda kv: -kv[1])[:top]:
+        print('    %5.1f%%  %s' % (100.0 * n / total, fr))
+    print('  top inclusive:')
+    for fr, n in sorted(incl.items(), key=lambda kv: -kv[1])[:top]:
+        print('    %5.1f%%  %s' % (100.0 * n / total, fr))
+
+
+def run(args):
     tmp = tempfile.mkdtemp(prefix='sensorTestBenchmark-')
-    out_dir = os.path.join(tmp, 'out')
     topics = os.path.join(tmp, 'benchTopics.dat')
     inputs = os.path.join(tmp, 'benchInput.ini')
     expect = os.path.join(tmp, 'benchExpectations.yaml')
@@ -200,74 +399,52 @@ def run(args):
     with open(expect, 'w') as f:
         f.write(_expectations(args.duration))
     master = PrivateMaster('/bench', ros_home=os.path.join(tmp, 'ros_home'))
-    env = master.env()
-    if args.codec:
-        env['SENSORTEST_VIDEO_CODEC'] = args.codec
-    publish_s = args.publish if args.publish else max(1.0, args.duration - 2.0)
-    cmd = [sys.executable, sensor_test, '--topics', topics, '--input', inputs, '--expectations', expect,
-           '--platform', 'robot', '--mode', 'parallel', '--duration', '%g' % args.duration,
-           '--wait', '10', '--output-dir', out_dir, '--no-show', '--no-history', '--no-diagnostics',
-           '--no-report'] + ([] if args.record else ['--no-record'])
     print('sensorTestBenchmark: %d CPUs, load average %s; output in %s'
           % (os.cpu_count(), ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
-    print('command: ' + ' '.join(cmd[1:]).replace(root + '/', ''))
-    procs = []
+    rounds = []
     try:
         try:
             master.start(timeout=20.0)
         except MasterError as exc:
             print(str(exc))
             return 2
-        env['ROS_MASTER_URI'] = master.uri  # start() moves to another port if its was taken
-        pub = subprocess.Popen([sys.executable, os.path.abspath(sys.argv[0]), '--publisher',
-                                '--publish', '%g' % publish_s], env=env, stdout=subprocess.PIPE,
-                               text=True, start_new_session=True)
-        procs.append(pub)
-        time.sleep(1.0)
-        log = open(os.path.join(tmp, 'sensorTest.log'), 'w')
-        t0 = time.monotonic()
-        st = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
-        procs.append(st)
-        peak, stop = [0], threading.Event()
-        sampler = threading.Thread(target=_sample_rss, args=(st.pid, peak, stop), daemon=True)
-        sampler.start()
-        _, status, usage = os.wait4(st.pid, 0)
-        st.returncode = os.waitstatus_to_exitcode(status)
-        wall = time.monotonic() - t0
-        stop.set()
-        log.close()
-        pub.send_signal(signal.SIGTERM)
-        line = pub.stdout.readline()
-        pub.wait(15)
-        published = json.loads(line) if line.strip() else {'error': 'publisher printed nothing'}
-        if 'error' in published:
-            print('publisher: ' + published['error'])
-            return 2
-        results_path = os.path.join(out_dir, 'sensorTestResults.json')
-        if not os.path.exists(results_path):
-            print('sensorTest wrote no results (exit %d); log: %s' % (st.returncode, log.name))
-            return 2
-        with open(results_path) as f:
-            results = {s['name']: s for s in json.load(f)['sensors']}
-        ok = _table(results, published, out_dir, args.target, args.record)
-        cpu = usage.ru_utime + usage.ru_stime
-        rss = max(peak[0], usage.ru_maxrss * 1024)
-        print('\nsensorTest: exit %d, wall %.1f s, CPU %.1f s (user %.1f + system %.1f) = %.0f%% of one core '
-              'over the run, peak RSS %.0f MB'
-              % (st.returncode, wall, cpu, usage.ru_utime, usage.ru_stime, 100 * cpu / wall, rss / 1e6))
-        print('publisher: %g s of publishing, finished %.3f s late' % (published['seconds'],
-                                                                      published['finished_late_s']))
-        print('target: >= %.0f%% of published messages received and recorded: %s'
-              % (100 * args.target, 'met' if ok else 'NOT met'))
+        for i in range(args.runs):
+            for mode in args.modes:
+                m = _round(args, tmp, master, (topics, inputs, expect), mode, '%s-%d' % (mode, i + 1))
+                if 'error' in m:
+                    print(m['error'])
+                    return 2
+                rounds.append(m)
+        ok = _summary(rounds, args)
         if args.keep:
             print('kept: %s' % tmp)
         return 0 if ok else 1
     finally:
-        for p in reversed(procs):
-            stop_group(p, timeout=10.0)
         master.stop()
         if not args.keep:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _summary(rounds, args):
+    head = '%-8s %10s %10s %7s %7s %11s %11s %9s %9s %s' % (
+        'round', 'sensorTest', 'hz', 'ratio', 'target', 'last file', 'peak RSS', '+ffmpeg', 'counts', 'met')
+    print('\nsummary (CPU seconds of the whole process incl. children; side by side in one round)')
+    print(head)
+    print('-' * len(head))
+    ok = True
+    for m in rounds:
+        met = [m['ratio'] <= TARGETS[m['mode']], m['rss'] <= TARGET_RSS_MB, m['counts_ok']]
+        if m['mode'] == 'on':
+            met.append(m['last_file'] is not None and m['last_file'] <= TARGET_LAST_FILE_S)
+        ok = ok and all(met)
+        print('%-8s %9.2fs %9.2fs %6.2fx %6.1fx %11s %8.0f MB %6.0f MB %9s %s' % (
+            m['label'], m['cpu'], m['hz_cpu'], m['ratio'], TARGETS[m['mode']],
+            '%.2f s' % m['last_file'] if m['last_file'] is not None else '-', m['rss'], m['rss_children'],
+            'all' if m['counts_ok'] else 'MISSING', 'yes' if all(met) else 'NO'))
+    print('targets (issue 12): ratio <= 1.5x recording off, <= 5x recording on; last file <= %.0f s after the '
+          'window; peak RSS <= %.0f MB; >= %.0f%% received and recorded: %s'
+          % (TARGET_LAST_FILE_S, TARGET_RSS_MB, 100 * args.target, 'all met' if ok else 'NOT all met'))
+    return ok
 
 
 def _table(results, published, out_dir, target, record=True):
@@ -276,47 +453,57 @@ def _table(results, published, out_dir, target, record=True):
     print('\n' + head)
     print('-' * len(head))
     ok = True
+    rows = {}
     for name, topic, enc, w, h, rate in STREAMS:
         r = results.get(name, {})
         sent = published['published'].get(name, 0)
         got = r.get('messages', 0)
-        frames, extra = _recorded(out_dir, name)
+        frames, extra = _recorded(out_dir, name) if record else (None, None)
         if name == 'microphone':
             stream = '4 x %d int16 @ 48 kHz, %.1f/s' % (w, rate)
             recorded = frames / float(w) if frames is not None else None
-            video = extra or 'no WAV'
+            video = extra or ('no WAV' if record else 'recording off')
         else:
             stream = '%dx%d %s @ %g Hz' % (w, h, enc, rate)
             recorded = frames
             v = (r.get('values') or {}).get('video') or {}
-            video = '%s %s fps' % (v.get('codec'), v.get('fps')) if v.get('codec') else 'no video'
+            video = '%s %s fps' % (v.get('codec'), v.get('fps')) if v.get('codec') else \
+                ('no video' if record else 'recording off')
             if v.get('frames_dropped'):
                 video += ', %d dropped' % v['frames_dropped']
         share_recv = got / float(sent) if sent else 0.0
         share_rec = (recorded or 0) / float(sent) if sent else 0.0
         ok = ok and share_recv >= target and (share_rec >= target or not record)
+        rows[name] = {'published': sent, 'received': got, 'recorded': recorded}
         print('%-21s %-38s %9d %9d %9s %7.1f%% %7s  %-7s %s' % (
             name, stream, sent, got, ('%.0f' % recorded) if recorded is not None else '-',
             100 * share_recv, '%.2f' % r['rate_hz'] if r.get('rate_hz') else '-', r.get('verdict', '?'), video))
         for reason in r.get('reasons', []):
             print('%21s   reason: %s' % ('', reason))
-    return ok
+    return rows, ok
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(prog='sensorTestBenchmark', description=__doc__.split('\n\n')[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog=__doc__.split('\n\n', 1)[1])
-    p.add_argument('--duration', type=float, default=10.0, help='sensorTest --duration (default 10)')
-    p.add_argument('--publish', type=float, default=None, help='seconds of publishing (default duration - 2)')
-    p.add_argument('--codec', choices=('auto', 'avc1', 'mp4v'), default=None,
-                   help='force the video codec (SENSORTEST_VIDEO_CODEC); default auto')
-    p.add_argument('--no-record', dest='record', action='store_false',
-                   help='pass --no-record to sensorTest (cost of checking alone)')
+    p.add_argument('--duration', type=float, default=15.0, help='sensorTest --duration (default 15)')
+    p.add_argument('--publish', type=float, default=None, help='seconds of publishing (default 10)')
+    p.add_argument('--modes', default='off,on',
+                   help='rounds per run: off (--no-record), on (recording), or off,on (default)')
+    p.add_argument('--runs', type=int, default=1, help='repeat the rounds this many times (default 1)')
+    p.add_argument('--no-record', dest='modes', action='store_const', const='off',
+                   help='only the round with recording off (same as --modes off)')
     p.add_argument('--target', type=float, default=0.99, help='share that must be received and recorded')
+    p.add_argument('--profile', metavar='DIR', help='run sensorTest under py-spy, profiles into DIR')
+    p.add_argument('--threads', action='store_true', help='print the CPU of each sensorTest thread')
     p.add_argument('--keep', action='store_true', help='keep the temporary folder (videos, logs)')
     p.add_argument('--publisher', action='store_true', help=argparse.SUPPRESS)
+    p.add_argument('--subscribers', type=int, default=1, help=argparse.SUPPRESS)
     args = p.parse_args(argv)
     if args.publisher:
-        return publish(args.publish, wait=30.0)
+        return publish(args.publish, wait=30.0, subscribers=args.subscribers)
+    args.modes = [m.strip() for m in args.modes.split(',') if m.strip()]
+    if not args.modes or any(m not in TARGETS for m in args.modes):
+        p.error('--modes takes off, on or off,on')
     return run(args)

@@ -1,37 +1,38 @@
-"""Recordings: camera videos (mp4, cv2.VideoWriter) and microphone audio (WAV, soundfile).
+"""Recordings: camera videos (H.264 mp4, one ffmpeg process per video fed raw frames through a
+pipe) and microphone audio (WAV, soundfile).
 
 VideoRecorder
-  * `add(frame, t)` is called from a subscriber thread and only queues the frame; a writer
-    thread per recorder does the encoding, so a slow encoder never holds up reception.
-    The queue is bounded (about 32 MB of frames, at least 8); a frame that does not fit is not recorded
-    and counted (`dropped`), never lost silently.
+  * `add(frame, t, pix_fmt)` is called from a subscriber thread and only queues the frame (a
+    numpy view over the message's bytes: nothing is copied or converted there); a writer
+    thread per recorder feeds the frames to its ffmpeg, so a slow encoder never holds up
+    reception. The queue is bounded (about 32 MB of frames, at least 8); a frame that does not
+    fit is not recorded and counted (`dropped`), never lost silently.
+  * Encoding: `ffmpeg -f rawvideo -pix_fmt <rgb24|bgr24|gray|bgra|rgba|bgr0> -s WxH -r <rate>
+    -i pipe:0 -c:v libx264 -preset ultrafast -crf 28 -threads 1 -sws_flags neighbor
+    -pix_fmt yuv420p -movflags +faststart`:
+    H.264 that plays in browsers, every frame written, colour conversion done by ffmpeg
+    (swscale), no intermediate file and no second encoding pass. ffmpeg runs in its own
+    session, so a Ctrl-C sent to sensorTest's process group does not cut the file short:
+    sensorTest closes the pipe once every queued frame is written and ffmpeg finishes the file.
+    `prepare(frame, pix_fmt)` (optional, e.g. the depth colour map) turns a queued frame into
+    (uint8 array, pix_fmt) in the writer thread.
   * Frame rate: the writer buffers the first second of frames (at least 3 frames, at most
-    16 frames or 3 s) and opens the file at the rate measured from their receive times. When the recording
-    ends, the rate over the whole recording is measured again; if it differs from the file's
-    rate by more than 5 %, the file is remuxed with ffmpeg (`-itsscale`, stream copy, no
-    re-encoding) so that it plays at the measured rate.
-  * Codec: H.264 ('avc1', plays in browsers) when this OpenCV build can encode it, else
-    'mp4v' (MPEG-4 part 2). H.264 costs 10-30 times more CPU than mp4v (docs/media.md): in
-    'auto' mode each recorder first encodes a few of its buffered frames with avc1 to measure
-    the cost per frame on the real images, and uses avc1 only while the avc1 streams of the
-    whole process together stay within a budget of wall-clock encoding time (default 0.5:
-    encoding may take half of real time). Other streams get mp4v. The environment variables
-    SENSORTEST_VIDEO_CODEC (auto|avc1|mp4v) and SENSORTEST_VIDEO_BUDGET override this.
-    A file written as mp4v is transcoded to H.264 once the recording has ended (ffmpeg's
-    libx264, preset ultrafast; rate correction in the same pass), so every video plays in a
-    browser, at a cost paid after the listening window, not during it. The original mp4v file
-    is kept when ffmpeg is missing or fails (said in the notes). SENSORTEST_VIDEO_TRANSCODE=0
-    turns this off.
-  * Frames of another size than the first are resized to the first size (counted); grey
-    frames are converted to BGR.
+    16 frames or 3 s) and starts ffmpeg at the rate measured from their receive times. When
+    the recording ends, the rate over the whole recording is measured again; if it differs from
+    the file's rate by more than 5 %, the file is remuxed with ffmpeg (`-itsscale`, stream copy,
+    no re-encoding) so that it plays at the measured rate.
+  * Frames of another size or pixel format than the first are converted (OpenCV) and resized
+    to the first one (counted).
   * The file is written under a temporary name (".<name>.writing.mp4") and renamed to its
     final name on close; close() is idempotent, and frames added after close are ignored and
     counted (`late`), so a late callback can never reopen or truncate a finished file.
+    Without ffmpeg there is no video (an error says so); the checks are not affected.
 
 WavWriter
   * Incremental PCM_16 WAV through soundfile, also written under a temporary name and renamed
     on close. Opened on the first write (no data, no file).
 """
+import fcntl
 import os
 import queue
 import shutil
@@ -44,15 +45,21 @@ import numpy as np
 
 from .stats import _rate
 
-CODEC_CHOICES = ('auto', 'avc1', 'mp4v')
-DEFAULT_BUDGET = 0.5
 QUEUE_BYTES = 32 * 1024 * 1024
 RATE_SPAN = 1.0          # seconds of frames buffered to measure the rate
 RATE_MIN_FRAMES = 3
 RATE_MAX_WAIT = 3.0      # open after this long even with fewer frames
 RATE_MAX_FRAMES = 16     # or once this many frames are buffered (memory)
-CALIBRATE_FRAMES = 4     # frames encoded with avc1 to measure its cost ('auto')
 REMUX_TOLERANCE = 0.05
+# libx264 settings: the least CPU per frame that still shows what a camera sees. Measured on
+# 640x480 rgb24 with sensor-like noise (docs/media.md, "Video files"): ultrafast 2.8 ms/frame;
+# crf 28 instead of 23 saves 8 %, point-sampled chroma (swscale 'neighbor' when RGB becomes
+# 4:2:0) 16 %; one thread per encoder (x264's threads only add overhead at this size)
+PRESET = 'ultrafast'
+CRF = '28'
+F_SETPIPE_SZ = 1031       # fcntl.F_SETPIPE_SZ (Python >= 3.10 names it)
+PIPE_BYTES = 1 << 20      # at most /proc/sys/fs/pipe-max-size (1 MB by default)
+CHANNELS = {'gray': 1, 'rgb24': 3, 'bgr24': 3, 'bgra': 4, 'rgba': 4, 'bgr0': 4}
 
 
 def _cv2():
@@ -60,77 +67,34 @@ def _cv2():
     return cv2
 
 
-def codec_preference():
-    """The codec policy: SENSORTEST_VIDEO_CODEC (auto, avc1 or mp4v), default auto."""
-    value = os.environ.get('SENSORTEST_VIDEO_CODEC', 'auto').strip().lower()
-    return value if value in CODEC_CHOICES else 'auto'
+def _pix_fmt(frame):
+    """The pixel format of a uint8 frame by its shape: grey, BGR or BGRA (OpenCV's orders)."""
+    if frame.ndim == 2 or frame.shape[2] == 1:
+        return 'gray'
+    return 'bgr24' if frame.shape[2] == 3 else 'bgra'
 
 
-def encoding_budget():
-    try:
-        return max(0.0, float(os.environ.get('SENSORTEST_VIDEO_BUDGET', DEFAULT_BUDGET)))
-    except ValueError:
-        return DEFAULT_BUDGET
+def to_rgb(frame, pix_fmt):
+    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats."""
+    frame = np.asarray(frame)
+    if pix_fmt == 'gray':
+        grey = frame.reshape(frame.shape[:2])
+        return np.dstack([grey, grey, grey])
+    if pix_fmt in ('rgb24', 'rgba'):
+        return frame[:, :, :3]
+    return frame[:, :, 2::-1]        # bgr24, bgra, bgr0
 
 
-_avc1_lock = threading.Lock()
-_avc1_ok = None
+def to_bgr(frame, pix_fmt):
+    """A contiguous BGR copy of a frame (JPEGs, the live view, resizing); numpy only."""
+    return np.ascontiguousarray(to_rgb(frame, pix_fmt)[:, :, ::-1])
 
 
-def avc1_available():
-    """True when this OpenCV build writes H.264 mp4 files (probed once per process)."""
-    global _avc1_ok
-    with _avc1_lock:
-        if _avc1_ok is None:
-            _avc1_ok = False
-            cv2 = _cv2()
-            fd, path = tempfile.mkstemp(suffix='.mp4')
-            os.close(fd)
-            try:
-                writer = cv2.VideoWriter(path, cv2.VideoWriter_fourcc(*'avc1'), 10, (64, 48))
-                if writer.isOpened():
-                    for i in range(3):
-                        writer.write(np.full((48, 64, 3), 40 * i, np.uint8))
-                    writer.release()
-                    _avc1_ok = os.path.getsize(path) > 0
-            except Exception:
-                _avc1_ok = False
-            finally:
-                os.unlink(path)
-        return _avc1_ok
-
-
-class _Budget:
-    """Share of wall-clock time the process's avc1 encoders may use together.
-
-    Calibrations run one at a time (`calibrating`): measured alone they are not inflated by
-    each other, and only one H.264 encoder's buffers exist at once. `per_pixel` keeps the cost
-    per pixel of the last measurement, so a stream that clearly cannot fit is given mp4v
-    without being measured."""
-
-    def __init__(self):
-        self.lock = threading.Lock()
-        self.calibrating = threading.Lock()
-        self.committed = 0.0
-        self.per_pixel = None
-
-    def take(self, load, limit):
-        with self.lock:
-            if self.committed + load <= limit:
-                self.committed += load
-                return True
-            return False
-
-    def give(self, load):
-        with self.lock:
-            self.committed = max(0.0, self.committed - load)
-
-    def left(self, limit):
-        with self.lock:
-            return max(0.0, limit - self.committed)
-
-
-BUDGET = _Budget()
+def _from_bgr(bgr, pix_fmt):
+    cv2 = _cv2()
+    code = {'gray': cv2.COLOR_BGR2GRAY, 'rgb24': cv2.COLOR_BGR2RGB, 'rgba': cv2.COLOR_BGR2RGBA,
+            'bgra': cv2.COLOR_BGR2BGRA, 'bgr0': cv2.COLOR_BGR2BGRA}.get(pix_fmt)
+    return bgr if code is None else cv2.cvtColor(bgr, code)
 
 
 def ffprobe_frames(path):
@@ -146,26 +110,44 @@ def ffprobe_frames(path):
         return None
 
 
-class VideoRecorder:
-    """One mp4 file per camera; see the module docstring for the rules."""
+def _wait_cpu(proc, timeout):
+    """(exit code, CPU seconds) of a child process, killed after `timeout` s."""
+    deadline = time.monotonic() + timeout
+    while True:
+        try:
+            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+        except ChildProcessError:       # already reaped
+            return proc.wait(), None
+        if pid:
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            return proc.returncode, usage.ru_utime + usage.ru_stime
+        if time.monotonic() > deadline:
+            proc.kill()
+            deadline = float('inf')
+        time.sleep(0.01)
 
-    def __init__(self, path, codec=None, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES):
+
+class VideoRecorder:
+    """One H.264 mp4 file per camera, encoded by one ffmpeg process; see the module docstring."""
+
+    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None):
         self.path = path
         self.tmp_path = os.path.join(os.path.dirname(path) or '.',
                                      '.' + os.path.basename(path)[:-4] + '.writing.mp4')
-        self.preference = codec or codec_preference()
         self.fallback_fps = float(fallback_fps)
         self.max_fps = float(max_fps)     # a burst at the start must not pass for the rate
         self.queue_bytes = queue_bytes
+        self.prepare = prepare
         self._queue = None
         self._thread = None
         self._lock = threading.Lock()
         self._closed = False
-        self._writer = None
-        self._buffer = []            # (frame, t) before the file is open
+        self._proc = None            # the ffmpeg process
+        self._stderr = None          # its error output (a temporary file)
+        self._buffer = []            # (frame, t, pix_fmt) before ffmpeg is started
         self._times = []             # receive times of the written frames
-        self._load = 0.0             # budget share taken by this recorder (avc1)
         self.size = None             # (width, height) of the file
+        self.pix_fmt = None          # pixel format fed to ffmpeg
         self.codec = None
         self.fps = None              # rate the file was opened with
         self.final_fps = None        # rate of the finished file
@@ -176,16 +158,24 @@ class VideoRecorder:
         self.late = 0
         self.error = None
         self.notes = []
-        self.first_frame = None
-        self.last_frame = None
+        self.encode_seconds = None   # end of the recording -> file finished (wall)
+        self.encoder_cpu = None      # CPU seconds ffmpeg used (user + system)
+        self.writer_cpu = None       # CPU seconds of the writer thread (this process)
+        self._first = None           # (frame, pix_fmt) of the first and last frame queued
+        self._last = None
 
     # ---- subscriber side -------------------------------------------------------------
-    def add(self, frame, t):
-        """Queue one BGR (or grey) uint8 frame received at `t` seconds. Never blocks or raises."""
+    def add(self, frame, t, pix_fmt=None):
+        """Queue one uint8 frame (h, w[, c]) received at `t` seconds; `pix_fmt` one of CHANNELS
+        (default: grey, BGR or BGRA by shape), or anything `prepare` understands.
+        The frame must not change afterwards (views over message bytes never do).
+        Never blocks or raises."""
         with self._lock:
             if self._closed:
                 self.late += 1
                 return
+            if pix_fmt is None and self.prepare is None:
+                pix_fmt = _pix_fmt(frame)
             if self._thread is None:
                 per_frame = max(1, frame.nbytes)
                 self._queue = queue.Queue(maxsize=max(8, self.queue_bytes // per_frame))
@@ -193,16 +183,16 @@ class VideoRecorder:
                                                 daemon=True)
                 self._thread.start()
             self.received += 1
-            if self.first_frame is None:
-                self.first_frame = frame
-            self.last_frame = frame
+            if self._first is None:
+                self._first = (frame, pix_fmt)
+            self._last = (frame, pix_fmt)
             try:
-                self._queue.put_nowait((frame, t))
+                self._queue.put_nowait((frame, t, pix_fmt))
             except queue.Full:
                 self.dropped += 1
 
     def close(self, timeout=60.0):
-        """Finish the file (drain the queue, release, fix the rate, rename). Idempotent."""
+        """Finish the file (drain the queue, end ffmpeg, fix the rate, rename). Idempotent."""
         with self._lock:
             if self._closed:
                 return self.summary()
@@ -222,6 +212,20 @@ class VideoRecorder:
     def closed(self):
         return self._closed
 
+    @property
+    def first_frame(self):
+        """(frame, pix_fmt) of the first frame queued (for the JPEG artifact), or None."""
+        return self._prepared_item(self._first)
+
+    @property
+    def last_frame(self):
+        return self._prepared_item(self._last)
+
+    def _prepared_item(self, item):
+        if item is None:
+            return None
+        return self._prepared(*item)
+
     # ---- writer thread -----------------------------------------------------------------
     def _run(self):
         while True:
@@ -229,17 +233,19 @@ class VideoRecorder:
             if item is None:
                 break
             self._step(item)
-        if self._writer is None and self._buffer and not self.error:
+        if self._proc is None and self._buffer and not self.error:
             self._step(None)
         self._finish()
+        self.writer_cpu = time.thread_time()
 
     def _step(self, item):
         """Buffer, open or write; after an error the remaining frames are counted as dropped."""
         if self.error:
             self._count_dropped(1)
             return
+        opening = self._proc is None
         try:
-            if self._writer is None:
+            if opening:
                 if item is not None:
                     self._buffer.append(item)
                 if item is None or self._ready():
@@ -247,8 +253,8 @@ class VideoRecorder:
             else:
                 self._write(*item)
         except Exception as e:  # an encoder error must not kill the run
-            self.error = 'video writer failed: %s' % e
-            self._count_dropped(len(self._buffer) + (1 if self._writer is not None else 0))
+            self.error = 'video writer failed: %s' % (self._ffmpeg_error() or e)
+            self._count_dropped(len(self._buffer) if opening else 1)   # the frames not written
             self._buffer = []
 
     def _count_dropped(self, n):
@@ -260,162 +266,123 @@ class VideoRecorder:
         n = len(self._buffer)
         return (span >= RATE_SPAN and n >= RATE_MIN_FRAMES) or span >= RATE_MAX_WAIT or n >= RATE_MAX_FRAMES
 
+    def _prepared(self, frame, pix_fmt):
+        if self.prepare is not None:
+            return self.prepare(frame, pix_fmt)
+        return frame, pix_fmt
+
     def _open(self):
-        cv2 = _cv2()
-        first = self._buffer[0][0]
+        first, pix_fmt = self._prepared(self._buffer[0][0], self._buffer[0][2])
         self.size = (first.shape[1], first.shape[0])
-        fps = _rate([t for _, t in self._buffer]) or self.fallback_fps
+        self.pix_fmt = pix_fmt
+        fps = _rate([t for _, t, _ in self._buffer]) or self.fallback_fps
         self.fps = round(min(max(fps, 0.5), self.max_fps), 3)
         os.makedirs(os.path.dirname(self.path) or '.', exist_ok=True)
         for stale in (self.path, self.tmp_path):
             if os.path.exists(stale):
                 os.unlink(stale)
-        self.codec = self._choose_codec()
-        writer = cv2.VideoWriter(self.tmp_path, cv2.VideoWriter_fourcc(*self.codec), self.fps, self.size)
-        if not writer.isOpened() and self.codec == 'avc1':
-            BUDGET.give(self._load)
-            self._load = 0.0
-            self.notes.append('avc1 writer did not open; using mp4v')
-            self.codec = 'mp4v'
-            writer = cv2.VideoWriter(self.tmp_path, cv2.VideoWriter_fourcc(*'mp4v'), self.fps, self.size)
-        if not writer.isOpened():
-            self.error = 'cannot open a video writer for %s' % self.path
+        if not shutil.which('ffmpeg'):
+            self.error = 'ffmpeg not found: no video (install ffmpeg)'
             self._count_dropped(len(self._buffer))
             self._buffer = []
             return
-        self._writer = writer
-        buffered, self._buffer = self._buffer, []
-        for frame, t in buffered:
-            self._write(frame, t)
+        self._stderr = tempfile.TemporaryFile('w+')
+        # yuv420p needs even sides: an odd one gets a black line (the summary keeps the real size)
+        odd = self.size[0] % 2 or self.size[1] % 2
+        pad = ['-vf', 'pad=ceil(iw/2)*2:ceil(ih/2)*2'] if odd else []
+        # own session: a Ctrl-C to sensorTest's process group must not end ffmpeg before the
+        # queued frames are in; it ends when its input pipe is closed
+        self._proc = subprocess.Popen(
+            ['ffmpeg', '-v', 'error', '-y', '-f', 'rawvideo', '-pix_fmt', pix_fmt,
+             '-s', '%dx%d' % self.size, '-r', '%.6f' % self.fps, '-i', 'pipe:0', '-an'] + pad +
+            ['-c:v', 'libx264', '-preset', PRESET, '-crf', CRF, '-threads', '1', '-sws_flags', 'neighbor',
+             '-pix_fmt', 'yuv420p',
+             '-movflags', '+faststart', '-f', 'mp4', self.tmp_path],
+            stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self._stderr, start_new_session=True)
+        try:    # a 1 MB pipe (Linux F_SETPIPE_SZ): a whole frame per write, fewer switches to ffmpeg
+            fcntl.fcntl(self._proc.stdin.fileno(), F_SETPIPE_SZ, PIPE_BYTES)
+        except OSError:
+            pass
+        self.codec = 'avc1'
+        while self._buffer:              # a frame leaves the buffer once it is written
+            self._write(*self._buffer[0])
+            self._buffer.pop(0)
 
-    def _choose_codec(self):
-        if self.preference == 'mp4v' or not avc1_available():
-            if self.preference == 'avc1':
-                self.notes.append('this OpenCV build cannot write H.264 (avc1): mp4v used')
-            return 'mp4v'
-        if self.preference == 'avc1':
-            return 'avc1'
-        limit = encoding_budget()
-        pixels = self.size[0] * self.size[1]
-        with BUDGET.calibrating:
-            if BUDGET.per_pixel is not None:
-                guess = BUDGET.per_pixel * pixels * self.fps
-                if guess > 1.5 * BUDGET.left(limit):
-                    self.notes.append('mp4v chosen: avc1 would take about %.0f%% of real time at %.1f fps '
-                                      '(from an earlier measurement), over the %.0f%% left for avc1 streams'
-                                      % (100 * guess, self.fps, 100 * BUDGET.left(limit)))
-                    return 'mp4v'
-            cost = self._measure_avc1()
-            if cost is not None:
-                BUDGET.per_pixel = cost / pixels
-        if cost is None:
-            return 'mp4v'
-        load = cost * self.fps
-        if BUDGET.take(load, limit):
-            self._load = load
-            self.notes.append('avc1 chosen: %.1f ms/frame at %.1f fps = %.0f%% of real time '
-                              '(budget %.0f%% for all avc1 streams)'
-                              % (1000 * cost, self.fps, 100 * load, 100 * limit))
-            return 'avc1'
-        self.notes.append('mp4v chosen: avc1 would take %.1f ms/frame at %.1f fps = %.0f%% of real '
-                          'time, over the %.0f%% left for avc1 streams'
-                          % (1000 * cost, self.fps, 100 * load, 100 * BUDGET.left(limit)))
-        return 'mp4v'
+    def _fit(self, frame, pix_fmt):
+        """(frame in the file's size and pixel format, whether it was resized)."""
+        frame, pix_fmt = self._prepared(frame, pix_fmt)
+        same_size = (frame.shape[1], frame.shape[0]) == self.size
+        if same_size and pix_fmt == self.pix_fmt:
+            return frame, False
+        bgr = to_bgr(frame, pix_fmt)
+        if not same_size:
+            bgr = _cv2().resize(bgr, self.size, interpolation=_cv2().INTER_AREA)
+        return _from_bgr(bgr, self.pix_fmt), not same_size
 
-    def _measure_avc1(self):
-        """Seconds per frame to encode some of the buffered frames with avc1 (into a scratch file)."""
-        cv2 = _cv2()
-        frames = [self._fit(f)[0] for f, _ in self._buffer[:CALIBRATE_FRAMES]]
-        if len(frames) < 2:
-            frames = frames * 3
-        scratch = self.tmp_path[:-4] + '.calibrate.mp4'
-        try:
-            start = time.perf_counter()
-            writer = cv2.VideoWriter(scratch, cv2.VideoWriter_fourcc(*'avc1'), self.fps, self.size)
-            if not writer.isOpened():
-                return None
-            for frame in frames:
-                writer.write(frame)
-            writer.release()
-            return (time.perf_counter() - start) / len(frames)
-        finally:
-            if os.path.exists(scratch):
-                os.unlink(scratch)
-
-    def _fit(self, frame):
-        """(BGR frame of the file's size, whether it was resized)."""
-        cv2 = _cv2()
-        if frame.ndim == 2 or (frame.ndim == 3 and frame.shape[2] == 1):
-            frame = cv2.cvtColor(frame, cv2.COLOR_GRAY2BGR)
-        elif frame.shape[2] == 4:
-            frame = cv2.cvtColor(frame, cv2.COLOR_BGRA2BGR)
-        if (frame.shape[1], frame.shape[0]) != self.size:
-            frame = cv2.resize(frame, self.size, interpolation=cv2.INTER_AREA)
-            return frame, True
-        return frame, False
-
-    def _write(self, frame, t):
-        fitted, resized = self._fit(frame)
+    def _write(self, frame, t, pix_fmt):
+        fitted, resized = self._fit(frame, pix_fmt)
         if resized:
             self.resized += 1
-        self._writer.write(np.ascontiguousarray(fitted))
+        data = fitted if fitted.flags.c_contiguous else np.ascontiguousarray(fitted)
+        self._proc.stdin.write(memoryview(data).cast('B'))
         self.written += 1
         self._times.append(t)
 
+    def _ffmpeg_error(self):
+        log = self._stderr
+        if log is None or log.closed:
+            return ''
+        try:
+            log.flush()
+            log.seek(0)
+            return ' '.join(log.read().split())[:200]
+        except (OSError, ValueError):
+            return ''
+
     def _finish(self):
-        BUDGET.give(self._load)
-        self._load = 0.0
+        started = time.monotonic()
         try:
             self._finalise()
         except Exception as e:   # e.g. the disk is full: report, never raise from the writer thread
             self.error = self.error or 'cannot finish %s: %s' % (os.path.basename(self.path), e)
+        finally:
+            log = self._stderr
+            if log is not None:
+                log.close()
+        self.encode_seconds = round(time.monotonic() - started, 3)
 
     def _finalise(self):
-        if self._writer is not None:
-            self._writer.release()
-            self._writer = None
+        if self._proc is not None:
+            try:
+                self._proc.stdin.close()
+            except OSError:          # ffmpeg already gone: its error is reported below
+                pass
+            code, self.encoder_cpu = _wait_cpu(self._proc, 120.0)
+            self._proc = None
+            if code != 0:       # the mp4 is not finished (no index): not a file anyone can play
+                self.error = 'ffmpeg failed (exit %d): %s; no video' % (code, self._ffmpeg_error() or self.error)
         if not os.path.exists(self.tmp_path):
             return
-        if not self.written:
+        if not self.written or (self.error and 'ffmpeg failed' in self.error):
             os.unlink(self.tmp_path)
             return
-        # after an encoder error the frames written so far are kept
         self.final_fps = self.fps
         measured = _rate(self._times)
-        scale = None
         if measured and abs(measured - self.fps) / measured > REMUX_TOLERANCE:
-            scale = self.fps / measured
-        transcode = self.codec == 'mp4v' and os.environ.get('SENSORTEST_VIDEO_TRANSCODE', '1') != '0'
-        if transcode:
-            # -r before -i re-times every frame at the final rate (none dropped or repeated)
-            started = time.monotonic()
-            rate = measured if scale is not None else self.fps
-            if self._ffmpeg(['-r', '%.6f' % rate], ['-c:v', 'libx264', '-preset', 'ultrafast',
-                                                    '-pix_fmt', 'yuv420p', '-movflags', '+faststart'],
-                            'transcoding to H.264'):
-                self.notes.append('written as mp4v, transcoded to H.264 after the window (%.1f s)'
-                                  % (time.monotonic() - started))
-                self.codec = 'avc1'
-            else:
-                transcode = False
-        if scale is not None and not transcode:
-            transcode = self._ffmpeg(['-itsscale', '%.6f' % scale], ['-c', 'copy'], 'rate correction')
-        if scale is not None and transcode:
-            self.notes.append('frame rate corrected from %.2f (first second) to %.2f fps '
-                              '(whole recording)' % (self.fps, measured))
-            self.final_fps = round(measured, 3)
+            if self._ffmpeg(['-itsscale', '%.6f' % (self.fps / measured)], ['-c', 'copy'], 'rate correction'):
+                self.notes.append('frame rate corrected from %.2f (first second) to %.2f fps '
+                                  '(whole recording)' % (self.fps, measured))
+                self.final_fps = round(measured, 3)
         os.replace(self.tmp_path, self.path)
 
     def _ffmpeg(self, input_args, codec_args, what):
         """Rewrite the temporary file with ffmpeg (input options, codec options). True when
         done; on failure the file stays as it was and a note says why."""
-        if not shutil.which('ffmpeg'):
-            self.notes.append('ffmpeg not found: no %s' % what)
-            return False
         fixed = self.tmp_path[:-4] + '.ffmpeg.mp4'
-        cmd = ['ffmpeg', '-v', 'error', '-y'] + input_args + ['-i', self.tmp_path] + codec_args + ['-an', fixed]
+        cmd = ['ffmpeg', '-v', 'error', '-y'] + input_args + ['-i', self.tmp_path] + codec_args + \
+            ['-an', '-movflags', '+faststart', fixed]
         try:
-            done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+            done = subprocess.run(cmd, capture_output=True, text=True, timeout=120, start_new_session=True)
         except (OSError, subprocess.SubprocessError) as e:
             self.notes.append('%s failed: %s' % (what, e))
             return False
@@ -435,14 +402,25 @@ class VideoRecorder:
                 'height': self.size[1] if self.size else None,
                 'frames_received': self.received, 'frames_written': self.written,
                 'frames_dropped': self.dropped, 'frames_resized': self.resized,
-                'late_frames': self.late, 'error': self.error}
+                'late_frames': self.late, 'error': self.error, 'finish_s': self.encode_seconds,
+                'encoder_cpu_s': round(self.encoder_cpu, 3) if self.encoder_cpu is not None else None,
+                'writer_cpu_s': round(self.writer_cpu, 3) if self.writer_cpu is not None else None}
 
 
-def save_jpeg(path, image, quality=90):
-    """Write one image as JPEG; True on success (never raises)."""
+def save_jpeg(path, image, pix_fmt='bgr24', quality=90):
+    """Write one image (BGR by default, or any of CHANNELS' formats) as JPEG; True on success
+    (never raises). Pillow (which matplotlib needs anyway) is used when present: importing it
+    costs 4 MB, importing OpenCV about 100 MB of memory."""
     try:
+        from PIL import Image
+    except ImportError:
+        Image = None
+    try:
+        if Image is not None:
+            Image.fromarray(np.ascontiguousarray(to_rgb(image, pix_fmt))).save(path, 'JPEG', quality=quality)
+            return True
         cv2 = _cv2()
-        return bool(cv2.imwrite(path, image, [cv2.IMWRITE_JPEG_QUALITY, quality]))
+        return bool(cv2.imwrite(path, to_bgr(image, pix_fmt), [cv2.IMWRITE_JPEG_QUALITY, quality]))
     except Exception:
         return False
 

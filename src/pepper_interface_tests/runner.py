@@ -72,6 +72,8 @@ class SensorRun:
         self.sim_clock = None        # callable -> simulation time (s) when /use_sim_time is true
         self.sim_t0 = None           # simulation time when listening began
         self.sim_stopped_at = None
+        # a check may decode its messages itself (images: no copy of the pixels)
+        self.decode = getattr(self.check, 'decode', None)
         self.stats = None
         self.t0 = None
         self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
@@ -136,7 +138,8 @@ class SensorRun:
             if caller and caller not in self.publishers:
                 self.publishers.append(caller)
             try:
-                msg = self._class_for(type_name, conn)().deserialize(buff)
+                decode = self.decode or self._class_for(type_name, conn)().deserialize
+                msg = decode(buff)
             except Exception as e:  # a corrupt message is a finding, not a crash
                 self.bad_messages += 1
                 self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)

@@ -4,7 +4,9 @@ Per message (counted FAIL reasons):
   * layout: `step * height == len(data)` and `step >= width * bytes per pixel` of the encoding;
     a message with a broken layout is not converted further;
   * encoding, width and height as expected (`encoding`, `width`, `height`, when configured);
-  * cv_bridge conversion to BGR; a conversion error is counted, never raised;
+  * conversion: 8-bit encodings (rgb8, bgr8, rgba8, bgra8, mono8, 8UC1/3/4) are read as a numpy
+    view over the message's bytes (no copy, no colour conversion); any other encoding goes
+    through cv_bridge to BGR, and a conversion error is counted, never raised;
   * stereo (stereoCamera, or `stereo: true`): an even width (two views of width/2 side by
     side) and left and right views that are not identical.
 Over the window (FAIL at the end):
@@ -14,16 +16,19 @@ Over the window (FAIL at the end):
     settles);
   * frozen: `frozen_frames` (default 5) or more identical consecutive frames. Pepper can send
     the same frame twice at low rates, so this must stay above 2.
-Cost: statistics use every 4th row and column, the frozen test compares a CRC of every 8th
-row and column; the video is encoded in the recorder's own thread (recording.py).
+Cost: brightness and spread use every 8th row and column (4,800 pixels of a 640x480 frame);
+the frozen test compares the whole image data with the previous frame's bytes (exact; a
+memcmp that stops at the first differing byte, so a changing image costs next to nothing);
+the video is encoded by the recorder's ffmpeg, fed the raw bytes (recording.py).
 Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 """
+import math
 import os
-import zlib
+import struct
 
 import numpy as np
 
-from ..recording import VideoRecorder, save_jpeg
+from ..recording import VideoRecorder, save_jpeg, to_bgr
 from .base import Acc, Check, fmt
 
 # bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)
@@ -34,6 +39,24 @@ BYTES_PER_PIXEL = {
     'bayer_rggb8': 1, 'bayer_bggr8': 1, 'bayer_gbrg8': 1, 'bayer_grbg8': 1,
 }
 SERIES_MAX = 2000
+_U32 = struct.Struct('<I')
+_HEADER = struct.Struct('<3I')       # seq, stamp secs, stamp nsecs
+_SIZE = struct.Struct('<2I')         # height, width
+_STEP = struct.Struct('<BI')         # is_bigendian, step
+STRIDE = 8        # statistics sample every 8th row and column
+# 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
+RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
+               'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
+               'mono8': (1, 'gray'), '8UC1': (1, 'gray')}
+
+
+def _string(view, pos):
+    """(position after, text) of the length-prefixed UTF-8 string at `pos`."""
+    (length,) = _U32.unpack_from(view, pos)
+    end = pos + 4 + length
+    if end > len(view):
+        raise struct.error('string runs past the end of the message')
+    return end, bytes(view[pos + 4:end]).decode('utf-8', 'replace')
 
 
 def bytes_per_pixel(encoding):
@@ -49,8 +72,13 @@ def bytes_per_pixel(encoding):
 
 class ImageCheck(Check):
     """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
-    buff_size = 1 << 24
+    # rospy's recv() size (bytes read per call). Measured on this machine with the benchmark's
+    # streams (docs/media.md, "Benchmark"): 256 KB and 64 KB cost the same, 1 MB about 35 % more
+    # CPU per receive thread and the often-quoted 2**24 about 50 % more: a recv() buffer above
+    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call.
+    buff_size = 1 << 18
     queue_seconds = 2.0
+    prepare_frame = None        # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
@@ -63,17 +91,38 @@ class ImageCheck(Check):
         if self.recording:
             self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
                                           fallback_fps=self.expect.nominal or 10.0,
-                                          max_fps=float(rate[1]))
+                                          max_fps=float(rate[1]), prepare=self.prepare_frame)
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
         self.sizes = {}             # (w, h, encoding) -> count, when it changes
+
+    def decode(self, buff):
+        """sensor_msgs/Image from its serialized bytes with `data` a memoryview into `buff`:
+        genpy's deserialize copies the pixels (about 0.1-0.2 ms for a 640x480 frame), this
+        does not. The wire format is ROS's (header, height, width, encoding, is_bigendian,
+        step, data; strings and arrays prefixed by a uint32 length). A short buffer raises
+        struct.error as genpy does; a short data array stays short (the layout check says so)."""
+        from genpy import Time
+        from sensor_msgs.msg import Image
+        view = memoryview(buff)
+        msg = Image()
+        seq, secs, nsecs = _HEADER.unpack_from(view, 0)
+        pos, text = _string(view, 12)
+        msg.header.seq, msg.header.stamp, msg.header.frame_id = seq, Time(secs, nsecs), text
+        msg.height, msg.width = _SIZE.unpack_from(view, pos)
+        pos, msg.encoding = _string(view, pos + 8)
+        msg.is_bigendian, msg.step = _STEP.unpack_from(view, pos)
+        (length,) = _U32.unpack_from(view, pos + 5)
+        msg.data = view[pos + 9:pos + 9 + length]
+        return msg
 
     def fields(self, msg):
         return [('Image Width', msg.width), ('Image Height', msg.height),
                 ('Encoding', msg.encoding), ('Step', msg.step)]
 
     def start(self):
-        self._bridge()      # import cv_bridge now, not while the first frames arrive
+        # cv_bridge (and OpenCV) are imported only for an encoding that is not read in place
+        # (RAW_FORMATS, depth.DTYPES): they cost more CPU to import than a window of checks
         # a video of an earlier run must not pass for this one's
         if self.recorder is not None and os.path.exists(self.recorder.path):
             os.unlink(self.recorder.path)
@@ -130,11 +179,23 @@ class ImageCheck(Check):
         self.converted += 1
         return image
 
-    def show_and_record(self, bgr, t):
+    def pixels(self, msg):
+        """(uint8 array (h, w, channels), ffmpeg pixel format): a view over the message's bytes
+        for the 8-bit encodings, else cv_bridge's BGR conversion; (None, None) when it fails."""
+        raw = RAW_FORMATS.get(msg.encoding)
+        if raw is None:
+            image = self.convert(msg, 'bgr8')
+            return (None, None) if image is None else (image, 'bgr24')
+        channels, pix_fmt = raw
+        rows = np.frombuffer(msg.data, np.uint8, msg.step * msg.height).reshape(msg.height, msg.step)
+        self.converted += 1
+        return rows[:, :msg.width * channels].reshape(msg.height, msg.width, channels), pix_fmt
+
+    def show_and_record(self, frame, t, pix_fmt='bgr24'):
         if self.viewer is not None:
-            self.viewer.post(self.plan.name, bgr)
+            self.viewer.post(self.plan.name, to_bgr(frame, pix_fmt))
         if self.recorder is not None:
-            self.recorder.add(bgr, t)
+            self.recorder.add(frame, t, pix_fmt)
 
     # ---- end -----------------------------------------------------------------------------
     def finish_media(self):
@@ -171,7 +232,7 @@ class ImageCheck(Check):
             if image is None:
                 continue
             name = '%s_%s.jpg' % (self.plan.name, kind.split('_')[0])
-            if save_jpeg(os.path.join(self.ctx.output_dir, name), image):
+            if save_jpeg(os.path.join(self.ctx.output_dir, name), *image):
                 self.artifacts[kind] = name
 
 
@@ -187,7 +248,7 @@ class CameraCheck(ImageCheck):
         self.bad_share = self.expect.bad_frame_share
         self.brightness, self.spread = Acc(), Acc()
         self.black = self.constant = 0
-        self.last_sig = None
+        self.last_image = None      # (geometry, data) of the previous frame
         self.run = 1
         self.longest_run = 0
         self.longest_run_at = None
@@ -203,11 +264,15 @@ class CameraCheck(ImageCheck):
             return
         if self.stereo and msg.width % 2:
             self.failures.add('stereo_odd', 'stereo width %d is odd: not two views side by side' % msg.width)
-        bgr = self.convert(msg, 'bgr8')
-        if bgr is None:
+        image, pix_fmt = self.pixels(msg)
+        if image is None:
             return
-        small = bgr[::4, ::4]
-        mean, std = float(small.mean()), float(small.std())
+        colour = image[:, :, :3] if image.shape[2] == 4 else image     # alpha is not brightness
+        # integer sums (exact; no BLAS call, whose thread pool would spin on every frame)
+        small = colour[::STRIDE, ::STRIDE].astype(np.uint32)
+        n = small.size
+        mean = int(small.sum(dtype=np.uint64)) / n
+        std = math.sqrt(max(0.0, int(np.square(small).sum(dtype=np.uint64)) / n - mean * mean))
         self.brightness.add(mean)
         self.spread.add(std)
         if len(self.series['brightness']) < SERIES_MAX:
@@ -219,23 +284,33 @@ class CameraCheck(ImageCheck):
         elif std < self.min_spread:
             self.constant += 1
             bad = 'constant'
-        self._frozen(bgr, t)
+        self._frozen(msg, t)
         if self.stereo and not bad and msg.width % 2 == 0:
-            half = bgr.shape[1] // 2
-            if np.array_equal(bgr[::4, :half:4], bgr[::4, half::4]):
+            half = msg.width // 2
+            if np.array_equal(colour[::4, :half:4], colour[::4, half::4]):
                 self.same_halves += 1
                 self.failures.add('stereo_same', 'stereo left and right views are identical')
-        self.show_and_record(bgr, t)
+        self.show_and_record(image, t, pix_fmt)
 
-    def _frozen(self, bgr, t):
-        sig = (bgr.shape, zlib.crc32(np.ascontiguousarray(bgr[::8, ::8]).data))
-        if sig == self.last_sig:
+    def _frozen(self, msg, t):
+        """Identical = the same geometry and byte-for-byte the same data as the previous frame:
+        about 900 bytes spread over the frame are compared first (a changing image differs
+        there), and only when they match, every byte."""
+        geometry = (msg.width, msg.height, msg.encoding, msg.step)
+        data = np.frombuffer(msg.data, np.uint8)
+        same = False
+        if self.last_image is not None and self.last_image[0] == geometry:
+            last = self.last_image[1]
+            stride = max(1, len(data) // 900)
+            same = len(last) == len(data) and np.array_equal(last[::stride], data[::stride]) \
+                and np.array_equal(last, data)
+        if same:
             self.run += 1
             if self.run == self.frozen_frames:
                 self.frozen_runs += 1
         else:
             self.run = 1
-        self.last_sig = sig
+        self.last_image = (geometry, data)
         if self.run > self.longest_run:
             self.longest_run, self.longest_run_at = self.run, round(t, 2)
 
@@ -256,8 +331,8 @@ class CameraCheck(ImageCheck):
                 self.fail('stereo width %d is not twice a view width' % w)
         if not n:
             return
-        self.notes.append('Brightness mean %s; spread (std) %s (0-255, every 4th pixel)'
-                          % (self.brightness.text(), self.spread.text()))
+        self.notes.append('Brightness mean %s; spread (std) %s (0-255, every %dth row and column)'
+                          % (self.brightness.text(), self.spread.text(), STRIDE))
         for word, frames, limit_text in (
                 ('black', self.black, 'mean brightness below %s' % fmt(self.min_brightness)),
                 ('constant', self.constant, 'pixel spread below %s' % fmt(self.min_spread))):

@@ -8,20 +8,41 @@ Over the window (FAIL at the end):
   * valid share: mean share of valid pixels (non-zero and finite) below `min_valid_share`;
   * median depth (median over frames of each frame's median of valid pixels, in metres)
     outside `median_range` [m, m].
-Reported: min / median / max depth (m), valid share. Statistics use every 2nd row and column.
+Reported: min / median / max depth (m), valid share. The image is a numpy view over the
+message's bytes (no copy); the valid share (and so "all zero") counts every pixel, the median,
+min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
 Video: depth mapped to 8 bits over the fixed range `video_range` [m, m] of the sensor
 (default 0-5 m, the same for every frame, not normalised per frame), colour-mapped with
-OpenCV's JET map (near = blue, far = red); invalid pixels are black.
+the JET map (near = blue, far = red; MATLAB's formula, as OpenCV's COLORMAP_JET); invalid
+pixels are black. For millimetre depth this is one table look-up per pixel (65,536 entries,
+each a packed BGR0 pixel) done in the video writer's thread; ffmpeg converts BGR0 to the
+video's YUV (recording.py).
 """
 import math
 
 import numpy as np
 
 from .base import Acc, fmt
+from ..recording import to_bgr
 from .camera import SERIES_MAX, ImageCheck
 
 MM_ENCODINGS = ('16UC1', 'mono16')
 M_ENCODINGS = ('32FC1',)
+STRIDE = 4        # statistics sample every 4th row and column
+DTYPES = {'16UC1': 'u2', 'mono16': 'u2', '32FC1': 'f4'}
+
+
+def jet_table():
+    """0..255 -> packed little-endian BGR0 pixel of the JET colour map (MATLAB's classic
+    piecewise-linear jet, which OpenCV's COLORMAP_JET samples: dark blue, blue, cyan, yellow,
+    red, dark red), computed with numpy so that recording depth does not import OpenCV."""
+    x = np.arange(256) / 255.0
+
+    def ramp(centre):
+        return np.round(255 * np.clip(1.5 - np.abs(4 * x - centre), 0, 1)).astype(np.uint32)
+
+    b, g, r = ramp(1.0), ramp(2.0), ramp(3.0)
+    return (b | (g << 8) | (r << 16)).astype('<u4')
 
 
 class DepthCheck(ImageCheck):
@@ -38,7 +59,8 @@ class DepthCheck(ImageCheck):
         self.lo = Acc()
         self.hi = Acc()
         self.all_zero = 0
-        self._lut = None
+        self._lut = None            # millimetres -> packed BGR0 pixel (uint32)
+        self._jet = None            # 0..255 -> packed BGR0 pixel
         self.series['median_depth_m'] = []
         self.series['valid_share'] = []
 
@@ -56,25 +78,26 @@ class DepthCheck(ImageCheck):
             self.failures.add('depth_encoding', 'encoding "%s" is not a depth encoding '
                               '(16UC1 or mono16 in mm, 32FC1 in m)' % msg.encoding)
             return
-        depth = self.convert(msg, 'passthrough')
+        depth = self.depth_view(msg)
         if depth is None:
             return
         if depth.ndim == 3:
             depth = depth[:, :, 0]
-        sample = depth[::2, ::2]
-        if scale == 1.0:
-            valid = np.isfinite(sample) & (sample > 0)
-        else:
-            valid = sample > 0
-        n_valid = int(np.count_nonzero(valid))
-        share = n_valid / float(sample.size)
+        # valid share over every pixel (a vectorised count, cheap); median, min and max from
+        # every STRIDE-th row and column
+        valid_all = depth if scale != 1.0 else np.isfinite(depth) & (depth > 0)
+        n_valid = int(np.count_nonzero(valid_all))
+        share = n_valid / float(depth.size)
         self.share.add(share)
+        median = None
         if not n_valid:
             self.all_zero += 1
             self.failures.add('all_zero', 'depth image has no valid pixel (all zero or not finite)')
-            median = None
         else:
-            values = sample[valid]
+            sample = depth[::STRIDE, ::STRIDE]
+            values = sample[sample > 0] if scale != 1.0 else sample[np.isfinite(sample) & (sample > 0)]
+            if not values.size:     # the few valid pixels all fall between the sampled ones
+                values = depth[depth > 0] if scale != 1.0 else depth[np.isfinite(depth) & (depth > 0)]
             median = float(np.median(values)) * scale
             self.medians.append(median)
             self.lo.add(float(values.min()) * scale)
@@ -82,26 +105,45 @@ class DepthCheck(ImageCheck):
         if len(self.series['valid_share']) < SERIES_MAX:
             self.series['valid_share'].append((round(t, 3), round(share, 4)))
             self.series['median_depth_m'].append((round(t, 3), None if median is None else round(median, 4)))
-        if self.viewer is not None or self.recorder is not None:
-            self.show_and_record(self.colourise(depth, scale), t)
+        kind = 'depth_mm' if scale != 1.0 else 'depth_m'
+        if self.viewer is not None:
+            self.viewer.post(self.plan.name, to_bgr(*self.prepare_frame(depth, kind)))
+        if self.recorder is not None:
+            self.recorder.add(depth, t, kind)
 
-    def colourise(self, depth, scale):
-        """Depth -> BGR: fixed range video_range to 0..255, JET colour map, invalid pixels black."""
-        import cv2
+    def depth_view(self, msg):
+        """The depth image as a numpy view over the message's bytes (cv_bridge for anything
+        unusual); None (and a counted failure) when it cannot be read."""
+        code = DTYPES.get(msg.encoding)
+        size = np.dtype(code).itemsize if code else 0
+        if not code or msg.step % size:
+            return self.convert(msg, 'passthrough')
+        dtype = np.dtype(('>' if msg.is_bigendian else '<') + code)
+        rows = np.frombuffer(msg.data, dtype, msg.step * msg.height // size).reshape(msg.height, msg.step // size)
+        self.converted += 1
+        return rows[:, :msg.width]
+
+    def prepare_frame(self, depth, kind):
+        """Depth -> (BGR0 uint8 frame, 'bgr0') for the video and the live view: fixed range
+        video_range to 0..255, JET colour map, invalid pixels black."""
         lo, hi = self.video_range
-        if scale != 1.0 and depth.dtype == np.uint16:
+        if self._jet is None:
+            self._jet = jet_table()
+        if kind == 'depth_mm' and depth.dtype.kind == 'u' and depth.dtype.itemsize == 2:
             if self._lut is None:   # one table for every 16-bit millimetre value
-                mm = np.arange(65536, dtype=np.float64) * scale
-                self._lut = np.clip((mm - lo) / (hi - lo) * 255.0, 0, 255).astype(np.uint8)
-            grey = self._lut[depth]
-            invalid = depth == 0
+                metres = np.arange(65536, dtype=np.float64) * 0.001
+                grey = np.clip((metres - lo) / (hi - lo) * 255.0, 0, 255).astype(np.uint8)
+                lut = self._jet[grey]
+                lut[0] = 0          # invalid: black (assigned whole: the viewer may call this too)
+                self._lut = lut
+            packed = np.take(self._lut, depth)
         else:
-            metres = depth.astype(np.float32) * np.float32(scale)
+            metres = depth.astype(np.float32) * np.float32(0.001 if kind == 'depth_mm' else 1.0)
             invalid = ~np.isfinite(metres) | (metres <= 0)
             grey = np.clip((np.nan_to_num(metres) - lo) * (255.0 / (hi - lo)), 0, 255).astype(np.uint8)
-        bgr = cv2.applyColorMap(grey, cv2.COLORMAP_JET)
-        bgr[invalid] = 0
-        return bgr
+            packed = np.take(self._jet, grey)
+            packed[invalid] = 0
+        return packed.view(np.uint8).reshape(packed.shape + (4,)), 'bgr0'
 
     def finish(self):
         self.finish_media()
