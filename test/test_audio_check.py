@@ -174,3 +174,21 @@ def test_sensor_test_fails_a_silent_channel_and_a_wrong_sample_rate(module_maste
     assert any(r.startswith('sample rate 44') and r.endswith('expected 48000 Hz +- 5%') for r in mic['reasons']), \
         mic['reasons']
     assert mic['values']['channels']['rearLeft']['rms_dbfs'] > -40
+
+
+def test_a_start_up_burst_does_not_read_as_a_wrong_sample_rate(tmp_path):
+    """A bridge started with the test flushes the buffers NAOqi captured while it connected:
+    four buffers at once, then the steady 48 kHz pace (5 s window). The sample rate is 48 kHz;
+    a stream whose every buffer comes at the 44.1 kHz pace still fails after the same burst."""
+    def burst_then(interval, n=60):
+        c = make_check('microphone', tmp_path, record=False)
+        times = [0.001 * i for i in range(4)] + [0.003 + interval * (i + 1) for i in range(n - 4)]
+        for m, t in zip(buffers(n), times):
+            c.feed(m, t)
+        c.close()
+        return c
+    healthy = burst_then(4096 / 48000.0)
+    assert healthy.failure_reasons() == [], healthy.failure_reasons()
+    assert healthy.values['sample_rate_hz'] == 48000.0
+    slow = burst_then(4096 / 44100.0)
+    assert slow.failure_reasons() == ['sample rate 44100 Hz, expected 48000 Hz +- 5%']

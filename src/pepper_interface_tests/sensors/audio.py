@@ -116,6 +116,7 @@ class AudioCheck(Check):
         self.first_len = None
         self.first_t = None
         self.last_t = None
+        self.buffer_rates = []     # samples / time since the previous buffer, per buffer
         self.prev_t = None
         self.lengths = collections.Counter()
         self.gaps = []              # (t, pause)
@@ -193,6 +194,8 @@ class AudioCheck(Check):
             period = n / float(self.rate)
             if t - self.prev_t > 3 * period:
                 self.gaps.append((self.prev_t, t - self.prev_t))
+            if t > self.prev_t and len(self.buffer_rates) < 20000:
+                self.buffer_rates.append(n / (t - self.prev_t))
         self.prev_t = self.last_t = t
         self.samples += n
         block = np.stack(chans, axis=1)          # (n, 4) int16
@@ -223,9 +226,17 @@ class AudioCheck(Check):
 
     # ---- end ----------------------------------------------------------------------------
     def measured_rate(self):
-        if self.first_t is None or self.last_t is None or self.last_t <= self.first_t:
-            return None
-        return (self.samples - self.first_len) / (self.last_t - self.first_t)
+        """Samples per second per channel: the median over buffers of (samples / time since
+        the previous buffer). A median, not total samples over the whole span, because a bridge
+        that starts with the test delivers the buffers NAOqi captured while its websocket was
+        connecting in one burst (audio_bridge/capture.py queues them); over a 5 s window that
+        burst alone read as 50.4 kHz on a healthy 48 kHz stream. A wrong sample rate shifts every
+        buffer's interval and so the median; lost buffers are reported as gaps."""
+        if len(self.buffer_rates) < 2:
+            if self.first_t is None or self.last_t is None or self.last_t <= self.first_t:
+                return None
+            return (self.samples - self.first_len) / (self.last_t - self.first_t)
+        return float(np.median(self.buffer_rates))
 
     def finish(self):
         for w in self.writers.values():
