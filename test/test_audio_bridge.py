@@ -223,13 +223,16 @@ def test_publisher_killed_and_restarted_mid_stream(procs, master, tmp_path):
     before_kill = message_count(p['dumper'])
     time.sleep(1.2)  # let the publisher write a ~stats snapshot covering these buffers
     p['publisher'].stop(signal.SIGKILL)
+    stale = get_param(master, STATS)     # what the killed publisher left on the server
     time.sleep(2.0)
     publisher2 = procs.publisher(master, ws_port)
     p['capture'].wait_for('websocket connection lost', 20)
     p['capture'].wait_for('websocket connected', 30, count=2)
     n = message_count(p['dumper'])
     wait_messages(p['dumper'], max(n, before_kill) + 15, 40)
-    stats = wait_param(master, STATS, lambda s: s['published'] >= 15, 10)
+    # a snapshot written by the restarted publisher, not the killed one's (also >= 15 published)
+    stats = wait_param(master, STATS, lambda s: s['published'] >= 15 and
+                       int(s['last_sequence']) > int(stale['last_sequence']), 10)
     blocks, _ = finish_dump(p['dumper'], out)
     starts = counter_starts(blocks)
     jumps = np.nonzero(np.diff(starts) != BUFFER)[0]
