@@ -15,6 +15,7 @@ import sys
 import time
 
 import numpy as np
+import psutil
 import pytest
 import websocket  # websocket-client: the raw (hostile) client of these tests
 
@@ -500,7 +501,7 @@ def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_pat
     """pepperEmulator.launch with the token in a file named by $PEPPER_AUDIO_TOKEN_FILE: the
     bridge works with it, and it is in no command line, no parameter and no log (roslaunch
     writes every process's environment into its log, so the token itself must not be in one)."""
-    from pepper_interface_tests.rosmaster import _descends, free_ports
+    from pepper_interface_tests.rosmaster import free_ports
     token = 'tok-%d-secret' % os.getpid()
     token_file = tmp_path / 'token'
     token_file.write_text(token + '\n')
@@ -520,16 +521,14 @@ def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_pat
         with pytest.raises(websocket.WebSocketBadStatusException) as err:
             websocket.create_connection('ws://127.0.0.1:%d' % ws_port, timeout=5)
         assert err.value.status_code == 401  # the publisher did get the token
-        mine = [int(p) for p in os.listdir('/proc') if p.isdigit()
-                and _descends(int(p), launch.pid)]
+        mine = [launch.pid] + [c.pid for c in psutil.Process(launch.pid).children(recursive=True)]
         assert len(mine) >= 4, mine  # roslaunch, endpoint, emulator, publisher, capture
         for pid in mine:
             try:
-                with open('/proc/%d/cmdline' % pid, 'rb') as f:
-                    cmdline = f.read()
-            except OSError:
+                cmdline = ' '.join(psutil.Process(pid).cmdline())
+            except psutil.Error:
                 continue
-            assert token.encode() not in cmdline, cmdline
+            assert token not in cmdline, cmdline
         params = xmlrpc_get(master, '/')
         assert token not in repr(params)
         assert '/naoqiAudioPublisher/port' in repr(params) or 'naoqiAudioPublisher' in repr(params)

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import Optional
 
 from . import results
+from .atomicfile import write_atomic
 
 RUNS_DIR = 'runs'
 ID_FORMAT = '%Y%m%d-%H%M%S'
@@ -175,7 +176,7 @@ def publish_latest(folder):
                 os.unlink(path)
         except OSError:
             pass
-    results._atomic_write(manifest_path, json.dumps(
+    write_atomic(manifest_path, json.dumps(
         {'run_id': folder.run_id, 'run_folder': os.path.relpath(folder.path, folder.base),
          'files': published}, indent=1) + '\n')
     return list(published)

@@ -13,10 +13,11 @@ import fcntl
 import json
 import os
 import re
-import tempfile
 from dataclasses import asdict, dataclass, field
 from typing import Dict, List, Optional
 from xml.sax.saxutils import escape, quoteattr
+
+from .atomicfile import write_atomic
 
 PASS, FAIL, SKIPPED = 'PASS', 'FAIL', 'SKIPPED'
 INTERRUPTED = 'INTERRUPTED'   # the window was cut short by an interrupt: not judged, not a failure
@@ -258,28 +259,8 @@ def summary_line(r):
 
 # ------------------------------------------------------------------ JSON and JUnit
 
-def _atomic_write(path, text):
-    """Write `text` to `path` whole (temporary file, rename). On any error the temporary file
-    is removed and OSError is raised with `path` as its filename."""
-    folder = os.path.dirname(path) or '.'
-    fd, tmp = tempfile.mkstemp(prefix='.tmp-', dir=folder)
-    try:
-        with os.fdopen(fd, 'w', encoding='utf-8', errors='backslashreplace') as f:
-            f.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)   # mkstemp creates 0600; results are ordinary files
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise OSError(e.errno, e.strerror, path) from e
-
-
 def write_json(run, path):
-    _atomic_write(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
+    write_atomic(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
 
 
 def _xml_text(text):
@@ -327,7 +308,7 @@ def junit_text(run):
 
 
 def write_junit(run, path):
-    _atomic_write(path, junit_text(run))
+    write_atomic(path, junit_text(run))
 
 
 def load_json(path):
