@@ -40,7 +40,8 @@ def make(kind, fault, i):
         m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25, max_range=2.55)
         if fault == 'bad_limits':
             m.min_range, m.max_range = 3.0, 1.0
-        m.range = float('nan') if fault == 'nan' else (6.0 if fault == 'out_of_range' else 1.0 + 0.5 * math.sin(i / 5.0))
+        m.range = (float('nan') if fault == 'nan'
+                   else 6.0 if fault == 'out_of_range' else 1.0 + 0.5 * math.sin(i / 5.0))
         stamp(m.header, fault, 'SonarBack_frame')
         return m
     if kind == 'laser':

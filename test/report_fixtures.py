@@ -84,6 +84,7 @@ def _core_message(kind, i, t):
     from geometry_msgs.msg import Quaternion
     from nav_msgs.msg import Odometry
     from sensor_msgs.msg import Imu, JointState, LaserScan, Range
+
     from core_publisher import JOINTS
     if kind == 'range':
         m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25, max_range=2.55,
@@ -145,6 +146,7 @@ MEDIA_SENSORS = ('frontCamera', 'stereoCamera', 'depthCamera', 'microphone', 'ba
 def media_run(folder, sensors=MEDIA_SENSORS):
     """A RunResult whose results come from the real checks fed with made-up messages."""
     import rospy.rostime
+
     from pepper_interface_tests import settings
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
     from pepper_interface_tests.runner import SensorRun

@@ -19,12 +19,15 @@ import psutil
 import pytest
 import websocket  # websocket-client: the raw (hostile) client of these tests
 
-from audio_chain import (BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count,
-                         wait_messages, wait_param)
+from audio_chain import BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count, wait_messages, wait_param
 from pepper_interface_tests.audio_bridge import frame as fr
-from pepper_interface_tests.emulator.audio_source import (AudioSource, CHANNEL_NAMES,
-                                                          CHANNEL_TONES_HZ, expected_counter,
-                                                          find_counter_start)
+from pepper_interface_tests.emulator.audio_source import (
+    CHANNEL_NAMES,
+    CHANNEL_TONES_HZ,
+    AudioSource,
+    expected_counter,
+    find_counter_start,
+)
 from rosmaster import ROOT, kill_group, script
 
 STATS = '/naoqiAudioPublisher/stats'
@@ -156,7 +159,7 @@ def test_capture_side_is_python27_compatible(tmp_path):
                          stderr=subprocess.STDOUT)
     assert res.returncode == 0, res.stdout.decode()
     res = subprocess.run([py27, script('naoqiAudio')[1], '--ip', '300.1.1.1'], env=env,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                         capture_output=True)
     assert res.returncode == 2 and b'not a valid IPv4 address' in res.stderr
 
 
@@ -322,7 +325,7 @@ def test_hostile_frames_rejected_then_good_traffic_flows(procs, master, tmp_path
     assert stats['rejected_connections'] == 2 and stats['lost_in_gaps'] == 0
     log = p['publisher'].log()
     assert p['publisher'].alive() and 'Traceback' not in log
-    assert len([l for l in log.splitlines() if 'bad magic' in l]) <= 2, 'warnings not limited'
+    assert len([x for x in log.splitlines() if 'bad magic' in x]) <= 2, 'warnings not limited'
     assert token not in log + p['capture'].log()
 
 
@@ -352,7 +355,7 @@ def test_second_capture_is_refused_never_mixed(procs, master, tmp_path):
     assert stats['rejected_connections'] >= 1 and stats['stream_resets'] == 0
     log = p['publisher'].log()
     assert 'refused a second capture connection' in log and 'Fix:' in log
-    assert len([l for l in log.splitlines() if 'refused a second' in l]) <= 3
+    assert len([x for x in log.splitlines() if 'refused a second' in x]) <= 3
 
 
 def raw_publisher_frames(stream_id, first, n, planar=False, pattern='counter', declared=None):
@@ -464,8 +467,8 @@ def test_layout_rule_on_the_emulated_microphones():
 def test_usage_errors_and_waiting_for_peers(master, tmp_path):
     for args in (['--ip', '300.1.1.1'], ['--ip', 'no such host.invalid'], ['--port', '0'],
                  ['--ws', 'http://127.0.0.1:1'], ['--queue-seconds', '0']):
-        res = subprocess.run(script('naoqiAudio') + args, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, timeout=60)
+        res = subprocess.run(script('naoqiAudio') + args, capture_output=True,
+                             timeout=60)
         err = res.stderr.decode()
         assert res.returncode == 2, (args, err)
         assert 'Traceback' not in err and len(err.strip().splitlines()) == 1, err
@@ -555,7 +558,7 @@ def test_token_file_errors_are_one_line(tmp_path):
     empty.write_text('\n')
     for path, words in ((missing, 'cannot read the token file'), (empty, 'is empty')):
         res = subprocess.run(script('naoqiAudio') + ['--token-file', str(path)],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=60)
+                             capture_output=True, timeout=60)
         err = res.stderr.decode()
         assert res.returncode == 2 and words in err and str(path) in err, err
         assert len(err.strip().splitlines()) == 1 and 'Traceback' not in err

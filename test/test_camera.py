@@ -5,8 +5,7 @@ import os
 import numpy as np
 import pytest
 
-from media_tools import (Publishers, explain, image_msg, make_check, pattern, sensor_test,
-                         video_codec, video_info)
+from media_tools import Publishers, explain, image_msg, make_check, pattern, sensor_test, video_codec, video_info
 
 
 def feed(check, frames, rate=10.0):
@@ -110,6 +109,7 @@ def test_eight_bit_encodings_are_read_in_place_with_the_same_statistics(tmp_path
 def test_decode_reads_the_wire_format_like_genpy_without_copying_the_pixels(tmp_path):
     import io
     import struct
+
     from sensor_msgs.msg import Image
     msg = image_msg(pattern(160, 120, 4), 'rgb8')
     msg.header.seq, msg.header.frame_id = 42, 'CameraTop_optical_frame'
@@ -160,7 +160,7 @@ def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
 def test_frames_are_posted_to_the_viewer_service(tmp_path):
     from pepper_interface_tests.viewer import Viewer
     viewer = Viewer()            # not created through Viewer.create: no window is opened here
-    c = feed(make_check('frontCamera', tmp_path, record=False, services={'viewer': viewer}), good(5))
+    feed(make_check('frontCamera', tmp_path, record=False, services={'viewer': viewer}), good(5))
     assert viewer.posted == {'frontCamera': 5}
     assert viewer._latest['frontCamera'].shape == (120, 160, 3)
 

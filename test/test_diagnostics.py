@@ -6,8 +6,8 @@ import subprocess
 import sys
 import time
 
-from rosmaster import kill_group, spawn
 from report_helpers import HERE, sensor_test, start_publishers, stop
+from rosmaster import kill_group, spawn
 
 LISTENER = HERE + '/report_diag_listener.py'
 OK, WARN, ERROR, STALE = 0, 1, 2, 3

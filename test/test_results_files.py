@@ -75,7 +75,7 @@ def test_atomic_write_replaces_with_umask_permissions(tmp_path):
     finally:
         os.umask(old)
     with open(path, 'rb') as f:
-        assert f.read() == 'new ünïcode \\udcff\n'.encode('utf-8')
+        assert f.read() == 'new ünïcode \\udcff\n'.encode()
     assert stat.S_IMODE(os.stat(path).st_mode) == 0o640
     assert os.listdir(str(tmp_path)) == ['out.json']
 

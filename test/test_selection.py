@@ -6,8 +6,8 @@ import os
 import subprocess
 import sys
 
-from rosmaster import kill_group, script, spawn
 from report_helpers import sensor_test
+from rosmaster import kill_group, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MEDIA = os.path.join(HERE, 'media_publisher.py')
@@ -118,6 +118,7 @@ def test_emulator_launch_with_realsense_tests_the_realsense(master, tmp_path):
     """Before: `pepperEmulator.launch realsense:=true run_test:=true` published the RealSense
     topics but sensorTest never listened to them (cameras=both kept the input file's false)."""
     import time
+
     from rosmaster import ROOT
     out_dir = tmp_path / 'results'
     log_path = tmp_path / 'roslaunch.log'

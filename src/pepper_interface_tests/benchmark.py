@@ -80,10 +80,11 @@ def publish(seconds, wait, subscribers=1):
     report counts."""
     import rospy
     from sensor_msgs.msg import Image
+
     from pepper_interface_tests.msg import AudioCustomMsg
     rospy.init_node('sensor_test_benchmark_publisher', disable_signals=True)
     pubs, payloads = {}, {}
-    for name, topic, enc, w, h, rate in STREAMS:
+    for name, topic, enc, w, h, _rate in STREAMS:
         cls = AudioCustomMsg if enc == 'audio' else Image
         pubs[name] = rospy.Publisher(topic, cls, queue_size=60)
         if enc == 'audio':
@@ -454,7 +455,7 @@ def _table(results, published, out_dir, target, record=True):
     print('-' * len(head))
     ok = True
     rows = {}
-    for name, topic, enc, w, h, rate in STREAMS:
+    for name, _topic, enc, w, h, rate in STREAMS:
         r = results.get(name, {})
         sent = published['published'].get(name, 0)
         got = r.get('messages', 0)

@@ -20,8 +20,7 @@ import subprocess
 import sys
 
 from . import results
-from .history import (EXIT_OK, EXIT_USAGE, RATE_FLAG, RUNS_DIR, HistoryError, compare, list_runs,
-                      not_passed, resolve)
+from .history import EXIT_OK, EXIT_USAGE, RATE_FLAG, RUNS_DIR, HistoryError, compare, list_runs, not_passed, resolve
 from .history_format import format_compare, format_list, width
 from .history_prune import prune
 

@@ -21,7 +21,6 @@ KeyboardInterrupt raised during that sleep, as a C extension that clears Python 
 """
 import os
 import signal
-import sys
 import time
 
 NAMES = {signal.SIGINT: 'interrupted by Ctrl-C', signal.SIGTERM: 'terminated (SIGTERM)',

@@ -251,21 +251,21 @@ _CAUSE_WORDS = ('already in use', 'another roscore', 'cannot listen', 'error:', 
 def launch_failure(text):
     """Why a roslaunch (its combined output `text`) failed, in its own words: a list of up to
     3 lines (the first process that died, and the first line naming an error), or []."""
-    lines = [l.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
-             for l in text.splitlines()]
-    died = [l for l in lines if 'process has died' in l]
+    lines = [line.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
+             for line in text.splitlines()]
+    died = [line for line in lines if 'process has died' in line]
     causes = []
     for words in _CAUSE_WORDS:
-        causes = [l for l in lines if words in l and 'process has died' not in l]
+        causes = [line for line in lines if words in line and 'process has died' not in line]
         if causes:
             break
     out = (died[:1] + causes[:2]) if (died or causes) else []
-    return [l[:300] for l in out]
+    return [line[:300] for line in out]
 
 
 def port_taken(lines):
     """Whether a failure (launch_failure's lines) is a port somebody else holds: retry then."""
-    return any(w in l for l in lines for w in PORT_TAKEN + (
+    return any(w in line for line in lines for w in PORT_TAKEN + (
         'Address already in use', 'address in use', 'held by another program'))
 
 
@@ -273,8 +273,6 @@ def _master_pid(uri, timeout=2.0):
     """The pid of the master at `uri`; None when nothing listens there yet; 'silent' when
     something accepts connections but does not answer as a master within `timeout` s."""
     import http.client
-    import urllib.parse
-    url = urllib.parse.urlparse(uri)
 
     class Transport(xmlrpc.client.Transport):
         def make_connection(self, host):

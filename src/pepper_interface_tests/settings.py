@@ -13,7 +13,7 @@ from types import MappingProxyType
 from typing import Optional, Tuple
 
 from . import catalog, expectations, selection
-from .textfile import ConfigError, read_text   # noqa: F401  (ConfigError is imported from here)
+from .textfile import ConfigError, read_text  # noqa: F401  (ConfigError is imported from here)
 
 PLATFORMS = ('robot', 'simulator')
 MODES = ('sequential', 'parallel')

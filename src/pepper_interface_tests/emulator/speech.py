@@ -6,7 +6,7 @@ import threading
 import rospy
 
 
-class NaoqiSpeech(object):
+class NaoqiSpeech:
     """Calls ALTextToSpeech.say(text) on a NAOqi endpoint from a worker thread.
 
     The connection is made on the first sentence and retried on later ones; when the endpoint
@@ -61,7 +61,7 @@ class NaoqiSpeech(object):
                     rospy.logwarn('pepperEmulator: ALTextToSpeech.say failed at %s: %s', self.url, e)
 
 
-class DirectSpeech(object):
+class DirectSpeech:
     """Mixes the text into the emulator's own microphone stream (AudioSource.say)."""
 
     def __init__(self, source):

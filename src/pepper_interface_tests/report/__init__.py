@@ -61,8 +61,8 @@ class HtmlReport:
 def _warm_up():
     try:
         import jinja2  # noqa: F401
-        from matplotlib.figure import Figure  # noqa: F401
         from matplotlib.backends import backend_agg  # noqa: F401
+        from matplotlib.figure import Figure  # noqa: F401
     except Exception:  # the report says what went wrong when it is written
         pass
 

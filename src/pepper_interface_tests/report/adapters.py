@@ -8,10 +8,25 @@ here is deleted and nothing else changes.
 import math
 import re
 
-from .values import (AudioValues, CameraValues, ChannelLevel, DepthValues, Histogram, ImuValues, Joint,
-                     JointValues, LaserScanValues, OdometryValues, RangeValues, Series, Spread, SpeechValues,
-                     VideoInfo, mapping, number)
-
+from .values import (
+    AudioValues,
+    CameraValues,
+    ChannelLevel,
+    DepthValues,
+    Histogram,
+    ImuValues,
+    Joint,
+    JointValues,
+    LaserScanValues,
+    OdometryValues,
+    RangeValues,
+    Series,
+    SpeechValues,
+    Spread,
+    VideoInfo,
+    mapping,
+    number,
+)
 
 
 def _range(r, run):

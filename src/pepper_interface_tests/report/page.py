@@ -142,14 +142,16 @@ def stats_rows(r):
     rows = [('messages', num(r.messages)),
             ('rate (receive times)', Span(num(r.rate_hz, 2, 'Hz'), cls='fail-text' if ok is False else '')),
             ('rate (header stamps)', num(r.stamp_rate_hz, 2, 'Hz')),
-            ('expected / nominal', '%s Hz / %s' % ('%g-%g' % tuple(band) if band else '-', num(r.nominal_rate_hz, 2, 'Hz'))),
+            ('expected / nominal', '%s Hz / %s' % ('%g-%g' % tuple(band) if band else '-',
+                                                   num(r.nominal_rate_hz, 2, 'Hz'))),
             ('window', '%s, %s' % (num(r.window_s, 1, 's'), r.stopped_because or '-')),
             ('started at', num(r.started_at, 1, 's into the run'))]
     if s:
         rows += [('first message after', num(s.get('first_message_after_s'), 3, 's')),
                  ('jitter (std of intervals)', num(s.get('jitter_s'), 4, 's')),
                  ('longest interval', num(s.get('max_interval_s'), 3, 's')),
-                 ('delay now - stamp', '%s mean, %s max' % (num(delay.get('mean'), 4, 's'), num(delay.get('max'), 4, 's'))
+                 ('delay now - stamp', '%s mean, %s max' % (num(delay.get('mean'), 4, 's'),
+                                                            num(delay.get('max'), 4, 's'))
                   if delay else '-'),
                  ('zero / backwards / repeated stamps', '%s / %s / %s' % (
                      num(s.get('zero_stamps')), num(s.get('backwards_stamps')), num(s.get('repeated_stamps'))))]
