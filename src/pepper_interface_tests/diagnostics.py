@@ -170,7 +170,7 @@ class LiveDiagnostics:
         self.period = period
         self.prefix = prefix
         self.out = out
-        self.updater = None
+        self.updater: Any = None     # diagnostic_updater.Updater once the run starts
         self.current: Dict[str, Status] = {}
         self.topics: Dict[str, Tuple[Optional[str], str]] = {}
         self.last: Optional[float] = None

@@ -10,6 +10,7 @@ escapes control characters (no raw ANSI escape reaches a terminal or a text file
 length; JUnit gets the same before xml.etree.ElementTree escapes it, so the XML always parses.
 """
 import datetime
+import errno
 import fcntl
 import json
 import os
@@ -162,17 +163,20 @@ class OutputFile:
 
     def __init__(self, path):
         self.path = path
-        self._fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+        self._fd: Optional[int] = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
 
     def _write(self, text):
         data = text.encode('utf-8', 'backslashreplace')
-        fcntl.flock(self._fd, fcntl.LOCK_EX)
+        fd = self._fd
+        if fd is None:
+            raise OSError(errno.EBADF, 'written after close', self.path)
+        fcntl.flock(fd, fcntl.LOCK_EX)
         try:
             while data:
-                n = os.write(self._fd, data)
+                n = os.write(fd, data)
                 data = data[n:]
         finally:
-            fcntl.flock(self._fd, fcntl.LOCK_UN)
+            fcntl.flock(fd, fcntl.LOCK_UN)
 
     def write_text(self, text):
         """Append `text` (e.g. a whole run's section) in one locked write."""

@@ -20,9 +20,10 @@ import subprocess
 import tempfile
 import time
 import xmlrpc.client
+from typing import Any, List, Optional, Set
 
 PICK_LOW = 20000   # below: well-known and registered service ports (11311, 9090, 9559 ...)
-_handed_out = set()
+_handed_out: Set[int] = set()
 
 
 def ephemeral_range():
@@ -47,7 +48,9 @@ def _candidates():
 def free_ports(n, host='127.0.0.1'):
     """`n` distinct TCP ports on `host`, each free right now, outside the ephemeral range and
     never returned before by this process. The probe sockets are held until all are chosen."""
-    held, ports, pool = [], [], _candidates()
+    held: List[socket.socket] = []
+    ports: List[int] = []
+    pool = _candidates()
     try:
         for _ in range(200 * n):
             if len(ports) == n:
@@ -123,7 +126,7 @@ class PrivateMaster:
     def __init__(self, caller='/private_master', ros_home=None):
         self.caller = caller
         self.ros_home = ros_home
-        self.proc = None
+        self.proc: Optional[subprocess.Popen] = None
         self.attempts = []  # one line per failed attempt: port and roscore's reason
         self._use_port(free_port())
 
@@ -162,7 +165,7 @@ class PrivateMaster:
         self.proc = subprocess.Popen(['roscore', '-p', str(self.port)], env=self.env(),
                                      stdout=out, stderr=subprocess.STDOUT,
                                      start_new_session=True)
-        proxy = xmlrpc.client.ServerProxy(self.uri)
+        proxy: Any = xmlrpc.client.ServerProxy(self.uri)   # typeshed's return types hide the tuples
         deadline = time.monotonic() + timeout
         reason = 'no master on port %d after %.0f s' % (self.port, timeout)
         while time.monotonic() < deadline:
@@ -193,7 +196,7 @@ class PrivateMaster:
             code, _, pid = proxy.getPid(self.caller)
         except (OSError, xmlrpc.client.Error):
             return False
-        return code == 1 and _descends(pid, self.proc.pid)
+        return self.proc is not None and code == 1 and _descends(pid, self.proc.pid)
 
     def stop(self):
         stop_group(self.proc, timeout=10.0)
@@ -278,7 +281,8 @@ def _master_pid(uri, timeout=2.0):
         def make_connection(self, host):
             return http.client.HTTPConnection(host, timeout=timeout)
     try:
-        code, _, pid = xmlrpc.client.ServerProxy(uri, transport=Transport()).getPid(
+        proxy: Any = xmlrpc.client.ServerProxy(uri, transport=Transport())
+        code, _, pid = proxy.getPid(
             '/launch_watch')
         return pid if code == 1 else 'silent'
     except ConnectionRefusedError:

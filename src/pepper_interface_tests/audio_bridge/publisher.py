@@ -39,6 +39,7 @@ import logging
 import sys
 import threading
 import time
+from typing import Any, Dict
 
 import numpy as np
 
@@ -117,7 +118,7 @@ class Stats:
     def snapshot(self, tracker):
         with self.lock:
             lat, self._latencies = self._latencies, []
-            out = dict(self.counts)
+            out: Dict[str, Any] = dict(self.counts)
             out['bad_causes'] = dict(self.bad_causes)
         out['lost_in_gaps'] = tracker.lost
         out['stream_resets'] = tracker.resets

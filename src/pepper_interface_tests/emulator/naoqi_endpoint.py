@@ -49,7 +49,7 @@ class Subscriber:
     def __init__(self, session, name, flag, planar):
         self.session, self.name, self.flag, self.planar = session, name, flag, planar
         self._carry = np.zeros(0, dtype=np.float64)
-        self._queue = collections.deque()
+        self._queue: collections.deque = collections.deque()
         self._cond = threading.Condition()
         self._stopped = False
         self._proxy = None

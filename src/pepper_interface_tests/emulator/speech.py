@@ -18,7 +18,7 @@ class NaoqiSpeech:
         self.session = None
         self.warned = False
         self.spoken = 0
-        self.queue = queue.Queue()
+        self.queue: queue.Queue = queue.Queue()
         self.thread = threading.Thread(target=self._run, name='naoqi-speech', daemon=True)
         self.thread.start()
 

@@ -8,7 +8,7 @@ with their own name in a neutral grey badge.
 import os
 from collections import Counter
 from dataclasses import dataclass
-from typing import List, Optional
+from typing import List, Optional, Tuple
 
 from .. import catalog
 from ..results import FAIL, PASS, SKIPPED, summary_line, timestamp
@@ -87,7 +87,8 @@ def rate_steps(r):
             continue
     start = r.started_at or 0.0
     end = r.window_s if r.window_s else (pts[-1][0] + 0.5 if pts else 0.0)
-    edges, rates = [], []
+    edges: List[float] = []
+    rates: List[float] = []
     for t, v in pts:
         lo, hi = t - 0.5, min(t + 0.5, end)
         if hi - lo < 0.25:
@@ -184,7 +185,7 @@ def section(r, run, view):
     sec['body'] = views.render(fam, r, adapt(fam, r, run), view)
     sec['stats'] = KV(stats_rows(r))
     sec['notes'] = [clean(x) for x in r.notes or []]
-    values = []
+    values: List[Tuple[str, str]] = []
     for k, v in (r.values or {}).items():
         if k != 'joints':
             _flatten(k, v, values)
