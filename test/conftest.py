@@ -10,7 +10,8 @@ from rosmaster import Master, script  # noqa: E402
 # ---------------------------------------------------------------- test tiers
 # Every test gets exactly one of the markers declared in pytest.ini, decided here by file and
 # fixture so tests added later are classified too (an explicit marker on a test wins):
-#   slow         SLOW_FILES: a real browser (headless Chromium) or a soak; `make test` runs them
+#   slow         SLOW_FILES, SLOW_TESTS: a real browser (headless Chromium), a soak, a 240 MB bag;
+#                `make test` runs them
 #   integration  a test using a ROS fixture (a real roscore) or in INTEGRATION_FILES (every test
 #                there starts real processes: sensorTest, the emulator, ffmpeg, rostest,
 #                websockets, libqi)
@@ -19,6 +20,8 @@ from rosmaster import Master, script  # noqa: E402
 TIERS = ('unit', 'integration', 'slow')
 ROS_FIXTURES = {'master', 'module_master', 'recorded_bags'}
 SLOW_FILES = {'test_report.py'}
+SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the audio chain
+              'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
 INTEGRATION_FILES = {
     'test_audio_bridge.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
     'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_graph.py',
@@ -35,7 +38,7 @@ def tier_of(item):
     if own:
         return own[0]
     name = os.path.basename(str(item.fspath))
-    if name in SLOW_FILES:
+    if name in SLOW_FILES or item.originalname in SLOW_TESTS:
         return 'slow'
     words = INTEGRATION_TESTS.get(name, ())
     if (name in INTEGRATION_FILES or ROS_FIXTURES & set(getattr(item, 'fixturenames', ()))
