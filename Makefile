@@ -1,8 +1,11 @@
 # make demo   set everything up, then run sensorTest (parallel, every robot sensor) against the
 #             built-in Pepper emulator through the real NAOqi audio bridge
-# make test   set everything up, then run the whole test suite (pytest + rostest)
+# make test   set everything up, then run the gates (ruff, mypy) and the whole test suite
+#             (pytest + rostest: unit, integration and slow tiers)
+# make test-fast  only the unit tier (pure tests, no ROS master, about 2 s): pytest -m unit
+# make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
-.PHONY: demo test setup bench clean
+.PHONY: demo test test-fast lint setup bench clean
 
 demo:
 	@tools/setup.sh
@@ -11,6 +14,14 @@ demo:
 test:
 	@tools/setup.sh --test
 	@tools/run-tests.sh
+
+test-fast:
+	@tools/setup.sh
+	@tools/run-tests.sh --fast
+
+lint:
+	@tools/setup.sh
+	@tools/gates.sh
 
 setup:
 	@tools/setup.sh

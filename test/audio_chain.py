@@ -21,7 +21,7 @@ BUFFER = 4096
 RATE = 48000
 
 
-class Proc(object):
+class Proc:
     """A spawned process with its log file."""
 
     def __init__(self, name, cmd, env, log_dir):
@@ -58,7 +58,7 @@ class Proc(object):
         return self.proc.poll() is None
 
 
-class Procs(object):
+class Procs:
     """Keeps every started process so the test's finally block stops them all."""
 
     def __init__(self, log_dir):

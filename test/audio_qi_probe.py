@@ -19,7 +19,7 @@ import numpy as np
 import qi
 
 
-class Recorder(object):
+class Recorder:
     def __init__(self):
         self.meta, self.data, self.lock = [], [], threading.Lock()
 

@@ -7,6 +7,66 @@ import pytest
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from rosmaster import Master, script  # noqa: E402
 
+# ---------------------------------------------------------------- test tiers
+# Every test gets exactly one of the markers declared in pytest.ini, decided here by file and
+# fixture so tests added later are classified too (an explicit marker on a test wins):
+#   slow         SLOW_FILES, SLOW_TESTS: a real browser (headless Chromium), a soak, a 240 MB bag;
+#                `make test` runs them
+#   integration  a test using a ROS fixture (a real roscore) or in INTEGRATION_FILES (every test
+#                there starts real processes: sensorTest, the emulator, ffmpeg, rostest,
+#                websockets, libqi)
+#   unit         the rest: pure functions on in-memory data and tmp files, no master
+# `make test-fast` runs `-m unit` (the unit tier must stay under 2 s in total).
+TIERS = ('unit', 'integration', 'slow')
+ROS_FIXTURES = {'master', 'module_master', 'recorded_bags'}
+SLOW_FILES = {'test_report.py'}
+SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the audio chain
+              'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
+INTEGRATION_FILES = {
+    'test_audio_bridge.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
+    'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_graph.py',
+    'test_history.py', 'test_launch.py', 'test_naoqi_endpoint.py', 'test_recording.py',
+    'test_rostest.py',
+    'test_selection.py', 'test_sensor_test_cli.py', 'test_signals.py', 'test_sim_time.py',
+    'test_startup.py'}
+# tests that start real processes without a ROS fixture, in files that are otherwise unit
+INTEGRATION_TESTS = {'test_audio_check.py': ('real_topic',)}
+
+
+def tier_of(item):
+    own = [t for t in TIERS if item.get_closest_marker(t)]
+    if own:
+        return own[0]
+    name = os.path.basename(str(item.fspath))
+    if name in SLOW_FILES or item.originalname in SLOW_TESTS:
+        return 'slow'
+    words = INTEGRATION_TESTS.get(name, ())
+    if (name in INTEGRATION_FILES or ROS_FIXTURES & set(getattr(item, 'fixturenames', ()))
+            or any(w in item.name.lower() for w in words)):
+        return 'integration'
+    return 'unit'
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        tier = tier_of(item)
+        if not item.get_closest_marker(tier):
+            item.add_marker(getattr(pytest.mark, tier))
+
+
+_unit_seconds = []
+
+
+def pytest_runtest_logreport(report):
+    if 'unit' in report.keywords:
+        _unit_seconds.append(report.duration)
+
+
+def pytest_terminal_summary(terminalreporter):
+    """The unit tier's own time (setup + call + teardown), to keep it under its 2 s budget."""
+    if _unit_seconds:
+        terminalreporter.write_line('unit tier: %.2f s in its tests (budget 2 s)' % sum(_unit_seconds))
+
 
 @pytest.fixture
 def master():

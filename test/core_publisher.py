@@ -11,80 +11,29 @@ dup_joint, short_velocity, bad_limits, wrong_ranges.
 sonar); the `frame` fault still wins.
 """
 import argparse
-import math
 import sys
 
 import rospy
-from geometry_msgs.msg import Quaternion
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
-JOINTS = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch', 'LShoulderPitch',
-          'LShoulderRoll', 'LElbowYaw', 'LElbowRoll', 'LWristYaw', 'LHand', 'RShoulderPitch',
-          'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw', 'RHand',
-          'WheelFL', 'WheelFR', 'WheelB']
-
-
-def stamp(h, fault, frame):
-    h.stamp = rospy.Time(0) if fault == 'zero_stamp' else (
-        rospy.Time.now() - rospy.Duration(30) if fault == 'old_stamp' else rospy.Time.now())
-    h.frame_id = 'wrong_frame' if fault == 'frame' else FRAME.get('frame', frame)
-
+import fake_pepper as fake
 
 FRAME = {}   # {'frame': frame_id given with --frame}
+BUILDERS = {'range': fake.sonar, 'laser': fake.laser, 'joints': fake.joints,
+            'odometry': fake.odometry, 'imu': fake.imu}
 
 
 def make(kind, fault, i):
-    if kind == 'range':
-        m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25, max_range=2.55)
-        if fault == 'bad_limits':
-            m.min_range, m.max_range = 3.0, 1.0
-        m.range = float('nan') if fault == 'nan' else (6.0 if fault == 'out_of_range' else 1.0 + 0.5 * math.sin(i / 5.0))
-        stamp(m.header, fault, 'SonarBack_frame')
-        return m
-    if kind == 'laser':
-        m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0, scan_time=0.1)
-        m.angle_increment = (m.angle_max - m.angle_min) / 60
-        r = [1.5 + 0.2 * math.sin(k / 4.0 + i / 10.0) for k in range(61)]
-        for k in list(range(15, 23)) + list(range(38, 46)):
-            r[k] = -1.0
-        if fault == 'nan':
-            r = [float('nan')] * 61
-        if fault == 'wrong_ranges':
-            r = r[:40]
-        m.ranges = r
-        stamp(m.header, fault, 'base_footprint')
-        return m
-    if kind == 'joints':
-        names = list(JOINTS)
-        if fault == 'missing_joint':
-            names.remove('HeadYaw')
-        if fault == 'dup_joint':
-            names[1] = names[0]
-        m = JointState(name=names, position=[0.1 * math.sin(i / 20.0)] * len(names),
-                       velocity=[0.0] * (len(names) - (1 if fault == 'short_velocity' else 0)),
-                       effort=[0.0] * len(names))
-        if fault == 'nan':
-            m.position[2] = float('nan')
-        stamp(m.header, fault, '')
-        return m
-    if kind == 'odometry':
-        m = Odometry(child_frame_id='base_link')
-        m.pose.pose.position.x = 0.01 * i
-        m.pose.pose.orientation = Quaternion(0, 0, 0, 2.0 if fault == 'broken_quaternion' else 1.0)
-        m.twist.twist.linear.x = 0.1
-        stamp(m.header, fault, 'odom')
-        return m
-    if kind == 'imu':
-        m = Imu()
-        m.orientation = Quaternion(0, 0, 0, 0.5 if fault == 'broken_quaternion' else 1.0)
-        m.linear_acceleration.z = float('nan') if fault == 'nan' else 9.81
-        stamp(m.header, fault, 'base_footprint')
-        return m
+    """One message of `kind` (test/fake_pepper.py), stamped now, with `fault` ('' for none)."""
     if kind == 'string':
         return String(data='not a sensor')
-    raise SystemExit('unknown kind ' + kind)
+    if kind not in BUILDERS:
+        raise SystemExit('unknown kind ' + kind)
+    frame = FRAME.get('frame')
+    kw = {'frame_id': frame} if frame is not None else {}
+    return BUILDERS[kind](i, rospy.Time.now(), fault, **kw)
 
 
 TYPES = {'range': Range, 'laser': LaserScan, 'joints': JointState, 'odometry': Odometry,

@@ -29,7 +29,7 @@ def _norm(q):
     return math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w)
 
 
-class Record(object):
+class Record:
     def __init__(self, topic, type_name):
         self.topic, self.type = topic, type_name
         self.times, self.stamps, self.seqs, self.frames = [], [], [], set()

@@ -30,7 +30,7 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import Image
 
-from media_tools import pattern   # noqa: E402  (test/ is this script's own folder)
+from media_tools import pattern  # noqa: E402  (test/ is this script's own folder)
 
 TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')

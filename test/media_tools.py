@@ -4,7 +4,6 @@ import json
 import os
 import subprocess
 import sys
-import time
 
 import numpy as np
 
@@ -57,7 +56,8 @@ class Publishers:
         return counts
 
     def __enter__(self):
-        time.sleep(1.0)      # let the publishers register before sensorTest looks
+        # nothing to wait for: the publishers are added inside the block, sensorTest's --wait
+        # covers their start-up and a --count publisher waits for its subscriber (media_publisher.py)
         return self
 
     def __exit__(self, *exc):

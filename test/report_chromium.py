@@ -207,7 +207,8 @@ def render_page(html_path, png_path=None, width=1400, media_wait=15.0, max_heigh
         for e in cdp.events:
             m, p = e['method'], e.get('params', {})
             if m == 'Runtime.consoleAPICalled' and p.get('type') in ('error', 'assert'):
-                page.console_errors.append(' '.join(str(a.get('value', a.get('description', ''))) for a in p.get('args', [])))
+                page.console_errors.append(' '.join(str(a.get('value', a.get('description', '')))
+                                                    for a in p.get('args', [])))
             elif m == 'Runtime.exceptionThrown':
                 d = p.get('exceptionDetails', {})
                 page.exceptions.append(d.get('text', '') + ' ' + str(d.get('exception', {}).get('description', '')))

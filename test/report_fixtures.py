@@ -12,11 +12,13 @@ does not record a histogram yet), so every section of the report has something t
 soundfile directly, for tests that need files of a known size.
 """
 import io
-import math
 import os
 import time
 
 import numpy as np
+
+import fake_pepper as fake
+from fake_pepper import audio_buffer, camera_image, depth_image, stereo_image
 
 
 def _serialize(msg):
@@ -25,101 +27,18 @@ def _serialize(msg):
     return buf.getvalue()
 
 
-def _stamp(header, t, frame):
-    import rospy
-    header.stamp = rospy.Time.from_sec(t)
-    header.frame_id = frame
-
-
-def camera_image(i, w=320, h=240, frame='CameraTop_optical_frame', t=0.0):
-    from sensor_msgs.msg import Image
-    y, x = np.mgrid[0:h, 0:w]
-    r = (x * 255 // max(1, w - 1)).astype(np.uint8)
-    g = (y * 255 // max(1, h - 1)).astype(np.uint8)
-    b = np.full((h, w), 60, np.uint8)
-    cx, cy = int(w * (0.2 + 0.6 * (i % 40) / 40.0)), h // 2
-    disc = (x - cx) ** 2 + (y - cy) ** 2 < (h // 6) ** 2
-    rgb = np.dstack([r, g, b])
-    rgb[disc] = (255, 255, 255)
-    msg = Image(height=h, width=w, encoding='rgb8', is_bigendian=0, step=w * 3, data=rgb.tobytes())
-    _stamp(msg.header, t, frame)
-    return msg
-
-
-def stereo_image(i, t=0.0):
-    from sensor_msgs.msg import Image
-    left = camera_image(i, 320, 180)
-    right = camera_image(i + 3, 320, 180)
-    a = np.frombuffer(left.data, np.uint8).reshape(180, 320, 3)
-    b = np.frombuffer(right.data, np.uint8).reshape(180, 320, 3)
-    both = np.ascontiguousarray(np.concatenate([a, b], axis=1))
-    msg = Image(height=180, width=640, encoding='rgb8', is_bigendian=0, step=640 * 3, data=both.tobytes())
-    _stamp(msg.header, t, 'CameraDepth_optical_frame')
-    return msg
-
-
-def depth_image(i, w=320, h=240, t=0.0):
-    from sensor_msgs.msg import Image
-    y, x = np.mgrid[0:h, 0:w]
-    mm = (600 + 3000 * x / (w - 1) + 300 * np.sin(y / 20.0 + i / 5.0)).astype(np.uint16)
-    mm[:20, :40] = 0                 # a patch without depth
-    msg = Image(height=h, width=w, encoding='16UC1', is_bigendian=0, step=w * 2, data=mm.tobytes())
-    _stamp(msg.header, t, 'CameraDepth_optical_frame')
-    return msg
-
-
-def audio_buffer(i, n=4096, rate=48000):
-    from pepper_interface_tests.msg import AudioCustomMsg
-    t = (np.arange(n) + i * n) / float(rate)
-    amps = (0.30, 0.10, 0.03, 0.01)
-    freqs = (220.0, 330.0, 440.0, 660.0)
-    envelope = 0.6 + 0.4 * np.sin(2 * np.pi * 0.5 * t)
-    chans = [(a * 32767 * envelope * np.sin(2 * np.pi * f * t)).astype(np.int16) for a, f in zip(amps, freqs)]
-    return AudioCustomMsg(rearLeft=chans[0].tolist(), rearRight=chans[1].tolist(),
-                          frontLeft=chans[2].tolist(), frontRight=chans[3].tolist())
-
-
 def _core_message(kind, i, t):
-    """Good messages of the core kinds (as test/core_publisher.py makes them), stamped at t."""
-    from geometry_msgs.msg import Quaternion
-    from nav_msgs.msg import Odometry
-    from sensor_msgs.msg import Imu, JointState, LaserScan, Range
-    from core_publisher import JOINTS
+    """Good messages of the core kinds, stamped at t, with more variety than core_publisher's."""
     if kind == 'range':
-        m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25, max_range=2.55,
-                  range=1.0 + 0.5 * math.sin(i / 5.0))
-        _stamp(m.header, t, 'SonarBack_frame')
-        return m
+        return fake.sonar(i, t)
     if kind == 'laser':
-        m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0, scan_time=0.1)
-        m.angle_increment = (m.angle_max - m.angle_min) / 60
-        r = [1.5 + 0.8 * math.sin(k / 4.0 + i / 10.0) for k in range(61)]
-        for k in list(range(15, 23)) + list(range(38, 46)):
-            r[k] = -1.0
-        r[5], r[50] = float('nan'), 7.5        # two invalid beams to mark
-        m.ranges = r
-        _stamp(m.header, t, 'base_footprint')
-        return m
+        return fake.laser(i, t, swing=0.8, marked=True)     # two invalid beams to mark
     if kind == 'joints':
-        m = JointState(name=list(JOINTS), position=[0.1 * math.sin(i / 20.0 + k) for k in range(len(JOINTS))],
-                       velocity=[0.01 * k for k in range(len(JOINTS))], effort=[0.5] * len(JOINTS))
-        _stamp(m.header, t, '')
-        return m
+        return fake.joints(i, t, varied=True)
     if kind == 'odometry':
-        m = Odometry(child_frame_id='base_link')
-        m.pose.pose.position.x = 0.5 * math.sin(i / 15.0)
-        m.pose.pose.position.y = 0.5 - 0.5 * math.cos(i / 15.0)
-        m.pose.pose.orientation = Quaternion(0, 0, 0, 1.0)
-        m.twist.twist.linear.x = 0.1
-        _stamp(m.header, t, 'odom')
-        return m
+        return fake.odometry(i, t, circle=True)
     if kind == 'imu':
-        m = Imu()
-        m.orientation = Quaternion(0, 0, 0, 1.0)
-        m.linear_acceleration.z = 9.81 + 0.05 * math.sin(i)
-        m.angular_velocity.z = 0.1 * math.sin(i / 3.0)
-        _stamp(m.header, t, 'base_footprint')
-        return m
+        return fake.imu(i, t, moving=True)
     raise ValueError(kind)
 
 
@@ -145,6 +64,7 @@ MEDIA_SENSORS = ('frontCamera', 'stereoCamera', 'depthCamera', 'microphone', 'ba
 def media_run(folder, sensors=MEDIA_SENSORS):
     """A RunResult whose results come from the real checks fed with made-up messages."""
     import rospy.rostime
+
     from pepper_interface_tests import settings
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
     from pepper_interface_tests.runner import SensorRun

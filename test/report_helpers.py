@@ -5,16 +5,16 @@ import os
 import re
 import subprocess
 import sys
-import time
 
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_for_publishers
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PUBLISHER = os.path.join(HERE, 'core_publisher.py')
 
 
-def start_publishers(master, specs, settle=1.0):
-    """specs: [(kind, topic, extra args...)]; returns the processes once each publishes."""
+def start_publishers(master, specs):
+    """specs: [(kind, topic, extra args...)]; returns the processes once each publishes and
+    the master knows it (publishers; a `listener` only subscribes)."""
     procs = []
     for kind, topic, *extra in specs:
         p = spawn([sys.executable, PUBLISHER, kind, topic] + list(extra), master.env(),
@@ -23,7 +23,7 @@ def start_publishers(master, specs, settle=1.0):
     for p in procs:
         line = p.stdout.readline()
         assert line.strip() in ('publishing', 'listening'), 'publisher did not start: %r' % line
-    time.sleep(settle)          # registrations reach the master
+    wait_for_publishers(master, [topic for kind, topic, *_ in specs if kind != 'listener'])
     return procs
 
 

@@ -46,7 +46,8 @@ class SensorTestVerdicts(unittest.TestCase):
     def test_faulty_sonar_fails_with_its_reason(self):
         s = self.sensors['frontSonar']
         self.assertEqual(s['verdict'], 'FAIL')
-        self.assertTrue(any("range outside the sensor's physical limits [0, 5] m" in r for r in s['reasons']), s['reasons'])
+        self.assertTrue(any("range outside the sensor's physical limits [0, 5] m" in r for r in s['reasons']),
+                        s['reasons'])
         self.assertEqual(self.data['exit_code'], 1)
 
     def test_speech_delivered_to_the_listener(self):

@@ -15,15 +15,19 @@ import sys
 import time
 
 import numpy as np
+import psutil
 import pytest
 import websocket  # websocket-client: the raw (hostile) client of these tests
 
-from audio_chain import (BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count,
-                         wait_messages, wait_param)
+from audio_chain import BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count, wait_messages, wait_param
 from pepper_interface_tests.audio_bridge import frame as fr
-from pepper_interface_tests.emulator.audio_source import (AudioSource, CHANNEL_NAMES,
-                                                          CHANNEL_TONES_HZ, expected_counter,
-                                                          find_counter_start)
+from pepper_interface_tests.emulator.audio_source import (
+    CHANNEL_NAMES,
+    CHANNEL_TONES_HZ,
+    AudioSource,
+    expected_counter,
+    find_counter_start,
+)
 from rosmaster import ROOT, kill_group, script
 
 STATS = '/naoqiAudioPublisher/stats'
@@ -155,7 +159,7 @@ def test_capture_side_is_python27_compatible(tmp_path):
                          stderr=subprocess.STDOUT)
     assert res.returncode == 0, res.stdout.decode()
     res = subprocess.run([py27, script('naoqiAudio')[1], '--ip', '300.1.1.1'], env=env,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+                         capture_output=True)
     assert res.returncode == 2 and b'not a valid IPv4 address' in res.stderr
 
 
@@ -324,7 +328,7 @@ def test_hostile_frames_rejected_then_good_traffic_flows(procs, master, tmp_path
     assert stats['rejected_connections'] == 2 and stats['lost_in_gaps'] == 0
     log = p['publisher'].log()
     assert p['publisher'].alive() and 'Traceback' not in log
-    assert len([l for l in log.splitlines() if 'bad magic' in l]) <= 2, 'warnings not limited'
+    assert len([x for x in log.splitlines() if 'bad magic' in x]) <= 2, 'warnings not limited'
     assert token not in log + p['capture'].log()
 
 
@@ -354,7 +358,7 @@ def test_second_capture_is_refused_never_mixed(procs, master, tmp_path):
     assert stats['rejected_connections'] >= 1 and stats['stream_resets'] == 0
     log = p['publisher'].log()
     assert 'refused a second capture connection' in log and 'Fix:' in log
-    assert len([l for l in log.splitlines() if 'refused a second' in l]) <= 3
+    assert len([x for x in log.splitlines() if 'refused a second' in x]) <= 3
 
 
 def raw_publisher_frames(stream_id, first, n, planar=False, pattern='counter', declared=None):
@@ -466,8 +470,8 @@ def test_layout_rule_on_the_emulated_microphones():
 def test_usage_errors_and_waiting_for_peers(master, tmp_path):
     for args in (['--ip', '300.1.1.1'], ['--ip', 'no such host.invalid'], ['--port', '0'],
                  ['--ws', 'http://127.0.0.1:1'], ['--queue-seconds', '0']):
-        res = subprocess.run(script('naoqiAudio') + args, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, timeout=60)
+        res = subprocess.run(script('naoqiAudio') + args, capture_output=True,
+                             timeout=60)
         err = res.stderr.decode()
         assert res.returncode == 2, (args, err)
         assert 'Traceback' not in err and len(err.strip().splitlines()) == 1, err
@@ -503,7 +507,7 @@ def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_pat
     """pepperEmulator.launch with the token in a file named by $PEPPER_AUDIO_TOKEN_FILE: the
     bridge works with it, and it is in no command line, no parameter and no log (roslaunch
     writes every process's environment into its log, so the token itself must not be in one)."""
-    from pepper_interface_tests.rosmaster import _descends, free_ports
+    from pepper_interface_tests.rosmaster import free_ports
     token = 'tok-%d-secret' % os.getpid()
     token_file = tmp_path / 'token'
     token_file.write_text(token + '\n')
@@ -523,16 +527,14 @@ def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_pat
         with pytest.raises(websocket.WebSocketBadStatusException) as err:
             websocket.create_connection('ws://127.0.0.1:%d' % ws_port, timeout=5)
         assert err.value.status_code == 401  # the publisher did get the token
-        mine = [int(p) for p in os.listdir('/proc') if p.isdigit()
-                and _descends(int(p), launch.pid)]
+        mine = [launch.pid] + [c.pid for c in psutil.Process(launch.pid).children(recursive=True)]
         assert len(mine) >= 4, mine  # roslaunch, endpoint, emulator, publisher, capture
         for pid in mine:
             try:
-                with open('/proc/%d/cmdline' % pid, 'rb') as f:
-                    cmdline = f.read()
-            except OSError:
+                cmdline = ' '.join(psutil.Process(pid).cmdline())
+            except psutil.Error:
                 continue
-            assert token.encode() not in cmdline, cmdline
+            assert token not in cmdline, cmdline
         params = xmlrpc_get(master, '/')
         assert token not in repr(params)
         assert '/naoqiAudioPublisher/port' in repr(params) or 'naoqiAudioPublisher' in repr(params)
@@ -559,7 +561,7 @@ def test_token_file_errors_are_one_line(tmp_path):
     empty.write_text('\n')
     for path, words in ((missing, 'cannot read the token file'), (empty, 'is empty')):
         res = subprocess.run(script('naoqiAudio') + ['--token-file', str(path)],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=60)
+                             capture_output=True, timeout=60)
         err = res.stderr.decode()
         assert res.returncode == 2 and words in err and str(path) in err, err
         assert len(err.strip().splitlines()) == 1 and 'Traceback' not in err

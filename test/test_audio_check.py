@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import soundfile
 
-from media_tools import HERE, Publishers, dominant_frequency, explain, make_check, sensor_test, TOPICS
+from media_tools import HERE, TOPICS, Publishers, dominant_frequency, explain, make_check, sensor_test
 from rosmaster import kill_group, spawn
 
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')

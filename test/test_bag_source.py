@@ -18,7 +18,6 @@ import rosbag
 from sensor_msgs.msg import Image, Range
 
 from pepper_interface_tests.bag import MAX_SILENCE, dense_span
-
 from rosmaster import script
 
 T0 = 1700000000.0

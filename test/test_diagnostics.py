@@ -1,13 +1,14 @@
 """Live /diagnostics (diagnostics.py), seen by a real rospy subscriber in its own process while
 sensorTest runs against test/core_publisher.py publishers on a real master."""
 import json
+import select
 import statistics
 import subprocess
 import sys
 import time
 
-from rosmaster import kill_group, spawn
 from report_helpers import HERE, sensor_test, start_publishers, stop
+from rosmaster import kill_group, spawn
 
 LISTENER = HERE + '/report_diag_listener.py'
 OK, WARN, ERROR, STALE = 0, 1, 2, 3
@@ -22,11 +23,28 @@ def listen(master):
     return p
 
 
-def arrays_of(listener):
+def arrays_of(listener, until=None, timeout=10.0):
+    """The arrays the listener printed; with `until`, first read them as they come until one
+    satisfies `until(array)` (or `timeout` s pass), then stop the listener."""
+    lines = []
+    deadline = time.monotonic() + timeout
+    while until is not None and time.monotonic() < deadline:
+        ready, _, _ = select.select([listener.stdout], [], [], max(0.0, deadline - time.monotonic()))
+        line = listener.stdout.readline() if ready else ''
+        if not line:
+            break
+        lines.append(line)
+        if line.startswith('{') and until(json.loads(line)):
+            break
     kill_group(listener)
-    out = listener.stdout.read()
+    lines += listener.stdout.read().splitlines()
     listener.stdout.close()
-    return [json.loads(line) for line in out.splitlines() if line.startswith('{')]
+    return [json.loads(line) for line in lines if line.startswith('{')]
+
+
+def all_final(array):
+    """Whether every status of `array` is a final one (it carries the verdict)."""
+    return all('verdict' in s['values'] for s in array['status'])
 
 
 def statuses(arrays, sensor):
@@ -39,15 +57,13 @@ def test_statuses_follow_the_run(module_master, tmp_path):
         ('range', TOPICS['backSonar']),
         ('range', TOPICS['frontSonar'], '--fault', 'nan')])    # fails: NaN ranges
     listener = listen(module_master)
-    time.sleep(0.5)
     try:
         proc = sensor_test(module_master, ['--sensors', 'backSonar,frontSonar,laser',   # laser: no publisher
                                            '--mode', 'sequential', '--duration', '3', '--wait', '2',
                                            '--no-history', '--no-report', '--output-dir', str(tmp_path)])
-        time.sleep(0.5)
     finally:
         stop(pubs)
-        arrays = arrays_of(listener)
+        arrays = arrays_of(listener, until=all_final)
     assert proc.returncode == 1, proc.stdout + proc.stderr
     assert len(arrays) >= 6, arrays
     # one status per sensor in every array, named the diagnostic_updater way, hardware_id = topic

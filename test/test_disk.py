@@ -4,14 +4,21 @@ run), two runs sharing one output folder, and robot strings full of control char
 import os
 import subprocess
 import sys
-import time
 import xml.etree.ElementTree as ET
 
 import pytest
 
 from rosmaster import kill_group, spawn
-from test_sensor_test_cli import (DAT, JSON_FILE, XML_FILE, Publishers, Running,
-                                  assert_outputs_complete, topic_of, write_topics)
+from test_sensor_test_cli import (
+    DAT,
+    JSON_FILE,
+    XML_FILE,
+    Publishers,
+    Running,
+    assert_outputs_complete,
+    topic_of,
+    write_topics,
+)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PREFIX = '/disk'

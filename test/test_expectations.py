@@ -15,7 +15,6 @@ import pytest
 
 from pepper_interface_tests import catalog, expectations
 from pepper_interface_tests.settings import ConfigError, Options, load_plan
-
 from rosmaster import script
 
 ALL = list(catalog.SENSORS)

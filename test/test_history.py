@@ -10,8 +10,8 @@ import time
 
 import pytest
 
-from rosmaster import kill_group, script, spawn
 from report_helpers import printed_path, sensor_test, start_publishers, stop
+from rosmaster import kill_group, script, spawn
 
 BACK, LASER = '/naoqi_driver/sonar/back', '/naoqi_driver/laser'
 
@@ -68,10 +68,12 @@ def test_each_run_has_its_folder_and_the_latest_is_in_the_output_dir(two_runs):
     # the spec's paths hold the latest run; the output file is appended by both runs
     latest = load(out / 'sensorTestResults.json')
     assert latest['run_id'] == runs[1]
-    assert (out / 'sensorTestResults.xml').read_bytes() == (out / 'runs' / runs[1] / 'sensorTestResults.xml').read_bytes()
+    xml = 'sensorTestResults.xml'
+    assert (out / xml).read_bytes() == (out / 'runs' / runs[1] / xml).read_bytes()
     assert 'run <b>%s</b>' % runs[1] in (out / 'sensorTestReport.html').read_text()
     dat = (out / 'sensorTestOutput.dat').read_text()
-    assert dat.count('[START TIME]') == 2 and dat.count('run id ' + runs[0]) == 1 and dat.count('run id ' + runs[1]) == 1
+    assert dat.count('[START TIME]') == 2
+    assert dat.count('run id ' + runs[0]) == 1 and dat.count('run id ' + runs[1]) == 1
     # the printed paths point into the run folder
     assert printed_path(second.stdout, 'report') == str(out / 'runs' / runs[1] / 'sensorTestReport.html')
     assert 'run %s kept in' % runs[1] in second.stdout
@@ -264,7 +266,8 @@ def test_compare_skips_an_incomplete_latest_run(two_runs, tmp_path):
     import shutil
     shutil.rmtree(str(out / 'runs' / runs[0]))
     few = history('--output-dir', str(out), 'compare')
-    assert few.returncode == 2 and 'needs two runs' in few.stderr and 'has 1 complete' in few.stderr and '2 incomplete' in few.stderr
+    assert few.returncode == 2 and 'needs two runs' in few.stderr
+    assert 'has 1 complete' in few.stderr and '2 incomplete' in few.stderr
 
 
 # ------------------------------------------------------------------ the command line: options, open, failed, prune
@@ -292,7 +295,7 @@ def test_compare_prints_verdict_changes_as_a_table_that_fits(two_runs, columns):
     p = history('--output-dir', str(out), 'compare', env={'COLUMNS': str(columns)})
     assert p.returncode == 0, p.stderr
     lines = p.stdout.splitlines()
-    assert max(len(line) for line in lines) <= columns, '\n'.join(l for l in lines if len(l) > columns)
+    assert max(len(line) for line in lines) <= columns, '\n'.join(x for x in lines if len(x) > columns)
     i = lines.index('1 verdict change:')
     assert lines[i + 1].split() == ['sensor', 'A', 'B', 'why']
     assert lines[i + 2].split()[:3] == ['laser', 'PASS', 'FAIL']

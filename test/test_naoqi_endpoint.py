@@ -15,7 +15,12 @@ import pytest
 
 from audio_chain import Procs
 from pepper_interface_tests.emulator.audio_source import (
-    CHANNEL_NAMES, CHANNEL_TONES_HZ, AudioSource, expected_counter, find_counter_start)
+    CHANNEL_NAMES,
+    CHANNEL_TONES_HZ,
+    AudioSource,
+    expected_counter,
+    find_counter_start,
+)
 from rosmaster import script
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -198,8 +203,8 @@ def test_endpoint_tts_raises_level_silent_channel_and_16k(procs, tmp_path):
 def test_endpoint_usage_errors(tmp_path):
     for args in (['--port', '-1'], ['--port', 'x'], ['--silent-channel', 'middle'],
                  ['--host', 'not-an-ip'], ['--pattern', 'noise']):
-        res = subprocess.run(script('naoqiEndpoint') + args, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, timeout=30)
+        res = subprocess.run(script('naoqiEndpoint') + args, capture_output=True,
+                             timeout=30)
         assert res.returncode == 2, args
         assert b'Traceback' not in res.stderr
     with socket.socket() as busy:
@@ -207,7 +212,7 @@ def test_endpoint_usage_errors(tmp_path):
         busy.listen(1)
         port = busy.getsockname()[1]
         res = subprocess.run(script('naoqiEndpoint') + ['--port', str(port)],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=30)
+                             capture_output=True, timeout=30)
     err = res.stderr.decode()
     assert res.returncode == 1, err
     assert 'cannot listen on tcp://127.0.0.1:%d' % port in err

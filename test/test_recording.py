@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 import soundfile
 
-from media_tools import Publishers, load_results, pattern, topics_file, video_codec, video_info
+from media_tools import Publishers, load_results, pattern, topics_file, video_info
 from pepper_interface_tests import playback, recording
 from pepper_interface_tests.recording import VideoRecorder, WavWriter
 from pepper_interface_tests.viewer import Viewer
-from rosmaster import kill_group, script, spawn
+from rosmaster import script, spawn
 
 
 def record(path, frames, rate, **kw):

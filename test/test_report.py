@@ -161,6 +161,7 @@ def test_media_sections_play_in_chromium(tmp_path):
 def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_path):
     import cv2
     import numpy as np
+
     from pepper_interface_tests import report
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
     folder = str(tmp_path)
@@ -195,6 +196,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
 
 def test_report_error_is_one_warning_line(tmp_path):
     import io
+
     from pepper_interface_tests.report import HtmlReport
     from pepper_interface_tests.results import RunResult
     run = RunResult(platform='robot', mode='sequential', start=1.7e9, end=1.7e9 + 1)
@@ -234,6 +236,7 @@ def _rates_pixels(html_text, rgb):
     """How many pixels of the rates figure have colour `rgb` (0-255 each, +-12)."""
     import base64
     import io
+
     import matplotlib.image
     import numpy as np
     m = re.search(r'alt="rate of every sensor over the run" src="data:image/png;base64,([^"]+)"', html_text)
@@ -274,8 +277,10 @@ def test_camera_without_video_says_why(tmp_path):
 def test_silent_channel_has_its_own_marked_level_plot(tmp_path):
     import base64
     import io
+
     import matplotlib.image
     import numpy as np
+
     from pepper_interface_tests import report
     from report_fixtures import run_of, sensor
     chans = {'rearLeft': -20.0, 'rearRight': None, 'frontLeft': -30.0, 'frontRight': -35.0}

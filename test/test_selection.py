@@ -6,8 +6,8 @@ import os
 import subprocess
 import sys
 
-from rosmaster import kill_group, script, spawn
 from report_helpers import sensor_test
+from rosmaster import kill_group, spawn, wait_for_publishers
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MEDIA = os.path.join(HERE, 'media_publisher.py')
@@ -45,8 +45,7 @@ def test_cameras_realsense_tests_the_realsense_with_the_shipped_input_file(modul
     pubs = [media(module_master, 'camera', REALSENSE_RGB, '--rate', '15', '--node', 'rs_rgb'),
             media(module_master, 'depth', REALSENSE_DEPTH, '--rate', '15', '--node', 'rs_depth')]
     try:
-        import time
-        time.sleep(1.5)            # the publishers register before sensorTest looks
+        wait_for_publishers(module_master, [REALSENSE_RGB, REALSENSE_DEPTH])   # before sensorTest looks
         proc = sensor_test(module_master, ['--cameras', 'realsense', '--mode', 'parallel', '--duration', '2',
                                            '--wait', '1.5', '--no-record', '--no-report', '--no-history',
                                            '--no-diagnostics', '--output-dir', str(tmp_path)])
@@ -100,8 +99,7 @@ def test_header_tells_the_microphone_window_in_sequential_mic_mode(module_master
     """Before: the header said "1 s each" while the microphone listened 4 s."""
     pub = media(module_master, 'audio', '/naoqi_driver/audio', '--node', 'mics')
     try:
-        import time
-        time.sleep(1.5)
+        wait_for_publishers(module_master, ['/naoqi_driver/audio'])
         proc = sensor_test(module_master, ['--sensors', 'microphone', '--mic-mode', 'sequential',
                                            '--duration', '1', '--wait', '2', '--no-record', '--no-report',
                                            '--no-history', '--no-diagnostics', '--output-dir', str(tmp_path)])
@@ -117,7 +115,6 @@ def test_header_tells_the_microphone_window_in_sequential_mic_mode(module_master
 def test_emulator_launch_with_realsense_tests_the_realsense(master, tmp_path):
     """Before: `pepperEmulator.launch realsense:=true run_test:=true` published the RealSense
     topics but sensorTest never listened to them (cameras=both kept the input file's false)."""
-    import time
     from rosmaster import ROOT
     out_dir = tmp_path / 'results'
     log_path = tmp_path / 'roslaunch.log'
@@ -126,9 +123,9 @@ def test_emulator_launch_with_realsense_tests_the_realsense(master, tmp_path):
                         'run_test:=true', 'audio:=direct', 'duration:=3', 'output_dir:=%s' % out_dir],
                        master.env(), stdout=log, stderr=subprocess.STDOUT)
         try:
-            deadline = time.monotonic() + 150
-            while launch.poll() is None and time.monotonic() < deadline:
-                time.sleep(0.5)
+            launch.wait(timeout=150)      # run_test:=true: the launch ends with sensorTest
+        except subprocess.TimeoutExpired:
+            pass                          # the results below say what did not happen
         finally:
             kill_group(launch)
     text = log_path.read_text()

@@ -7,14 +7,19 @@ import os
 import signal
 import subprocess
 import sys
-import threading
 import time
 
 import pytest
 
 from rosmaster import kill_group, script, spawn
-from test_sensor_test_cli import (DAT, JSON_FILE, XML_FILE, Publishers, Result, Running,
-                                  assert_outputs_complete, topic_of, write_topics)
+from test_sensor_test_cli import (
+    Publishers,
+    Result,
+    Running,
+    assert_outputs_complete,
+    topic_of,
+    write_topics,
+)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PREFIX = '/sig'

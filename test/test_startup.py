@@ -8,6 +8,7 @@ import socket
 import subprocess
 import time
 
+import psutil
 import pytest
 
 from pepper_interface_tests import rosmaster
@@ -98,16 +99,16 @@ def test_demo_survives_a_taken_port(tmp_path, which):
     assert not left_running(str(tmp_path)), 'processes of the failed attempt left running'
 
 
-def left_running(ros_home):
+def left_running(ros_home, timeout=10.0):
     """Pids of processes still running with `ros_home` in their command line (roslaunch puts
-    each node's log path, under ROS_HOME, there)."""
-    time.sleep(1.0)
-    found = []
-    for pid in filter(str.isdigit, os.listdir('/proc')):
-        try:
-            with open('/proc/%s/cmdline' % pid, 'rb') as f:
-                if ros_home.encode() in f.read():
-                    found.append(int(pid))
-        except OSError:
-            pass
-    return found
+    each node's log path, under ROS_HOME, there) once they had `timeout` s to end."""
+    deadline = time.monotonic() + timeout
+    while True:
+        found = []
+        for proc in psutil.process_iter(['cmdline', 'status']):
+            if (ros_home in ' '.join(proc.info['cmdline'] or ())
+                    and proc.info['status'] != psutil.STATUS_ZOMBIE):
+                found.append(proc.pid)
+        if not found or time.monotonic() > deadline:
+            return found
+        time.sleep(0.1)

@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
-# The whole test suite: pytest over test/ (unit tests, integration tests against real roscore
+# The whole test suite: the gates first (tools/gates.sh: ruff and mypy, configured in
+# pyproject.toml), then pytest over test/ (unit tests, integration tests against real roscore
 # masters, the rostest files run through `rostest`). Extra arguments go to pytest.
+#   --fast       the unit tier only (pytest -m unit, one process, no gates): make test-fast
+#   --no-gates   skip ruff and mypy; they are skipped too when the arguments name test files
+#                (a targeted run: tools/run-tests.sh test/test_x.py -n 0 -k something)
 # Test files run in 3 workers (pytest-xdist, one file per worker at a time): most tests wait on
 # real-time listening windows, not on the CPU, and each starts its own master on a free port.
 set -euo pipefail
@@ -9,4 +13,13 @@ source tools/env.sh
 export PYTHONDONTWRITEBYTECODE=1
 export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 mkdir -p "$ROS_HOME"
+gates=1
+case "${1:-}" in
+  --fast) shift; exec python -m pytest -p no:cacheprovider -q -m unit "$@" ;;
+  --no-gates) shift; gates=0 ;;
+esac
+for arg in "$@"; do
+  case "$arg" in -*) ;; *) [ -e "${arg%%::*}" ] && gates=0 ;; esac
+done
+if [ "$gates" = 1 ]; then tools/gates.sh; fi
 exec python -m pytest -p no:cacheprovider -n "${PYTEST_WORKERS:-3}" --dist loadfile "$@"

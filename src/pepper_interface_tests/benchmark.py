@@ -40,6 +40,7 @@ import sys
 import tempfile
 import threading
 import time
+from typing import Any, Dict, List, Optional
 
 import numpy as np
 
@@ -80,10 +81,11 @@ def publish(seconds, wait, subscribers=1):
     report counts."""
     import rospy
     from sensor_msgs.msg import Image
+
     from pepper_interface_tests.msg import AudioCustomMsg
     rospy.init_node('sensor_test_benchmark_publisher', disable_signals=True)
     pubs, payloads = {}, {}
-    for name, topic, enc, w, h, rate in STREAMS:
+    for name, topic, enc, w, h, _rate in STREAMS:
         cls = AudioCustomMsg if enc == 'audio' else Image
         pubs[name] = rospy.Publisher(topic, cls, queue_size=60)
         if enc == 'audio':
@@ -127,10 +129,10 @@ def publish(seconds, wait, subscribers=1):
             k += 1
 
     threads = [threading.Thread(target=run, args=(n, e, w, h, r)) for n, _, e, w, h, r in STREAMS]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
     late = time.monotonic() - end
     print(json.dumps({'published': counts, 'seconds': seconds, 'finished_late_s': round(late, 3)}), flush=True)
     # stay up (and connected) until told to stop, so nothing is cut off in flight
@@ -231,7 +233,7 @@ def _wait_subscribed(uri, prefix, topics, timeout):
     loaded machine `rostopic hz` may take seconds to start: sensorTest's window must not
     begin before the publisher can)."""
     import xmlrpc.client
-    master = xmlrpc.client.ServerProxy(uri)
+    master: Any = xmlrpc.client.ServerProxy(uri)   # typeshed's return types hide the tuple
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         try:
@@ -280,7 +282,7 @@ def _round(args, tmp, master, files, mode, label):
     print('\n== round %s: recording %s ==' % (label, mode))
     print('sensorTest: ' + ' '.join(cmd[cmd.index(sensor_test) + 1:]).replace(root + '/', ''))
     print('alongside:  ' + ' '.join(['rostopic'] + hz_cmd[1:]))
-    procs = []
+    procs: List[subprocess.Popen] = []
     try:
         pub = subprocess.Popen([sys.executable, os.path.abspath(sys.argv[0]), '--publisher', '--subscribers', '2',
                                 '--publish', '%g' % publish_s], env=env, stdout=subprocess.PIPE,
@@ -297,10 +299,10 @@ def _round(args, tmp, master, files, mode, label):
         st = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
         procs.append(st)
         peak, stop = [0, 0, 0], threading.Event()
-        threads = {} if args.threads else None
+        threads: Optional[Dict[int, float]] = {} if args.threads else None
         sampler = threading.Thread(target=_sample_rss, args=(st.pid, peak, stop, threads), daemon=True)
         sampler.start()
-        line = pub.stdout.readline()         # the publisher reports once it has published everything
+        line = pub.stdout.readline() if pub.stdout else ''   # the publisher reports once it has published everything
         published = json.loads(line) if line.strip() else {'error': 'publisher printed nothing'}
         time.sleep(0.5)                      # let the last messages arrive at rostopic hz
         if hz.poll() is None:
@@ -350,7 +352,7 @@ def _round(args, tmp, master, files, mode, label):
         if mode == 'on':
             print('end of window -> last file written: %s' % ('%.2f s' % last_file if last_file is not None
                                                               else 'no file'))
-        print('publisher: %g s of publishing, finished %.3f s late' % (published['seconds'],
+        print('publisher: %s s of publishing, finished %s s late' % (published['seconds'],
                                                                       published['finished_late_s']))
         if threads:
             print('CPU per thread (sampled every 0.1 s; the main thread first): %s'
@@ -365,13 +367,15 @@ def _round(args, tmp, master, files, mode, label):
 
 def _print_profile(path, top=15):
     """Top entries of a py-spy raw (collapsed stacks) profile: self and inclusive samples."""
-    own, incl, total = {}, {}, 0
+    own: Dict[str, int] = {}
+    incl: Dict[str, int] = {}
+    total = 0
     with open(path) as f:
         for line in f:
-            stack, _, n = line.rstrip().rpartition(' ')
+            stack, _, count = line.rstrip().rpartition(' ')
             if not stack:
                 continue
-            n = int(n)
+            n = int(count)
             total += n
             frames = [fr.split(' (')[0] + ' (' + fr.split(' (')[1].split(':')[0].split('/')[-1] + ')'
                       if ' (' in fr else fr for fr in stack.split(';')]
@@ -400,7 +404,7 @@ def run(args):
         f.write(_expectations(args.duration))
     master = PrivateMaster('/bench', ros_home=os.path.join(tmp, 'ros_home'))
     print('sensorTestBenchmark: %d CPUs, load average %s; output in %s'
-          % (os.cpu_count(), ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
+          % (os.cpu_count() or 0, ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
     rounds = []
     try:
         try:
@@ -454,7 +458,7 @@ def _table(results, published, out_dir, target, record=True):
     print('-' * len(head))
     ok = True
     rows = {}
-    for name, topic, enc, w, h, rate in STREAMS:
+    for name, _topic, enc, w, h, rate in STREAMS:
         r = results.get(name, {})
         sent = published['published'].get(name, 0)
         got = r.get('messages', 0)

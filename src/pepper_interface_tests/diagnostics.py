@@ -1,7 +1,8 @@
 """Live /diagnostics: one diagnostic_msgs/DiagnosticStatus per sensor while sensorTest runs.
 
-Follows diagnostic_updater's conventions so rqt_robot_monitor and diagnostic_aggregator show
-the run like any other node's diagnostics:
+Published through diagnostic_updater (one task per sensor, `force_update()` at 1 Hz and for the
+final statuses), so rqt_robot_monitor and diagnostic_aggregator show the run like any other
+node's diagnostics:
   * topic /diagnostics, diagnostic_msgs/DiagnosticArray, published at 1 Hz (from the runner's
     50 ms tick), and once more with the final statuses when the run ends (also when interrupted);
   * status name "<node name>: <sensor>", i.e. "sensorTest: frontSonar" (the unique default
@@ -19,21 +20,33 @@ the run like any other node's diagnostics:
   * key/values: verdict or state, topic, message type, messages, rate (Hz), header stamp rate
     (Hz), expected rate (Hz), nominal rate (Hz), elapsed / window (s), reasons, warnings.
 
-The observer reads a running sensor's counters under that sensor's lock (the subscriber thread
-writes them); it never fails the run: a publishing error is printed once as a warning.
+What a status says is computed by pure functions (`waiting_status`, `live_status`,
+`result_status` -> `Status`: level, message, key/values), unit-tested without ROS; the tasks
+only copy the current `Status` into diagnostic_updater's wrapper. The period is kept on the
+monotonic clock, not the updater's `update()`: that one counts ROS time, which stands still in a
+run with /use_sim_time and a paused or absent /clock. The observer reads a running sensor's
+counters under that sensor's lock (the subscriber thread writes them); it never fails the run:
+a publishing error is printed once as a warning.
 """
+import re
 import sys
 import time
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional, Tuple
 
 from .results import FAIL, INTERRUPTED, SKIPPED
 
 PERIOD = 1.0
-TOPIC = '/diagnostics'
+TOPIC = '/diagnostics'      # where diagnostic_updater.Updater publishes
+OK, WARN, ERROR, STALE = 0, 1, 2, 3    # diagnostic_msgs/DiagnosticStatus levels
 
 
-def _levels():
-    from diagnostic_msgs.msg import DiagnosticStatus
-    return DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR, DiagnosticStatus.STALE
+@dataclass(frozen=True)
+class Status:
+    """One sensor's status, independent of ROS (copied into a DiagnosticStatus by its task)."""
+    level: int
+    message: str
+    values: Tuple[Tuple[str, str], ...]
 
 
 def _band(band):
@@ -44,27 +57,18 @@ def _num(v, nd=2):
     return '' if v is None else ('%.*f' % (nd, v))
 
 
-class Status:
-    """One sensor's current status, independent of ROS (turned into a message on publish)."""
-
-    def __init__(self, name, topic, msg_type):
-        self.name = name
-        self.topic = topic or ''
-        self.msg_type = msg_type
-        self.level = 3           # STALE
-        self.message = 'waiting to start'
-        self.values = [('state', 'waiting'), ('topic', self.topic), ('message type', msg_type)]
-
-    def to_msg(self, prefix):
-        from diagnostic_msgs.msg import DiagnosticStatus, KeyValue
-        return DiagnosticStatus(level=self.level, name='%s: %s' % (prefix, self.name),
-                                message=self.message, hardware_id=self.topic,
-                                values=[KeyValue(key=k, value=str(v)) for k, v in self.values])
+def _values(pairs) -> Tuple[Tuple[str, str], ...]:
+    return tuple((k, '' if v is None else str(v)) for k, v in pairs)
 
 
-def live_status(status, sensor_run, now):
-    """Fill `status` from a running SensorRun (progress, provisional problems)."""
-    OK, WARN, ERROR, STALE = _levels()
+def waiting_status(topic: Optional[str], msg_type: str) -> Status:
+    """Before the sensor's window starts."""
+    return Status(STALE, 'waiting to start',
+                  _values([('state', 'waiting'), ('topic', topic or ''), ('message type', msg_type)]))
+
+
+def live_status(sensor_run: Any, now: float, topic: Optional[str], msg_type: str) -> Status:
+    """The status of a running SensorRun (progress, provisional problems)."""
     expect = sensor_run.expect
     band = expect.rate
     with sensor_run.lock:
@@ -92,21 +96,21 @@ def live_status(status, sensor_run, now):
     if problems:
         level = WARN
         text += '; so far: ' + '; '.join(problems)
-    status.level, status.message = level, text
-    status.values = [('state', state), ('topic', status.topic), ('message type', status.msg_type),
-                     ('messages', count), ('rate (Hz)', _num(rate)),
-                     ('header stamp rate (Hz)', _num(stamp_rate)),
-                     ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', expect.nominal if expect.nominal is not None else ''),
-                     ('elapsed (s)', _num(elapsed, 1)), ('window (s)', _num(window, 1)),
-                     ('problems so far', '; '.join(problems))]
+    return Status(level, text, _values([
+        ('state', state), ('topic', topic or ''), ('message type', msg_type),
+        ('messages', count), ('rate (Hz)', _num(rate)), ('header stamp rate (Hz)', _num(stamp_rate)),
+        ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', expect.nominal),
+        ('elapsed (s)', _num(elapsed, 1)), ('window (s)', _num(window, 1)),
+        ('problems so far', '; '.join(problems))]))
 
 
-def final_status(status, r):
-    """Fill `status` from a SensorResult."""
-    OK, WARN, ERROR, STALE = _levels()
+def result_status(r: Any) -> Status:
+    """The final status of a SensorResult: FAIL -> ERROR; INTERRUPTED and "not run" -> STALE
+    (not judged, like a sensor that never ran); SKIPPED -> OK (a skip does not fail the run);
+    PASS with warnings -> WARN; PASS -> OK."""
     if r.verdict == FAIL:
         level, text = ERROR, 'FAIL: ' + '; '.join(r.reasons)
-    elif r.verdict == INTERRUPTED:     # not judged: stale, like a sensor that never ran
+    elif r.verdict == INTERRUPTED:
         level, text = STALE, 'INTERRUPTED: ' + '; '.join(r.reasons)
     elif r.verdict == SKIPPED:
         not_run = any(x.startswith('not run') for x in r.reasons)
@@ -117,35 +121,80 @@ def final_status(status, r):
     else:
         level = OK
         text = 'PASS: %d msgs' % r.messages + (', %.1f Hz' % r.rate_hz if r.rate_hz is not None else '')
-    status.level, status.message = level, text
-    status.values = [('verdict', r.verdict), ('topic', status.topic), ('message type', r.msg_type),
-                     ('messages', r.messages), ('rate (Hz)', _num(r.rate_hz)),
-                     ('header stamp rate (Hz)', _num(r.stamp_rate_hz)),
-                     ('expected rate (Hz)', _band(r.expected_rate_hz)),
-                     ('nominal rate (Hz)', '' if r.nominal_rate_hz is None else r.nominal_rate_hz),
-                     ('window (s)', _num(r.window_s, 1)), ('stopped because', r.stopped_because),
-                     ('reasons', '; '.join(r.reasons)), ('warnings', '; '.join(r.warnings))]
-    for kind, name in r.artifacts.items():
-        status.values.append(('file ' + kind, name))
+    pairs: List[Tuple[str, Any]] = [
+        ('verdict', r.verdict), ('topic', r.topic or ''), ('message type', r.msg_type),
+        ('messages', r.messages), ('rate (Hz)', _num(r.rate_hz)),
+        ('header stamp rate (Hz)', _num(r.stamp_rate_hz)),
+        ('expected rate (Hz)', _band(r.expected_rate_hz)), ('nominal rate (Hz)', r.nominal_rate_hz),
+        ('window (s)', _num(r.window_s, 1)), ('stopped because', r.stopped_because),
+        ('reasons', '; '.join(r.reasons)), ('warnings', '; '.join(r.warnings))]
+    pairs += [('file ' + kind, name) for kind, name in r.artifacts.items()]
+    return Status(level, text, _values(pairs))
+
+
+def base_node_name(name: str) -> str:
+    """'/sensorTest_1234_1700000000000' -> 'sensorTest': the default node name is unique per run;
+    status names stay "sensorTest: <sensor>" so monitors and aggregators see one status per sensor."""
+    return re.sub(r'_\d+_\d+$', '', name.lstrip('/')) or 'sensorTest'
+
+
+def make_updater(prefix: str) -> Any:
+    """A diagnostic_updater.Updater (publisher on /diagnostics) with two changes, both for the
+    monitors: status names are "<prefix>: <task>" (the updater would use the unique node name),
+    and adding a task publishes nothing (the updater publishes "Node starting up" per task; the
+    first force_update shows every sensor's "waiting to start" in one array instead)."""
+    import rospy
+    from diagnostic_msgs.msg import DiagnosticArray
+    from diagnostic_updater import Updater
+
+    class RunUpdater(Updater):
+        def addedTaskCallback(self, task):
+            pass
+
+        def publish(self, msg):
+            array = DiagnosticArray(status=msg if isinstance(msg, list) else [msg])
+            for stat in array.status:
+                stat.name = '%s: %s' % (prefix, stat.name)
+            array.header.stamp = rospy.Time.now()
+            self.publisher.publish(array)
+
+    updater = RunUpdater()
+    updater.setHardwareID('none')    # each task sets its topic; 'none' is the updater's convention
+    return updater
 
 
 class LiveDiagnostics:
     """Runner observer publishing the run's per-sensor statuses on /diagnostics at 1 Hz."""
 
-    def __init__(self, plan, prefix=None, period=PERIOD, topic=TOPIC, out=None):
+    def __init__(self, plan, prefix=None, period=PERIOD, out=None):
         self.period = period
-        self.topic = topic
         self.prefix = prefix
         self.out = out
-        self.pub = None
-        self.statuses = {}
-        self.order = []
-        self.running = {}
-        self.last = None
+        self.updater: Any = None     # diagnostic_updater.Updater once the run starts
+        self.current: Dict[str, Status] = {}
+        self.topics: Dict[str, Tuple[Optional[str], str]] = {}
+        self.last: Optional[float] = None
         self.broken = False
         for s in plan.sensors:
-            self.statuses[s.name] = Status(s.name, s.topic, s.sensor.msg_type)
-            self.order.append(s.name)
+            self._track(s.name, s.topic, s.sensor.msg_type)
+
+    def _track(self, name, topic, msg_type):
+        self.topics[name] = (topic, msg_type)
+        self.current[name] = waiting_status(topic, msg_type)
+        if self.updater is not None:
+            self._add_task(name)
+
+    def _add_task(self, name):
+        topic = self.topics[name][0] or ''
+
+        def fill(stat):
+            status = self.current[name]
+            stat.summary(status.level, status.message)
+            stat.hardware_id = topic
+            for k, v in status.values:
+                stat.add(k, v)
+            return stat
+        self.updater.add(name, fill)
 
     def _warn(self, e):
         if not self.broken:
@@ -155,15 +204,10 @@ class LiveDiagnostics:
             stream.flush()
 
     def publish(self):
-        if self.pub is None or self.broken:
+        if self.updater is None or self.broken:
             return
         try:
-            import rospy
-            from diagnostic_msgs.msg import DiagnosticArray
-            msg = DiagnosticArray()
-            msg.header.stamp = rospy.Time.now()
-            msg.status = [self.statuses[n].to_msg(self.prefix) for n in self.order]
-            self.pub.publish(msg)
+            self.updater.force_update()
             self.last = time.monotonic()
         except Exception as e:
             self._warn(e)
@@ -171,51 +215,46 @@ class LiveDiagnostics:
     # ---------------------------------------------------------------- observer methods
     def run_started(self, run, plan):
         try:
-            import rospy
-            from diagnostic_msgs.msg import DiagnosticArray
             if self.prefix is None:
-                # the default node name is unique per run (sensorTest_<pid>_<ms>): status names
-                # stay "sensorTest: <sensor>" so monitors and aggregators see one status per sensor
-                import re
-                self.prefix = re.sub(r'_\d+_\d+$', '', rospy.get_name().lstrip('/')) or 'sensorTest'
-            self.pub = rospy.Publisher(self.topic, DiagnosticArray, queue_size=10)
+                import rospy
+                self.prefix = base_node_name(rospy.get_name())
+            self.updater = make_updater(self.prefix)
+            for name in self.current:
+                self._add_task(name)
         except Exception as e:
             self._warn(e)
             return
         self.publish()
 
-    def sensor_started(self, sensor_run):
-        self.running[sensor_run.plan.name] = sensor_run
-
     def tick(self, runs, now):
-        if self.pub is None or (self.last is not None and time.monotonic() - self.last < self.period):
+        if self.updater is None or (self.last is not None and time.monotonic() - self.last < self.period):
             return
         for sensor_run in runs:
-            status = self.statuses.get(sensor_run.plan.name)
-            if status is not None and sensor_run.t0 is not None:
+            name = sensor_run.plan.name
+            if name in self.current and sensor_run.t0 is not None:
+                topic, msg_type = self.topics[name]
                 try:
-                    live_status(status, sensor_run, now)
+                    self.current[name] = live_status(sensor_run, now, topic, msg_type)
                 except Exception as e:   # a status must never stop the run
-                    status.message = 'status unavailable: %s' % e
+                    old = self.current[name]
+                    self.current[name] = Status(old.level, 'status unavailable: %s' % e, old.values)
         self.publish()
 
     def sensor_done(self, result):
-        self.running.pop(result.name, None)
-        status = self.statuses.get(result.name)
-        if status is None:
-            status = self.statuses[result.name] = Status(result.name, result.topic, result.msg_type)
-            self.order.append(result.name)
-        final_status(status, result)
+        if result.name not in self.current:
+            self._track(result.name, result.topic, result.msg_type)
+        self.current[result.name] = result_status(result)
 
     def run_ended(self, run):
         for r in run.sensors:
             self.sensor_done(r)
         self.publish()
-        if self.pub is None or self.broken:
+        if self.updater is None or self.broken:
             return
         try:   # let the publisher threads hand the final array to connected subscribers
-            if self.pub.get_num_connections():
+            pub = self.updater.publisher
+            if pub.get_num_connections():
                 time.sleep(0.3)
-            self.pub.unregister()
+            pub.unregister()
         except (Exception, KeyboardInterrupt):
             pass

@@ -31,9 +31,10 @@ import shutil
 import sys
 import time
 from dataclasses import dataclass
-from typing import Optional
+from typing import List, Optional
 
 from . import results
+from .atomicfile import write_atomic
 
 RUNS_DIR = 'runs'
 ID_FORMAT = '%Y%m%d-%H%M%S'
@@ -108,7 +109,7 @@ class LatestRun:
     def __init__(self, folder, out=None):
         self.folder = folder
         self.out = out
-        self.dat = None     # this run's section of the shared .dat, as text
+        self.dat: Optional[List[str]] = None     # this run's section of the shared .dat, as text
 
     def _stream(self):
         return self.out or sys.stdout
@@ -122,7 +123,8 @@ class LatestRun:
         self.dat = [results.dat_begin(run)]
 
     def sensor_done(self, result):
-        self.dat.append(results.dat_block(result))
+        if self.dat is not None:
+            self.dat.append(results.dat_block(result))
 
     def run_ended(self, run):
         from .outputs import write_error
@@ -175,7 +177,7 @@ def publish_latest(folder):
                 os.unlink(path)
         except OSError:
             pass
-    results._atomic_write(manifest_path, json.dumps(
+    write_atomic(manifest_path, json.dumps(
         {'run_id': folder.run_id, 'run_folder': os.path.relpath(folder.path, folder.base),
          'files': published}, indent=1) + '\n')
     return list(published)

@@ -20,8 +20,7 @@ import subprocess
 import sys
 
 from . import results
-from .history import (EXIT_OK, EXIT_USAGE, RATE_FLAG, RUNS_DIR, HistoryError, compare, list_runs,
-                      not_passed, resolve)
+from .history import EXIT_OK, EXIT_USAGE, RATE_FLAG, RUNS_DIR, HistoryError, compare, list_runs, not_passed, resolve
 from .history_format import format_compare, format_list, width
 from .history_prune import prune
 
@@ -169,7 +168,7 @@ def _positive_days(text):
 def build_parser():
     # --output-dir is accepted before and after the command: the copy in each command does not
     # overwrite the first one's value unless it is given (default SUPPRESS)
-    where = argparse.ArgumentParser(add_help=False)
+    where = _Parser(add_help=False)
     where.add_argument('--output-dir', metavar='DIR', default=argparse.SUPPRESS,
                        help='the output folder sensorTest wrote to (default: sensorTest\'s default)')
     p = _Parser(prog='sensorTestHistory', formatter_class=argparse.RawDescriptionHelpFormatter,

@@ -21,10 +21,10 @@ KeyboardInterrupt raised during that sleep, as a C extension that clears Python 
 """
 import os
 import signal
-import sys
 import time
+from typing import Dict, Optional
 
-NAMES = {signal.SIGINT: 'interrupted by Ctrl-C', signal.SIGTERM: 'terminated (SIGTERM)',
+NAMES: Dict[int, str] = {signal.SIGINT: 'interrupted by Ctrl-C', signal.SIGTERM: 'terminated (SIGTERM)',
          signal.SIGHUP: 'hung up (SIGHUP: terminal or ssh session closed)'}
 SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
@@ -35,20 +35,23 @@ class Terminated(KeyboardInterrupt):
 
 class Policy:
     def __init__(self):
+        self._reset()
+
+    def _reset(self):
         self.phase = 'start'
         self.count = 0
-        self.first = None           # the first signal's number
+        self.first: Optional[int] = None    # the first signal's number
 
     @property
     def pending(self):
         return self.first is not None
 
     def reason(self):
-        return NAMES.get(self.first, 'interrupted')
+        return NAMES.get(self.first, 'interrupted') if self.first is not None else 'interrupted'
 
     def install(self):
         """Handle SIGINT, SIGTERM and SIGHUP from now on, starting afresh (phase 'start')."""
-        self.__init__()
+        self._reset()
         for sig in SIGNALS:
             signal.signal(sig, self._handle)
 

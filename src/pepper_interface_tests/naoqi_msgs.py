@@ -9,6 +9,8 @@ carries the full message definition, and a recorded bag keeps it too. So the cla
 here from the definition text (genpy.dynamic), with the same md5sum as the real package's,
 and a publisher or subscriber made with it interoperates with naoqi_driver's.
 """
+from typing import Dict, Tuple
+
 import genpy.dynamic
 
 AUDIO_BUFFER_TYPE = 'naoqi_bridge_msgs/AudioBuffer'
@@ -45,7 +47,7 @@ CHANNEL_NAMES = {0: 'frontLeft', 1: 'frontCenter', 2: 'frontRight', 3: 'rearLeft
                  8: 'subwoofer', 9: 'lfe'}
 PEPPER_CHANNEL_MAP = (3, 5, 0, 2)
 
-_CLASSES = {}
+_CLASSES: Dict[Tuple[str, str], type] = {}
 
 
 def message_class_from_definition(type_name, definition):

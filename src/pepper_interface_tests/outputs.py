@@ -10,6 +10,7 @@ microphone level monitor is offered to it (ctx.services['microphone_levels']).
 """
 import os
 import sys
+from typing import List
 
 from . import results
 
@@ -132,7 +133,7 @@ def observers_for(plan, ctx, source_name, folder=None):
     files go; `folder` (history.RunFolder) says whether that is a run folder under
     <output_dir>/runs, whose files are then also published into the output folder."""
     opts = plan.options
-    obs = []
+    obs: List[object] = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
         if any(s.sensor.family in ('camera', 'depth') for s in plan.active):

@@ -40,6 +40,7 @@ import subprocess
 import tempfile
 import threading
 import time
+from typing import Any
 
 import numpy as np
 
@@ -138,18 +139,18 @@ class VideoRecorder:
         self.max_fps = float(max_fps)     # a burst at the start must not pass for the rate
         self.queue_bytes = queue_bytes
         self.prepare = prepare
-        self._queue = None
+        self._queue: Any = None       # queue.Queue of frames, made on the first frame
         self._thread = None
         self._lock = threading.Lock()
         self._closed = False
-        self._proc = None            # the ffmpeg process
+        self._proc: Any = None       # the ffmpeg process (subprocess.Popen)
         self._stderr = None          # its error output (a temporary file)
         self._buffer = []            # (frame, t, pix_fmt) before ffmpeg is started
         self._times = []             # receive times of the written frames
         self.size = None             # (width, height) of the file
         self.pix_fmt = None          # pixel format fed to ffmpeg
         self.codec = None
-        self.fps = None              # rate the file was opened with
+        self.fps: Any = None         # rate the file was opened with (float)
         self.final_fps = None        # rate of the finished file
         self.received = 0
         self.written = 0
@@ -324,7 +325,7 @@ class VideoRecorder:
         if resized:
             self.resized += 1
         data = fitted if fitted.flags.c_contiguous else np.ascontiguousarray(fitted)
-        self._proc.stdin.write(memoryview(data).cast('B'))
+        self._proc.stdin.write(data.data.cast('B'))   # the array's own memoryview: no copy
         self.written += 1
         self._times.append(t)
 

@@ -2,21 +2,24 @@
 
 SensorResult / RunResult hold what a run found; writers turn them into the spec's output file
 (sensorTestOutput.dat, appended), sensorTestResults.json and sensorTestResults.xml (JUnit).
-JSON and JUnit are written whole (a temporary file and a rename; the temporary file is removed
-when writing fails, e.g. on a full disk, and the error names the file). Strings that came from
+JSON and JUnit are written whole by atomicfile.write_atomic (a temporary file, fsync and a
+rename; the temporary file is removed when writing fails, e.g. on a full disk, and the error
+names the file). Strings that came from
 the robot (frame ids, type names, reasons quoting them) are made safe per output: `printable`
 escapes control characters (no raw ANSI escape reaches a terminal or a text file) and bounds the
-length; JUnit gets the same, so the XML always parses.
+length; JUnit gets the same before xml.etree.ElementTree escapes it, so the XML always parses.
 """
 import datetime
+import errno
 import fcntl
 import json
 import os
 import re
-import tempfile
 from dataclasses import asdict, dataclass, field
 from typing import Dict, List, Optional
-from xml.sax.saxutils import escape, quoteattr
+from xml.etree import ElementTree as ET
+
+from .atomicfile import write_atomic
 
 PASS, FAIL, SKIPPED = 'PASS', 'FAIL', 'SKIPPED'
 INTERRUPTED = 'INTERRUPTED'   # the window was cut short by an interrupt: not judged, not a failure
@@ -160,17 +163,20 @@ class OutputFile:
 
     def __init__(self, path):
         self.path = path
-        self._fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
+        self._fd: Optional[int] = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
 
     def _write(self, text):
         data = text.encode('utf-8', 'backslashreplace')
-        fcntl.flock(self._fd, fcntl.LOCK_EX)
+        fd = self._fd
+        if fd is None:
+            raise OSError(errno.EBADF, 'written after close', self.path)
+        fcntl.flock(fd, fcntl.LOCK_EX)
         try:
             while data:
-                n = os.write(self._fd, data)
+                n = os.write(fd, data)
                 data = data[n:]
         finally:
-            fcntl.flock(self._fd, fcntl.LOCK_UN)
+            fcntl.flock(fd, fcntl.LOCK_UN)
 
     def write_text(self, text):
         """Append `text` (e.g. a whole run's section) in one locked write."""
@@ -258,76 +264,63 @@ def summary_line(r):
 
 # ------------------------------------------------------------------ JSON and JUnit
 
-def _atomic_write(path, text):
-    """Write `text` to `path` whole (temporary file, rename). On any error the temporary file
-    is removed and OSError is raised with `path` as its filename."""
-    folder = os.path.dirname(path) or '.'
-    fd, tmp = tempfile.mkstemp(prefix='.tmp-', dir=folder)
-    try:
-        with os.fdopen(fd, 'w', encoding='utf-8', errors='backslashreplace') as f:
-            f.write(text)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)   # mkstemp creates 0600; results are ordinary files
-        os.replace(tmp, path)
-    except OSError as e:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise OSError(e.errno, e.strerror, path) from e
-
-
 def write_json(run, path):
-    _atomic_write(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
+    write_atomic(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
 
 
-def _xml_text(text):
-    return escape(printable(text, FILE_LIMIT, one_line=False))
+def _xml(text, one_line=True):
+    """A robot string fit for XML 1.0: controls escaped by `printable`, bounded length."""
+    return printable(text, FILE_LIMIT, one_line=one_line)
 
 
-def _xml_attr(text):
-    return quoteattr(printable(text, FILE_LIMIT))
+def _indent(elem, level=0):
+    """Two-space indentation (ET.indent is Python 3.9+; Noetic's Ubuntu 20.04 has 3.8)."""
+    pad = '\n' + '  ' * level
+    if len(elem):
+        if not (elem.text or '').strip():
+            elem.text = pad + '  '
+        for child in elem:
+            _indent(child, level + 1)
+        if not (child.tail or '').strip():
+            child.tail = pad
+    if level and not (elem.tail or '').strip():
+        elem.tail = pad
 
 
 def junit_text(run):
-    """JUnit XML. INTERRUPTED sensors are <skipped> (with what was measured in system-out):
-    an interrupted window is no failure of the robot. Robot strings pass through `printable`."""
+    """JUnit XML (built with xml.etree.ElementTree, which escapes &, <, > and quotes).
+    INTERRUPTED sensors are <skipped> (with what was measured in system-out): an interrupted
+    window is no failure of the robot. Robot strings pass through `printable` first, so no
+    character XML 1.0 forbids reaches the file and it always parses."""
     c = run.counts()
     total_time = (run.end or run.start) - run.start
-    out = ['<?xml version="1.0" encoding="utf-8"?>',
-           '<testsuite name="sensorTest" tests="%d" failures="%d" errors="0" skipped="%d" time="%.3f">'
-           % (len(run.sensors), c[FAIL], c[SKIPPED] + c[INTERRUPTED], total_time)]
-    out.append('  <properties>')
+    suite = ET.Element('testsuite', name='sensorTest', tests=str(len(run.sensors)),
+                       failures=str(c[FAIL]), errors='0',
+                       skipped=str(c[SKIPPED] + c[INTERRUPTED]), time='%.3f' % total_time)
+    props = ET.SubElement(suite, 'properties')
     for k, v in (('platform', run.platform), ('mode', run.mode), ('source', run.source),
                  ('interrupted', str(run.interrupted).lower())):
-        out.append('    <property name=%s value=%s/>' % (quoteattr(k), _xml_attr(v)))
-    out.append('  </properties>')
+        ET.SubElement(props, 'property', name=k, value=_xml(v))
     for s in run.sensors:
-        head = '  <testcase classname="pepper_interface_tests.sensorTest" name=%s time="%.3f"' % (
-            quoteattr(s.name), s.window_s)
-        detail = '\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes + s.warnings)
+        case = ET.SubElement(suite, 'testcase', classname='pepper_interface_tests.sensorTest',
+                             name=_xml(s.name), time='%.3f' % s.window_s)
+        detail = _xml('\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes + s.warnings),
+                      one_line=False)
         if s.verdict == FAIL:
-            out.append(head + '>')
-            out.append('    <failure message=%s>%s</failure>' % (_xml_attr('; '.join(s.reasons)),
-                                                                  _xml_text(detail)))
-            out.append('  </testcase>')
+            ET.SubElement(case, 'failure', message=_xml('; '.join(s.reasons))).text = detail
         elif s.verdict in (SKIPPED, INTERRUPTED):
-            out.append(head + '>')
-            out.append('    <skipped message=%s/>' % _xml_attr('; '.join(s.reasons)))
+            ET.SubElement(case, 'skipped', message=_xml('; '.join(s.reasons)))
             if s.verdict == INTERRUPTED:
-                out.append('    <system-out>%s</system-out>' % _xml_text(detail))
-            out.append('  </testcase>')
+                ET.SubElement(case, 'system-out').text = detail
         else:
-            out.append(head + '>')
-            out.append('    <system-out>%s</system-out>' % _xml_text(detail))
-            out.append('  </testcase>')
-    out.append('</testsuite>')
-    return '\n'.join(out) + '\n'
+            ET.SubElement(case, 'system-out').text = detail
+    _indent(suite)
+    return ('<?xml version="1.0" encoding="utf-8"?>\n'
+            + ET.tostring(suite, encoding='unicode') + '\n')
 
 
 def write_junit(run, path):
-    _atomic_write(path, junit_text(run))
+    write_atomic(path, junit_text(run))
 
 
 def load_json(path):

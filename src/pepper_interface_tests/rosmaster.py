@@ -20,9 +20,10 @@ import subprocess
 import tempfile
 import time
 import xmlrpc.client
+from typing import Any, List, Optional, Set
 
 PICK_LOW = 20000   # below: well-known and registered service ports (11311, 9090, 9559 ...)
-_handed_out = set()
+_handed_out: Set[int] = set()
 
 
 def ephemeral_range():
@@ -47,7 +48,9 @@ def _candidates():
 def free_ports(n, host='127.0.0.1'):
     """`n` distinct TCP ports on `host`, each free right now, outside the ephemeral range and
     never returned before by this process. The probe sockets are held until all are chosen."""
-    held, ports, pool = [], [], _candidates()
+    held: List[socket.socket] = []
+    ports: List[int] = []
+    pool = _candidates()
     try:
         for _ in range(200 * n):
             if len(ports) == n:
@@ -123,7 +126,7 @@ class PrivateMaster:
     def __init__(self, caller='/private_master', ros_home=None):
         self.caller = caller
         self.ros_home = ros_home
-        self.proc = None
+        self.proc: Optional[subprocess.Popen] = None
         self.attempts = []  # one line per failed attempt: port and roscore's reason
         self._use_port(free_port())
 
@@ -162,7 +165,7 @@ class PrivateMaster:
         self.proc = subprocess.Popen(['roscore', '-p', str(self.port)], env=self.env(),
                                      stdout=out, stderr=subprocess.STDOUT,
                                      start_new_session=True)
-        proxy = xmlrpc.client.ServerProxy(self.uri)
+        proxy: Any = xmlrpc.client.ServerProxy(self.uri)   # typeshed's return types hide the tuples
         deadline = time.monotonic() + timeout
         reason = 'no master on port %d after %.0f s' % (self.port, timeout)
         while time.monotonic() < deadline:
@@ -193,7 +196,7 @@ class PrivateMaster:
             code, _, pid = proxy.getPid(self.caller)
         except (OSError, xmlrpc.client.Error):
             return False
-        return code == 1 and _descends(pid, self.proc.pid)
+        return self.proc is not None and code == 1 and _descends(pid, self.proc.pid)
 
     def stop(self):
         stop_group(self.proc, timeout=10.0)
@@ -251,21 +254,21 @@ _CAUSE_WORDS = ('already in use', 'another roscore', 'cannot listen', 'error:', 
 def launch_failure(text):
     """Why a roslaunch (its combined output `text`) failed, in its own words: a list of up to
     3 lines (the first process that died, and the first line naming an error), or []."""
-    lines = [l.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
-             for l in text.splitlines()]
-    died = [l for l in lines if 'process has died' in l]
+    lines = [line.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
+             for line in text.splitlines()]
+    died = [line for line in lines if 'process has died' in line]
     causes = []
     for words in _CAUSE_WORDS:
-        causes = [l for l in lines if words in l and 'process has died' not in l]
+        causes = [line for line in lines if words in line and 'process has died' not in line]
         if causes:
             break
     out = (died[:1] + causes[:2]) if (died or causes) else []
-    return [l[:300] for l in out]
+    return [line[:300] for line in out]
 
 
 def port_taken(lines):
     """Whether a failure (launch_failure's lines) is a port somebody else holds: retry then."""
-    return any(w in l for l in lines for w in PORT_TAKEN + (
+    return any(w in line for line in lines for w in PORT_TAKEN + (
         'Address already in use', 'address in use', 'held by another program'))
 
 
@@ -273,14 +276,13 @@ def _master_pid(uri, timeout=2.0):
     """The pid of the master at `uri`; None when nothing listens there yet; 'silent' when
     something accepts connections but does not answer as a master within `timeout` s."""
     import http.client
-    import urllib.parse
-    url = urllib.parse.urlparse(uri)
 
     class Transport(xmlrpc.client.Transport):
         def make_connection(self, host):
             return http.client.HTTPConnection(host, timeout=timeout)
     try:
-        code, _, pid = xmlrpc.client.ServerProxy(uri, transport=Transport()).getPid(
+        proxy: Any = xmlrpc.client.ServerProxy(uri, transport=Transport())
+        code, _, pid = proxy.getPid(
             '/launch_watch')
         return pid if code == 1 else 'silent'
     except ConnectionRefusedError:

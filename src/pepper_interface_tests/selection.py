@@ -93,6 +93,7 @@ def rerun_failed(output_dir, platform, options):
     sensorTestResults.json, the spec's path) -> (sensor names, notes). Same names and rule as
     `sensorTestHistory failed`."""
     import os
+
     from . import history, results
     path = os.path.join(output_dir, results.JSON_FILE)
     fix = 'run sensorTest once without --rerun-failed, or point --output-dir at the folder of that run'
@@ -102,9 +103,10 @@ def rerun_failed(output_dir, platform, options):
     try:
         data = results.load_json(path)
     except FileNotFoundError:
-        raise ConfigError('--rerun-failed: no previous run in %s (no %s)' % (output_dir, results.JSON_FILE), fix=fix)
+        raise ConfigError('--rerun-failed: no previous run in %s (no %s)' % (output_dir, results.JSON_FILE),
+                          fix=fix) from None
     except (OSError, ValueError) as e:
-        raise ConfigError('--rerun-failed: cannot read %s: %s' % (path, e), fix=fix)
+        raise ConfigError('--rerun-failed: cannot read %s: %s' % (path, e), fix=fix) from None
     why = history.malformed(data)
     if why:
         raise ConfigError('--rerun-failed: %s is not a sensorTest result (%s)' % (path, why), fix=fix)

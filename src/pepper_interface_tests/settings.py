@@ -10,10 +10,10 @@ twice is an error naming both lines. The expectations are typed per family (expe
 import os
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 from . import catalog, expectations, selection
-from .textfile import ConfigError, read_text   # noqa: F401  (ConfigError is imported from here)
+from .textfile import ConfigError, read_text  # noqa: F401  (ConfigError is imported from here)
 
 PLATFORMS = ('robot', 'simulator')
 MODES = ('sequential', 'parallel')
@@ -174,7 +174,8 @@ def _valid_names():
 
 def read_configuration(path):
     """sensorTestConfiguration.ini -> dict with platform, mode, robottopics, simulatortopics."""
-    values, where = {}, {}
+    values: Dict[str, str] = {}
+    where: Dict[str, int] = {}
     for line, key, value in read_pairs(path, 'configuration file'):
         k = key.lower()
         if k not in CONFIG_KEYS:
@@ -193,7 +194,8 @@ def read_configuration(path):
 
 def read_input(path):
     """sensorTestInput.ini -> ordered [(canonical name, enabled)] in file order."""
-    seen, order = {}, []
+    seen: Dict[str, int] = {}
+    order: List[Tuple[str, bool]] = []
     for line, key, value in read_pairs(path, 'input file'):
         name = catalog.canonical(key)
         if name is None:
@@ -209,7 +211,8 @@ def read_input(path):
 
 def read_topics(path):
     """Topics file -> {canonical name: topic}; actuator keys are ignored."""
-    topics, where = {}, {}
+    topics: Dict[str, str] = {}
+    where: Dict[str, int] = {}
     for line, key, value in read_pairs(path, 'topics file'):
         if catalog.is_actuator_key(key):
             continue
@@ -280,7 +283,7 @@ def load_plan(options=Options()):
         raise ConfigError('--sensors names no sensor', fix='give sensor names, e.g. --sensors laser,imu '
                           '(valid: %s), or leave --sensors out to run the input file' % _valid_names())
     if options.sensors:
-        order = []
+        order: List[Tuple[str, bool]] = []
         for spelling in options.sensors:
             name = catalog.canonical(spelling)
             if name is None:

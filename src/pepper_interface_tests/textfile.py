@@ -31,7 +31,7 @@ def read_text(path, what, fix_missing=None):
             raw = f.read()
     except OSError as e:
         raise ConfigError('cannot read %s: %s' % (what, e.strerror or e), path,
-                          fix='check the file permissions and that it is a text file')
+                          fix='check the file permissions and that it is a text file') from None
     try:
         return raw.decode('utf-8-sig')
     except UnicodeDecodeError as e:
@@ -40,4 +40,4 @@ def read_text(path, what, fix_missing=None):
                           % (what, raw[e.start], e.start), path, line,
                           fix='save it as UTF-8 (e.g. "iconv -f latin1 -t utf-8 %s > fixed && mv fixed %s"),'
                               ' or check that it is the right file' % (os.path.basename(path),
-                                                                      os.path.basename(path)))
+                                                                      os.path.basename(path))) from None

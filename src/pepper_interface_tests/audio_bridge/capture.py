@@ -18,7 +18,6 @@ Runs wherever ``qi`` reaches NAOqi, including on the robot under Python 2.7 with
   audio (oldest dropped beyond that, counted and logged);
 - on SIGINT/SIGTERM unsubscribes, flushes what it can for a second and exits 0.
 """
-import argparse
 import collections
 import logging
 import os
@@ -30,10 +29,16 @@ import sys
 import threading
 import time
 
-from pepper_interface_tests.audio_bridge import (TOKEN_FILE_ENV, OneLineParser, RateLimiter,
-                                                 TokenError, port_arg, read_token,
-                                                 without_remappings)
-from pepper_interface_tests.audio_bridge.frame import FrameError, TOKEN_HEADER, encode_frame
+from pepper_interface_tests.audio_bridge import (
+    TOKEN_FILE_ENV,
+    OneLineParser,
+    RateLimiter,
+    TokenError,
+    port_arg,
+    read_token,
+    without_remappings,
+)
+from pepper_interface_tests.audio_bridge.frame import TOKEN_HEADER, FrameError, encode_frame
 
 LOG = logging.getLogger('naoqiAudio')
 SAMPLE_RATE = 48000

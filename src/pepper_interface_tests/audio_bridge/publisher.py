@@ -36,17 +36,15 @@ latency_ms_max (buffer end to publish, last second; -1 when no data).
 import hmac
 import http
 import logging
-import os
 import sys
 import threading
 import time
+from typing import Any, Dict
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, listen_port_arg,
-                                                 read_token)
-from pepper_interface_tests.audio_bridge.frame import (FrameError, MAX_FRAME_BYTES, TOKEN_HEADER,
-                                                       decode_frame)
+from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg, read_token
+from pepper_interface_tests.audio_bridge.frame import MAX_FRAME_BYTES, TOKEN_HEADER, FrameError, decode_frame
 from pepper_interface_tests.audio_bridge.layout import LayoutGuard
 
 NODE = 'naoqiAudioPublisher'
@@ -62,7 +60,7 @@ ACTIVE_WINDOW = 2.0
 XMLRPC_INT_MAX = 2 ** 31 - 1
 
 
-class SequenceTracker(object):
+class SequenceTracker:
     """Counts buffers missing from sequence gaps; tells capture restarts from losses."""
 
     def __init__(self, stream_id=None, last_sequence=None):
@@ -92,7 +90,7 @@ class SequenceTracker(object):
         return stream_id == self.stream_id and sequence - self.last > MAX_GAP
 
 
-class Stats(object):
+class Stats:
     """Counters shared by the connection threads, published as ``~stats``."""
 
     FIELDS = ('received', 'published', 'dropped_bad', 'lost_in_gaps', 'connections',
@@ -120,7 +118,7 @@ class Stats(object):
     def snapshot(self, tracker):
         with self.lock:
             lat, self._latencies = self._latencies, []
-            out = dict(self.counts)
+            out: Dict[str, Any] = dict(self.counts)
             out['bad_causes'] = dict(self.bad_causes)
         out['lost_in_gaps'] = tracker.lost
         out['stream_resets'] = tracker.resets
@@ -152,7 +150,7 @@ def to_message(frame, msg_class):
                      frontLeft=chans[2].tolist(), frontRight=chans[3].tolist())
 
 
-class Bridge(object):
+class Bridge:
     """Websocket connection handler: validate, account, publish."""
 
     def __init__(self, publish, msg_class, token, log, clock=time.monotonic):
@@ -396,8 +394,9 @@ def _write_stats(bridge, rospy):
 
 def main(argv=None):
     import rospy
-    from pepper_interface_tests.msg import AudioCustomMsg
     from websockets.sync.server import serve
+
+    from pepper_interface_tests.msg import AudioCustomMsg
 
     args = parse_args(rospy.myargv(sys.argv)[1:] if argv is None else argv)
     _wait_for_master(lambda text: sys.stderr.write('%s: %s\n' % (NODE, text)))
@@ -439,7 +438,7 @@ def main(argv=None):
     return 0
 
 
-class _RosLog(object):
+class _RosLog:
     """Bridge's log sink: rospy's loggers (they reach stderr and /rosout)."""
 
     def __init__(self, rospy):

@@ -130,7 +130,7 @@ def render_speech(text, rate):
     return audio / np.abs(audio).max()
 
 
-class AudioSource(object):
+class AudioSource:
     """Continuous synthetic microphone stream; thread-safe ``read`` and ``say``."""
 
     def __init__(self, rate=48000, channels=4, pattern='tones', silent_channels=(), seed=0):

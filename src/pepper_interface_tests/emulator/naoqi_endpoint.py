@@ -30,9 +30,8 @@ import time
 
 import numpy as np
 
-from pepper_interface_tests.audio_bridge import (OneLineParser, RateLimiter, listen_port_arg,
-                                                 without_remappings)
-from pepper_interface_tests.emulator.audio_source import AudioSource, CHANNEL_NAMES
+from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg, without_remappings
+from pepper_interface_tests.emulator.audio_source import CHANNEL_NAMES, AudioSource
 
 LOG = logging.getLogger('naoqiEndpoint')
 BUFFER_SAMPLES = 4096
@@ -44,13 +43,13 @@ SINGLE_CHANNEL_MIX = {1: (2,), 2: (3,), 3: (2, 3), 4: (0, 1)}
 SUBSCRIBER_QUEUE = 8
 
 
-class Subscriber(object):
+class Subscriber:
     """One subscribed module: its preferences, decimation state and delivery thread."""
 
     def __init__(self, session, name, flag, planar):
         self.session, self.name, self.flag, self.planar = session, name, flag, planar
         self._carry = np.zeros(0, dtype=np.float64)
-        self._queue = collections.deque()
+        self._queue: collections.deque = collections.deque()
         self._cond = threading.Condition()
         self._stopped = False
         self._proxy = None
@@ -106,7 +105,7 @@ class Subscriber(object):
                                 self.name, n, str(exc).splitlines()[0] if str(exc) else exc)
 
 
-class AudioDevice(object):
+class AudioDevice:
     """The engine behind the ALAudioDevice service: the real-time pump and the subscribers."""
 
     def __init__(self, session, source):
@@ -185,7 +184,7 @@ class AudioDevice(object):
             i += 1
 
 
-class ALAudioDeviceService(object):
+class ALAudioDeviceService:
     """What NAOqi clients see as ALAudioDevice."""
 
     def __init__(self, device):
@@ -201,7 +200,7 @@ class ALAudioDeviceService(object):
         self._device.unsubscribe(str(module))
 
 
-class ALTextToSpeechService(object):
+class ALTextToSpeechService:
     """What NAOqi clients see as ALTextToSpeech: the words end up in the microphone stream."""
 
     def __init__(self, source):
@@ -216,7 +215,7 @@ def _host(value):
     try:
         socket.inet_aton(value)
     except (OSError, ValueError):
-        raise argparse.ArgumentTypeError('%r is not an IPv4 address' % value)
+        raise argparse.ArgumentTypeError('%r is not an IPv4 address' % value) from None
     if value.count('.') != 3:
         raise argparse.ArgumentTypeError('%r is not a dotted IPv4 address' % value)
     return value

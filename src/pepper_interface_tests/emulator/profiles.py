@@ -8,7 +8,7 @@ Pepper simulator and the RealSense driver as listed in docs/emulator.md.
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 from .. import settings
 
@@ -163,7 +163,7 @@ def robot_profile(path=None, realsense=False, audio='bridge', resolution=None, s
     torso = imu_topic[:-len('base')] + 'torso' if imu_topic.endswith('/base') else None
     # sonar.cpp:64-72: min 0.25, max 2.55, fov 0.523598776, ULTRASOUND; range = the raw
     # ALMemory value, not clipped (sonar.cpp:111-115); 10 Hz (boot_config.json "sonar")
-    sonar = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.523598776,
+    sonar: Dict[str, Any] = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.523598776,
                  layout='raw', noise=0.01)
     sensors = [
         SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),
@@ -233,7 +233,7 @@ def simulator_profile(path=None):
     t = lambda n: _need(topics, n, path)                 # noqa: E731
     # pepperGazeboCPU.xacro:658-736: ray sensors 5x5 rays over +-0.52 rad, 0..5 m, 20 Hz,
     # gazebo_ros_range with gaussianNoise 0.05, fov 1.05, radiation ultrasound
-    sonar = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo',
+    sonar: Dict[str, Any] = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo',
                  noise=0.05)
     sensors = (
         SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),

@@ -6,7 +6,7 @@ import threading
 import rospy
 
 
-class NaoqiSpeech(object):
+class NaoqiSpeech:
     """Calls ALTextToSpeech.say(text) on a NAOqi endpoint from a worker thread.
 
     The connection is made on the first sentence and retried on later ones; when the endpoint
@@ -18,7 +18,7 @@ class NaoqiSpeech(object):
         self.session = None
         self.warned = False
         self.spoken = 0
-        self.queue = queue.Queue()
+        self.queue: queue.Queue = queue.Queue()
         self.thread = threading.Thread(target=self._run, name='naoqi-speech', daemon=True)
         self.thread.start()
 
@@ -61,7 +61,7 @@ class NaoqiSpeech(object):
                     rospy.logwarn('pepperEmulator: ALTextToSpeech.say failed at %s: %s', self.url, e)
 
 
-class DirectSpeech(object):
+class DirectSpeech:
     """Mixes the text into the emulator's own microphone stream (AudioSource.say)."""
 
     def __init__(self, source):

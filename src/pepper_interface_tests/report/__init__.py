@@ -23,6 +23,7 @@ import sys
 import threading
 import time
 
+from ..atomicfile import write_atomic
 from .files import MAX_EMBED_BYTES, video_codec  # noqa: F401  (public, as before)
 
 REPORT_FILE = 'sensorTestReport.html'
@@ -60,8 +61,8 @@ class HtmlReport:
 def _warm_up():
     try:
         import jinja2  # noqa: F401
-        from matplotlib.figure import Figure  # noqa: F401
         from matplotlib.backends import backend_agg  # noqa: F401
+        from matplotlib.figure import Figure  # noqa: F401
     except Exception:  # the report says what went wrong when it is written
         pass
 
@@ -78,12 +79,5 @@ def write_report(run, folder=None, max_embed=MAX_EMBED_BYTES):
     folder = folder or run.output_dir or '.'
     path = os.path.join(folder, REPORT_FILE)
     text = render(run, folder, max_embed)
-    tmp = os.path.join(folder, '.%s.%d.tmp' % (REPORT_FILE, os.getpid()))
-    try:   # a whole file or none; created with the user's umask (a report is meant to be shared)
-        with open(tmp, 'w', encoding='utf-8') as f:
-            f.write(text)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    write_atomic(path, text)   # a whole file or none, with the user's umask (meant to be shared)
     return path

@@ -8,10 +8,25 @@ here is deleted and nothing else changes.
 import math
 import re
 
-from .values import (AudioValues, CameraValues, ChannelLevel, DepthValues, Histogram, ImuValues, Joint,
-                     JointValues, LaserScanValues, OdometryValues, RangeValues, Series, Spread, SpeechValues,
-                     VideoInfo, mapping, number)
-
+from .values import (
+    AudioValues,
+    CameraValues,
+    ChannelLevel,
+    DepthValues,
+    Histogram,
+    ImuValues,
+    Joint,
+    JointValues,
+    LaserScanValues,
+    OdometryValues,
+    RangeValues,
+    Series,
+    SpeechValues,
+    Spread,
+    VideoInfo,
+    mapping,
+    number,
+)
 
 
 def _range(r, run):
@@ -111,7 +126,7 @@ def _audio(r, run):
     wavs += [n for k, n in r.artifacts.items() if k.startswith('audio_')]
     speech = next((s for s in run.sensors if s.name == 'speech'), None)
     in_run = speech is not None and bool(speech.messages)
-    sv = mapping(speech.values) if in_run else {}
+    sv = mapping(speech.values) if speech is not None and in_run else {}
     return AudioValues(out, number(v.get('sample_rate_hz')), number(v.get('sample_rate_expected_hz')),
                        [w for w in wavs if w], 'recording off' in (r.notes or []),
                        sv.get('heard'), in_run, number(sv.get('level_rise_db')))

@@ -8,7 +8,7 @@ with their own name in a neutral grey badge.
 import os
 from collections import Counter
 from dataclasses import dataclass
-from typing import List, Optional
+from typing import List, Optional, Tuple
 
 from .. import catalog
 from ..results import FAIL, PASS, SKIPPED, summary_line, timestamp
@@ -87,7 +87,8 @@ def rate_steps(r):
             continue
     start = r.started_at or 0.0
     end = r.window_s if r.window_s else (pts[-1][0] + 0.5 if pts else 0.0)
-    edges, rates = [], []
+    edges: List[float] = []
+    rates: List[float] = []
     for t, v in pts:
         lo, hi = t - 0.5, min(t + 0.5, end)
         if hi - lo < 0.25:
@@ -142,14 +143,16 @@ def stats_rows(r):
     rows = [('messages', num(r.messages)),
             ('rate (receive times)', Span(num(r.rate_hz, 2, 'Hz'), cls='fail-text' if ok is False else '')),
             ('rate (header stamps)', num(r.stamp_rate_hz, 2, 'Hz')),
-            ('expected / nominal', '%s Hz / %s' % ('%g-%g' % tuple(band) if band else '-', num(r.nominal_rate_hz, 2, 'Hz'))),
+            ('expected / nominal', '%s Hz / %s' % ('%g-%g' % tuple(band) if band else '-',
+                                                   num(r.nominal_rate_hz, 2, 'Hz'))),
             ('window', '%s, %s' % (num(r.window_s, 1, 's'), r.stopped_because or '-')),
             ('started at', num(r.started_at, 1, 's into the run'))]
     if s:
         rows += [('first message after', num(s.get('first_message_after_s'), 3, 's')),
                  ('jitter (std of intervals)', num(s.get('jitter_s'), 4, 's')),
                  ('longest interval', num(s.get('max_interval_s'), 3, 's')),
-                 ('delay now - stamp', '%s mean, %s max' % (num(delay.get('mean'), 4, 's'), num(delay.get('max'), 4, 's'))
+                 ('delay now - stamp', '%s mean, %s max' % (num(delay.get('mean'), 4, 's'),
+                                                            num(delay.get('max'), 4, 's'))
                   if delay else '-'),
                  ('zero / backwards / repeated stamps', '%s / %s / %s' % (
                      num(s.get('zero_stamps')), num(s.get('backwards_stamps')), num(s.get('repeated_stamps'))))]
@@ -182,7 +185,7 @@ def section(r, run, view):
     sec['body'] = views.render(fam, r, adapt(fam, r, run), view)
     sec['stats'] = KV(stats_rows(r))
     sec['notes'] = [clean(x) for x in r.notes or []]
-    values = []
+    values: List[Tuple[str, str]] = []
     for k, v in (r.values or {}).items():
         if k != 'joints':
             _flatten(k, v, values)

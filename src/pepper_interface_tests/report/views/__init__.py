@@ -6,7 +6,8 @@ values (values.py); `ctx` (page.View) gives the run's files (files.RunFiles) and
 other sections. A family without a view shows only the common parts of its section.
 """
 
-from . import audio, camera, depth, imu, joints, laser, odometry, range as range_view, speech
+from . import audio, camera, depth, imu, joints, laser, odometry, speech
+from . import range as range_view
 
 VIEWS = {'range': range_view, 'laser': laser, 'camera': camera, 'depth': depth, 'audio': audio,
          'joints': joints, 'odometry': odometry, 'imu': imu, 'speech': speech}
