@@ -225,7 +225,17 @@ def run_bag(plan, cli):
             s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
         active.append(s)
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
-    for note in source.notes:     # e.g. records at bogus times left out of the window
+    notes = list(source.notes)    # e.g. records at bogus times left out of the window
+    if not cli.topics:            # the wrong platform: suggest the other one when it fits
+        from .bag import platform_hint
+        other = 'simulator' if plan.platform == 'robot' else 'robot'
+        try:
+            hint = platform_hint(plan, source.types, settings.load_plan(
+                settings.replace(cli, platform=other, sensors=None, cameras=None, rerun_failed=None)))
+        except ConfigError:
+            hint = None
+        notes += [hint] if hint else []
+    for note in notes:
         print('sensorTest: note: %s: %s' % (cli.bag, note), flush=True)
     try:
         check_output_dir(plan.output_dir)
