@@ -34,7 +34,8 @@ EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest --platform simulator --output-dir /tmp/run1
   rosrun pepper_interface_tests sensorTest --bag recorded.bag
   rosrun pepper_interface_tests sensorTest _mode:=parallel _duration:=3   (private ROS params)
-exit codes: 0 all passed, 1 a sensor failed, 2 could not start, 130 interrupted'''
+exit codes: 0 all passed, 1 a sensor failed (also when no sensor topic has a publisher at all:
+  said once, within --wait), 2 could not start, 3 a results file not written, 130 interrupted'''
 
 
 class _Parser(argparse.ArgumentParser):
@@ -65,6 +66,9 @@ def build_parser():
     r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
+    r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '
+                   'the exit code to $PEPPER_SENSORTEST_EXIT_FILE and end the roslaunch that started '
+                   'this node (no "REQUIRED process has died" banner; see sensorTestLaunch)')
     r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
                    'which also reads params set under /sensorTest/)')
     m = p.add_argument_group('media')
@@ -147,18 +151,22 @@ def main(argv=None):
     from .terminal import protect_std_streams
     protect_std_streams()
     interrupts.POLICY.install()
-    try:
-        return _main(argv)
-    except KeyboardInterrupt:
-        sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
-                         % interrupts.POLICY.reason())
-        return results.EXIT_INTERRUPTED
-
-
-def _main(argv):
     if argv is None:
         import rospy
         argv = rospy.myargv(sys.argv)[1:]
+    try:
+        code = _main(argv)
+    except KeyboardInterrupt:
+        sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
+                         % interrupts.POLICY.reason())
+        code = results.EXIT_INTERRUPTED
+    if '--end-launch' in argv:     # launch files: see launch_end.py
+        from .launch_end import end_launch
+        end_launch(code)
+    return code
+
+
+def _main(argv):
     try:
         ns = build_parser().parse_args(argv)
         cli = options_from_args(ns)
