@@ -54,7 +54,7 @@ def build_parser():
     f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
     f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is looked up (default data/)')
     f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
-    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else ~/.ros/pepper_interface_tests)')
+    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else $ROS_HOME/pepper_interface_tests, $ROS_HOME being ~/.ros unless set)')
     r = p.add_argument_group('run')
     r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
     r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
@@ -63,7 +63,7 @@ def build_parser():
     r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores the input file)')
     r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did not pass in the latest run of the output folder (its sensorTestResults.json)')
     r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or both, whatever the input file says (default: the input file decides)')
-    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
+    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled (quick_messages, default 10, spanning at least 0.8 s, and the sensor\'s own checks)')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
     r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '

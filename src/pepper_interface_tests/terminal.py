@@ -123,12 +123,12 @@ def progress_text(runs, now, failed_done=(), width=79):
             silent.append(r.plan.name)
         else:
             receiving += 1
-    text = '  ... %.0f s left: %d receiving, %d silent, %d failing' % (left, receiving, len(silent),
-                                                                      len(failing))
+    text = '  ... %.0f s left: %d receiving, %d silent' % (left, receiving, len(silent))
     if silent:
-        text += ' | silent: ' + ', '.join(silent)
+        text += ' (%s)' % ', '.join(silent)
+    text += ', %d failing' % len(failing)
     if failing:
-        text += ' | failing: ' + ', '.join(failing)
+        text += ' (%s)' % ', '.join(failing)
     return _fit(text, width)
 
 
