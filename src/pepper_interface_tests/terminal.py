@@ -162,7 +162,7 @@ class Terminal:
     def run_started(self, run, plan):
         self.plan = plan
         n = len(plan.sensors)
-        width = _width(80)
+        width = _width()
         self.line(textwrap.fill(
                   'sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
                   % (n, '' if n == 1 else 's', 'simulator' if plan.platform == 'simulator'
