@@ -8,13 +8,15 @@ without `required`: at its end sensorTest
 1. writes its exit code to the file named by $PEPPER_SENSORTEST_EXIT_FILE when set (the
    `sensorTestLaunch` wrapper sets it and exits with that code: scripts and CI use the wrapper);
 2. sends SIGINT to the roslaunch process that started it (its parent), which shuts the launch
-   down as Ctrl-C does, with no banner. Under rostest, or started any other way, nothing is sent.
+   down as Ctrl-C does, with no banner. Under rostest, or started any other way, nothing is sent;
+   nor after an interrupt (exit 130), when the launch is shutting down already.
 """
 import os
 import signal
 import sys
 
 EXIT_FILE_ENV = 'PEPPER_SENSORTEST_EXIT_FILE'
+EXIT_INTERRUPTED = 130
 
 
 def _is_roslaunch(pid):
@@ -38,7 +40,9 @@ def end_launch(code, announce=True):
             sys.stderr.write('sensorTest: cannot write the exit code to %s (%s): %s\n'
                              % (path, EXIT_FILE_ENV, e.strerror or e))
     parent = os.getppid()
-    if not _is_roslaunch(parent):
+    # 130: interrupted, mostly by roslaunch's own shutdown (Ctrl-C, a required node died):
+    # the launch is ending already, and a second SIGINT would make roslaunch hurry its nodes
+    if code == EXIT_INTERRUPTED or not _is_roslaunch(parent):
         return False
     if announce:
         sys.stdout.write('sensorTest: finished with exit code %d: ending the launch\n' % code)
