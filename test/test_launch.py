@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from rosmaster import ROOT, free_port, kill_group, spawn
+from rosmaster import ROOT, free_port, kill_group, script, spawn
 
 LAUNCH = os.path.join(ROOT, 'launch')
 EMULATOR = os.path.join(LAUNCH, 'pepperEmulator.launch')
@@ -116,7 +116,11 @@ def test_emulator_launch_switches():
     p = params(EMULATOR, *args)
     assert (p['/sensorTest/platform'], p['/sensorTest/mode'], p['/sensorTest/duration'],
             p['/sensorTest/output_dir']) == ('simulator', 'parallel', 3, '/tmp/x')
-    assert launch_nodes(EMULATOR, *args)['/sensorTest']['required'] is True
+    found = launch_nodes(EMULATOR, *args)
+    # sensorTest ends the launch itself (no REQUIRED banner); the emulator is required: one that
+    # cannot start ends the launch at once instead of leaving it waiting
+    assert found['/sensorTest']['required'] is False and '--end-launch' in found['/sensorTest']['args']
+    assert found['/pepperEmulator']['required'] is True
     # audio direct: the emulator publishes the microphones, no bridge
     assert nodes(EMULATOR, 'audio:=direct') == ['/pepperEmulator']
     # faults, ports, RealSense and a dead microphone reach the right nodes
@@ -208,7 +212,7 @@ def test_robot_launch_includes_naoqi_driver(tmp_path, launch_text, expect):
     driver = found['/naoqi_driver']
     assert (driver['package'], driver['type'], driver['args']) == ('naoqi_driver',
                                                                    'naoqi_driver_node', expect)
-    assert found['/sensorTest']['required'] is True
+    assert found['/sensorTest']['required'] is False and '--end-launch' in found['/sensorTest']['args']
 
 
 # the CSSR4Africa fork's launch file (cssr4africa/naoqi_driver launch/naoqi_driver.launch):
@@ -283,8 +287,9 @@ def test_simulator_launch_switches(tmp_path):
     env = dict(os.environ, ROS_PACKAGE_PATH='%s:%s' % (tmp_path, os.environ['ROS_PACKAGE_PATH']))
     assert nodes(SIMULATOR, env=env) == ['/sensorTest', '/spawn_urdf', '/unpause_gazebo']
     found = launch_nodes(SIMULATOR, 'test_delay:=7', env=env)
-    assert found['/sensorTest']['required'] is True
-    assert found['/sensorTest']['prefix'].startswith("bash -c 'sleep 7;")
+    assert found['/sensorTest']['required'] is False and '--end-launch' in found['/sensorTest']['args']
+    # exec: sensorTest's parent is roslaunch, which it ends (launch_end.py)
+    assert found['/sensorTest']['prefix'].startswith("bash -c 'sleep 7; exec ")
     assert found['/unpause_gazebo']['args'] == 'call --wait /gazebo/unpause_physics'
 
 
@@ -352,8 +357,9 @@ def test_emulator_launch_audio_bridge(emulator_launch_run):
 
 
 def test_emulator_launch_run_test_ends_the_launch(master, tmp_path):
-    """run_test:=true: sensorTest runs against the emulator (simulator profile) and, being
-    required, ends the whole launch when it finishes."""
+    """run_test:=true with plain roslaunch: sensorTest runs against the emulator (simulator
+    profile) and ends the whole launch when it finishes, without roslaunch's red "REQUIRED
+    process has died!" banner."""
     out_dir = tmp_path / 'results'
     log_path = tmp_path / 'roslaunch.log'
     with open(log_path, 'w') as log:
@@ -367,6 +373,66 @@ def test_emulator_launch_run_test_ends_the_launch(master, tmp_path):
     text = log_path.read_text()
     assert ended, 'the launch did not end with sensorTest\n' + text
     assert 'sensorTest' in text and os.path.isdir(out_dir) and os.listdir(out_dir), text
-    # roslaunch: "REQUIRED process [sensorTest-2] has died!\nprocess has finished cleanly"
-    assert 'REQUIRED process [sensorTest-2] has died' in text, text
-    assert 'process has finished cleanly' in text, 'sensorTest failed (exit code != 0)\n' + text
+    assert 'sensorTest: finished with exit code 0: ending the launch' in text, text
+    assert 'REQUIRED process' not in text and 'has died' not in text, text
+    assert 'Traceback' not in text, text
+
+
+def wrapper(master, tmp_path, *args, timeout=150):
+    """sensorTestLaunch as a CI job runs it: (exit code, output, seconds)."""
+    t0 = time.monotonic()
+    proc = spawn(script('sensorTestLaunch') + list(args), master.env(), stdout=subprocess.PIPE,
+                 stderr=subprocess.STDOUT, text=True)
+    try:
+        out, _ = proc.communicate(timeout=timeout)
+    finally:
+        if proc.poll() is None:
+            kill_group(proc)
+    return proc.returncode, out, time.monotonic() - t0
+
+
+def test_wrapper_exits_with_sensor_tests_code(master, tmp_path):
+    """sensorTestLaunch gives scripts and CI sensorTest's exit code: 0 when every sensor passes,
+    1 when one fails (a fault injected in the emulator)."""
+    common = ['profile:=simulator', 'duration:=2', 'mode:=parallel']
+    code, out, _ = wrapper(master, tmp_path, EMULATOR, *common,
+                           'output_dir:=%s' % (tmp_path / 'ok'), 'sensors:=backSonar,laser')
+    assert code == 0, out
+    assert 'REQUIRED process' not in out, out
+    code, out, _ = wrapper(master, tmp_path, 'pepperEmulator.launch', *common,
+                           'output_dir:=%s' % (tmp_path / 'bad'), 'sensors:=backSonar,laser',
+                           'faults:=laser:nan')
+    assert code == 1, out
+    with open(tmp_path / 'bad' / 'sensorTestResults.json') as f:
+        verdicts = {s['name']: s['verdict'] for s in json.load(f)['sensors']}
+    assert verdicts == {'backSonar': 'PASS', 'laser': 'FAIL'}, verdicts
+
+
+def test_fault_example_fails_fast_with_the_reason(master, tmp_path):
+    """A microphone fault with the default audio bridge: the emulator refuses it, and the launch
+    ends at once with the emulator's reason (before: the launch sat there); the wrapper exits 2.
+    With audio:=direct, as the README writes the example, the same faults run."""
+    faults = 'laser:nan;microphone:silent_channel=rearRight'
+    code, out, took = wrapper(master, tmp_path, EMULATOR, 'faults:=' + faults, 'duration:=2',
+                              'sensors:=laser,microphone', 'output_dir:=%s' % (tmp_path / 'o'),
+                              'naoqi_port:=%d' % free_port(), 'ws_port:=%d' % free_port())
+    assert code == 2, out
+    assert 'microphone faults need ~audio direct' in out, out
+    assert 'sensorTestLaunch: error: the launch ended' in out and took < 60, (took, out)
+    code, out, _ = wrapper(master, tmp_path, EMULATOR, 'audio:=direct', 'faults:=' + faults,
+                           'duration:=2', 'sensors:=laser,microphone',
+                           'output_dir:=%s' % (tmp_path / 'direct'))
+    assert code == 1, out
+    with open(tmp_path / 'direct' / 'sensorTestResults.json') as f:
+        verdicts = {s['name']: s['verdict'] for s in json.load(f)['sensors']}
+    assert verdicts == {'laser': 'FAIL', 'microphone': 'FAIL'}, verdicts
+
+
+@pytest.mark.parametrize('path', [EMULATOR, ROBOT, SIMULATOR], ids=os.path.basename)
+def test_every_launch_arg_is_documented_and_optional(path):
+    """roslaunch --ros-args explains every argument; none is listed as Required (roslaunch lists
+    an empty default as Required, hence the defaults auto / none)."""
+    code, out, err = roslaunch('--ros-args', path)
+    assert code == 0, err
+    assert 'Optional Arguments:' in out and 'Required Arguments' not in out, out
+    assert 'undocumented' not in out, out

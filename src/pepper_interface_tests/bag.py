@@ -155,3 +155,19 @@ class BagSource:
 
     def close(self):
         self.bag.close()
+
+
+def platform_hint(plan, bag_types, other_plan):
+    """A bag checked with the wrong platform fails nearly every sensor as "not in the bag". When
+    topics of `plan` are missing from the bag and `other_plan` (the same files, the other
+    platform) finds more of its topics there, the note that says so and names the option (a
+    topic both share, /joint_states, does not decide); else None."""
+    mine = {s.topic for s in plan.sensors if s.skip_reason is None and s.sensor.family != 'speech'}
+    found = {t for t in mine if t in bag_types}
+    theirs = sorted({s.topic for s in other_plan.sensors if s.topic in bag_types})
+    if not mine or found == mine or len(theirs) <= len(found):
+        return None
+    return ('%d of the %d %s topics are in the bag, but %d of the %s topics are (%s%s): check it '
+            'with --platform %s' % (len(found), len(mine), plan.platform, len(theirs),
+                                    other_plan.platform, ', '.join(theirs[:3]),
+                                    ', ...' if len(theirs) > 3 else '', other_plan.platform))

@@ -34,7 +34,8 @@ EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest --platform simulator --output-dir /tmp/run1
   rosrun pepper_interface_tests sensorTest --bag recorded.bag
   rosrun pepper_interface_tests sensorTest _mode:=parallel _duration:=3   (private ROS params)
-exit codes: 0 all passed, 1 a sensor failed, 2 could not start, 130 interrupted'''
+exit codes: 0 all passed, 1 a sensor failed (also when no sensor topic has a publisher at all:
+  said once, within --wait), 2 could not start, 3 a results file not written, 130 interrupted'''
 
 
 class _Parser(argparse.ArgumentParser):
@@ -53,7 +54,7 @@ def build_parser():
     f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
     f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is looked up (default data/)')
     f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
-    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else ~/.ros/pepper_interface_tests)')
+    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else $ROS_HOME/pepper_interface_tests, $ROS_HOME being ~/.ros unless set)')
     r = p.add_argument_group('run')
     r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
     r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
@@ -62,9 +63,12 @@ def build_parser():
     r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores the input file)')
     r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did not pass in the latest run of the output folder (its sensorTestResults.json)')
     r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or both, whatever the input file says (default: the input file decides)')
-    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled')
+    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled (quick_messages, default 10, spanning at least 0.8 s, and the sensor\'s own checks)')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
+    r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '
+                   'the exit code to $PEPPER_SENSORTEST_EXIT_FILE and end the roslaunch that started '
+                   'this node (no "REQUIRED process has died" banner; see sensorTestLaunch)')
     r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
                    'which also reads params set under /sensorTest/)')
     m = p.add_argument_group('media')
@@ -147,18 +151,22 @@ def main(argv=None):
     from .terminal import protect_std_streams
     protect_std_streams()
     interrupts.POLICY.install()
-    try:
-        return _main(argv)
-    except KeyboardInterrupt:
-        sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
-                         % interrupts.POLICY.reason())
-        return results.EXIT_INTERRUPTED
-
-
-def _main(argv):
     if argv is None:
         import rospy
         argv = rospy.myargv(sys.argv)[1:]
+    try:
+        code = _main(argv)
+    except KeyboardInterrupt:
+        sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
+                         % interrupts.POLICY.reason())
+        code = results.EXIT_INTERRUPTED
+    if '--end-launch' in argv:     # launch files: see launch_end.py
+        from .launch_end import end_launch
+        end_launch(code)
+    return code
+
+
+def _main(argv):
     try:
         ns = build_parser().parse_args(argv)
         cli = options_from_args(ns)
@@ -225,7 +233,17 @@ def run_bag(plan, cli):
             s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
         active.append(s)
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
-    for note in source.notes:     # e.g. records at bogus times left out of the window
+    notes = list(source.notes)    # e.g. records at bogus times left out of the window
+    if not cli.topics:            # the wrong platform: suggest the other one when it fits
+        from .bag import platform_hint
+        other = 'simulator' if plan.platform == 'robot' else 'robot'
+        try:
+            hint = platform_hint(plan, source.types, settings.load_plan(
+                settings.replace(cli, platform=other, sensors=None, cameras=None, rerun_failed=None)))
+        except ConfigError:
+            hint = None
+        notes += [hint] if hint else []
+    for note in notes:
         print('sensorTest: note: %s: %s' % (cli.bag, note), flush=True)
     try:
         check_output_dir(plan.output_dir)

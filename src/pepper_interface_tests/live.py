@@ -190,6 +190,20 @@ class LiveSource:
             self._last_conn[run] = now
             run.observe_connections(sub.get_num_connections(), now)
 
+    @property
+    def master_uri(self):
+        return master_uri()
+
+    def published_topics(self):
+        """The set of topics with a publisher (one question to the master), or None when the
+        master does not answer it."""
+        if not self._master_ok:
+            return None
+        try:
+            return {t for t, _ in rosgraph.Master(self.caller_id).getPublishedTopics('')}
+        except Exception:  # the master may have gone between probe and call
+            return None
+
     def lookup(self, topic):
         """(advertised type or None, [publisher node names]) of a topic, or None if unknown."""
         if not self._master_ok:

@@ -10,6 +10,8 @@ microphone level monitor is offered to it (ctx.services['microphone_levels']).
 """
 import os
 import sys
+import shutil
+import textwrap
 from typing import List
 
 from . import results
@@ -67,8 +69,10 @@ class ResultFiles:
             except OSError as e:
                 write_error(run, path, e)
         stream = self.out or sys.stdout
-        stream.write('results: %s\n' % ', '.join(os.path.join(self.dir, f) for f in (
-            results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE)))
+        stream.write(textwrap.fill('results in %s: %s' % (self.dir, ', '.join((
+            results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE))),
+            max(40, shutil.get_terminal_size((120, 20)).columns - 1), subsequent_indent='  ',
+            break_long_words=False, break_on_hyphens=False) + '\n')
         stream.flush()
 
 

@@ -530,6 +530,7 @@ class Runner:
             self.signals.phase = 'run'
             self.signals.raise_pending()
             interrupts.pause('run-started')
+            self._nothing_published()
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
             while any(self.current) or self.closing:
@@ -562,6 +563,39 @@ class Runner:
             self.signals.phase = 'closing'   # from here on, interrupts never cut the files short
             self._close_everything()
         return self.run
+
+    def _nothing_published(self):
+        """Live runs: when not one listened-to topic of the plan has a publisher on the master
+        (robot off, wrong ROS_MASTER_URI, driver not started), say so once within --wait and fail
+        those sensors with that reason, instead of waiting --wait per sensor in turn."""
+        probe = getattr(self.source, 'published_topics', None)
+        plans = [p for l in self.lanes for p in l
+                 if p.skip_reason is None and p.sensor.family != 'speech']
+        if probe is None or not plans:
+            return
+        deadline = self.clock() + self.plan.wait
+        while True:
+            published = probe()
+            if published is None or any(p.topic in published for p in plans):
+                return        # a master problem is the master watch's job; something is there
+            if self.clock() >= deadline:
+                break
+            self.signals.raise_pending()
+            self.source.sleep(0.25)
+        now = self.clock()
+        self.observers.call('nothing_published', [p.topic for p in plans], self.plan.wait,
+                            getattr(self.source, 'master_uri', None))
+        for lane in self.lanes:
+            for p in [p for p in lane if p in plans]:
+                hint = catalog.NO_PUBLISHER_HINTS.get(p.sensor.name)
+                self._done(SensorResult(
+                    name=p.sensor.name, title=p.sensor.title, topic=p.topic,
+                    msg_type=p.sensor.msg_type, verdict=FAIL,
+                    reasons=['no publisher on %s: no sensor topic of this run has a publisher on '
+                             'the ROS master (robot off, another master, driver not started?)%s'
+                             % (p.topic, ' Note: ' + hint if hint else '')],
+                    started_at=round(now - self.start, 3), ended_at=round(now - self.start, 3)))
+                lane.remove(p)
 
     def interrupt(self, why):
         self.signals.phase = 'closing'

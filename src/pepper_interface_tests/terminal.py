@@ -16,6 +16,9 @@ from .results import FAIL, INTERRUPTED, PASS, SKIPPED, count_line, param_lines, 
 COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
 REASON_LIMIT = 300      # characters of one reason on the terminal; the files keep more
+ROW = '%-22s %-8s %8s %10s %13s  %s'   # the summary table; reasons start at column TABLE_FIXED
+TABLE_FIXED = len(ROW % ('', '', '', '', '', ''))
+MIN_REASON_COLUMN = 36  # narrower than this (a terminal under 104 columns): one block per sensor
 
 
 class SafeStream:
@@ -76,15 +79,70 @@ def _reasons(texts):
     return '; '.join(printable(t, REASON_LIMIT) for t in texts)
 
 
+def _width(fallback=120):
+    """Usable columns: $COLUMNS, else the terminal's width, else `fallback` (a pipe, a file);
+    one column is kept free so that no line makes the terminal wrap."""
+    return max(20, shutil.get_terminal_size((fallback, 20)).columns - 1)
+
+
+def under_roslaunch(argv=None):
+    """roslaunch starts nodes with __log:= (and __name:=); their stdout is shared with every
+    other node's log lines, so no carriage-return tricks there even on a terminal."""
+    return any(a.startswith('__log:=') for a in (sys.argv if argv is None else argv))
+
+
+def _fit(text, width):
+    return text if len(text) <= width else text[:max(0, width - 3)] + '...'
+
+
+def _troubled(run):
+    """A running sensor with a provisional problem (wrong type, bad header, its check's
+    failures so far): the same question /diagnostics asks (diagnostics.live_status)."""
+    with run.lock:
+        if run.wrong_types:
+            return True
+        count = run.check.count if run.check.active else run.stats.count
+        return bool(run.header_issues.reasons(count) or run.check.failure_reasons())
+
+
+def progress_text(runs, now, failed_done=(), width=79):
+    """One line that stays readable at 80 columns: time left once, then for several sensors
+    the counts receiving / silent / failing so far and the names of the silent and failing
+    ones (`failed_done`: sensors that already ended with FAIL)."""
+    left = max(max(0.0, r.window - (now - r.t0)) for r in runs)
+    if len(runs) == 1 and not failed_done:
+        r = runs[0]
+        count = r.check.count if r.check.active else r.stats.count
+        return _fit('  ... %s: %.0f s left, %d %s' % (r.plan.name, left, count,
+                                                     'sent' if r.check.active else 'msgs'), width)
+    silent, failing, receiving = [], list(failed_done), 0
+    for r in runs:
+        if _troubled(r):
+            failing.append(r.plan.name)
+        elif not r.check.active and r.stats.count == 0:
+            silent.append(r.plan.name)
+        else:
+            receiving += 1
+    text = '  ... %.0f s left: %d receiving, %d silent' % (left, receiving, len(silent))
+    if silent:
+        text += ' (%s)' % ', '.join(silent)
+    text += ', %d failing' % len(failing)
+    if failing:
+        text += ' (%s)' % ', '.join(failing)
+    return _fit(text, width)
+
+
 class Terminal:
     def __init__(self, stream=None, plain_every=5.0):
         self.out = stream or sys.stdout
-        self.tty = self.out.isatty() and os.environ.get('TERM') != 'dumb'
+        self.tty = (self.out.isatty() and os.environ.get('TERM') != 'dumb'
+                    and not under_roslaunch())
         self.colour = self.tty and 'NO_COLOR' not in os.environ
         self.plain_every = plain_every
         self._last_plain = None
         self._last_tty = 0.0
         self._status_shown = False
+        self._failed = []       # sensors that ended with FAIL, for the progress line
         self.plan = None
 
     def _paint(self, text, verdict):
@@ -104,25 +162,32 @@ class Terminal:
     def run_started(self, run, plan):
         self.plan = plan
         n = len(plan.sensors)
-        self.line('sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
+        width = _width()
+        self.line(textwrap.fill(
+                  'sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
                   % (n, '' if n == 1 else 's', 'simulator' if plan.platform == 'simulator'
                      else ('robot' if run.source == 'live' else 'bag ' + run.source),
                      plan.mode, 'quick' if plan.quick else '%g s each' % round(plan.duration, 1),
-                     plan.output_dir))
+                     plan.output_dir), max(40, width), subsequent_indent='  ',
+                  break_long_words=False, break_on_hyphens=False))
         for text in param_lines(run):
             self.line('  ROS param ' + text)
-        width = max(40, shutil.get_terminal_size((80, 20)).columns - 1)
+        width = max(40, width)
         for note in plan.notes:      # what is left out and why; windows other than --duration
             self.line(textwrap.fill(note, width, initial_indent='  note: ', subsequent_indent=' ' * 8))
 
     def sensor_started(self, sensor_run):
         p = sensor_run.plan
         if sensor_run.check.active:
-            self.line('  start  %-22s publishing on %s' % (p.name, p.topic))
+            text = '  start  %-22s publishing on %s' % (p.name, p.topic)
         else:
-            self.line('  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(sensor_run.window, 1)))
+            text = '  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(sensor_run.window, 1))
+        for part in textwrap.wrap(text, _width(), subsequent_indent=' ' * 9) or [text]:
+            self.line(part)
 
     def sensor_done(self, r):
+        if r.verdict == FAIL:
+            self._failed.append(r.name)
         text = '  %-6s %-22s' % (r.verdict.lower() if r.verdict != FAIL else 'FAIL', r.name)
         if r.verdict == SKIPPED:
             text += ' skipped: ' + _reasons(r.reasons)
@@ -132,20 +197,29 @@ class Terminal:
                 text += ', %.2f Hz' % r.rate_hz
             if r.reasons:
                 text += ': ' + _reasons(r.reasons)
-        self.line(self._paint(text, r.verdict))
+        for part in textwrap.wrap(text, _width(), subsequent_indent=' ' * 9,
+                                  break_on_hyphens=False) or [text]:
+            self.line(self._paint(part, r.verdict))
+
+    def nothing_published(self, topics, waited, uri):
+        """Said once, at the start, instead of once per silent sensor (runner._nothing_published)."""
+        text = ('nothing is published: not one of the %d sensor topics of this run has a publisher '
+                'on the ROS master%s after %g s. Likely causes: the robot is off or unreachable; '
+                'ROS_MASTER_URI names another master; naoqi_driver (or the emulator) is not '
+                'started; the topics file names other topics (--platform, --topics). Every '
+                'listened-to sensor FAILs with this reason.'
+                % (len(topics), ' at %s' % uri if uri else '', waited))
+        self.line(self._paint(textwrap.fill(text, _width(), initial_indent='sensorTest: ',
+                                            subsequent_indent='  '), FAIL))
 
     def tick(self, runs, now):
         if not runs:
             return
         if self.tty:
-            if now - self._last_tty < 0.2:
+            if now - self._last_tty < 0.5:
                 return
             self._last_tty = now
-            parts = ['%s %.0f s left, %d msgs' % (r.plan.name, max(0.0, r.window - (now - r.t0)),
-                                                   r.stats.count) for r in runs]
-            width = shutil.get_terminal_size((100, 20)).columns - 1
-            text = '  ... ' + ' | '.join(parts)
-            self.out.write('\r\033[K' + text[:width])
+            self.out.write('\r\033[K' + progress_text(runs, now, self._failed, _width(100)))
             self.out.flush()
             self._status_shown = True
         else:
@@ -153,27 +227,59 @@ class Terminal:
                 self._last_plain = now
             if now - self._last_plain >= self.plain_every:
                 self._last_plain = now
-                self.line('  ... ' + ', '.join('%s %d msgs, %.0f s left' % (
-                    r.plan.name, r.stats.count, max(0.0, r.window - (now - r.t0))) for r in runs))
+                self.line(progress_text(runs, now, self._failed, _width()))
 
     def run_ended(self, run):
         self._clear()
         self.line()
+        width = _width()
         if run.interrupted:
-            self.line('INTERRUPTED: %s' % printable(run.interrupt_reason, REASON_LIMIT))
-        header = '%-22s %-8s %8s %10s %13s  %s' % ('sensor', 'verdict', 'messages', 'rate Hz',
-                                                   'expected Hz', 'reasons')
-        self.line(BOLD + header + RESET if self.colour else header)
-        width = max(60, shutil.get_terminal_size((120, 20)).columns - 68)
-        for r in run.sensors:
-            rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
-            band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
-            reasons = _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
-            wrapped = textwrap.wrap(reasons, width) or ['']
-            row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, r.verdict, r.messages, rate, band, wrapped[0])
-            self.line(self._paint(row, r.verdict))
-            for more in wrapped[1:]:
-                self.line(' ' * 68 + more)
+            for i, text in enumerate(textwrap.wrap('INTERRUPTED: %s' % printable(
+                    run.interrupt_reason, REASON_LIMIT), width)):
+                self.line(text if not i else '  ' + text)
+        if width - TABLE_FIXED >= MIN_REASON_COLUMN:
+            self._table(run, width)
+        else:
+            self._blocks(run, width)
         c = run.counts()
         self.line()
         self.line(count_line(c))
+
+    def _verdict_cell(self, r):
+        """The verdict column's text (a marker may follow the verdict, up to 8 characters)."""
+        return r.verdict
+
+    @staticmethod
+    def _summary_reasons(r):
+        return _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
+
+    def _table(self, run, width):
+        """One row per sensor, reasons wrapped inside their own column."""
+        header = ROW % ('sensor', 'verdict', 'messages', 'rate Hz', 'expected Hz', 'reasons')
+        self.line(BOLD + header.rstrip() + RESET if self.colour else header.rstrip())
+        for r in run.sensors:
+            rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
+            band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
+            wrapped = textwrap.wrap(self._summary_reasons(r), width - TABLE_FIXED,
+                                    break_on_hyphens=False) or ['']
+            row = ROW % (r.name, self._verdict_cell(r), r.messages, rate, band, wrapped[0])
+            self.line(self._paint(row.rstrip(), r.verdict))
+            for more in wrapped[1:]:
+                self.line(' ' * TABLE_FIXED + more)
+
+    def _blocks(self, run, width):
+        """Narrow terminals: one block per sensor, its figures on the first line and its reasons
+        wrapped below, indented, over the whole width."""
+        for r in run.sensors:
+            figures = '%d msgs' % r.messages
+            if r.rate_hz is not None:
+                figures += ', %.2f Hz' % r.rate_hz
+            if r.expected_rate_hz:
+                figures += ' (expected %g-%g)' % tuple(r.expected_rate_hz)
+            head = textwrap.wrap('%-22s %-8s %s' % (r.name, self._verdict_cell(r), figures), width,
+                                 subsequent_indent='    ')
+            self.line(self._paint(head[0], r.verdict))
+            for more in head[1:] + textwrap.wrap(self._summary_reasons(r), width,
+                                                 initial_indent='    ', subsequent_indent='    ',
+                                                 break_on_hyphens=False):
+                self.line(more)

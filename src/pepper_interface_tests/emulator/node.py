@@ -141,22 +141,49 @@ def _params():
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog=NODE_NAME, description=__doc__.split('\n')[0])
-    p.add_argument('--profile', choices=PROFILES)
-    p.add_argument('--realsense', choices=('true', 'false'))
-    p.add_argument('--audio', choices=AUDIO_MODES)
-    p.add_argument('--naoqi-url', dest='naoqi_url')
-    p.add_argument('--faults')
-    p.add_argument('--rate-factor', dest='rate_factor', type=float)
-    p.add_argument('--camera-resolution', dest='camera_resolution')
-    p.add_argument('--topics-file', dest='topics_file')
-    p.add_argument('--seed', type=int)
-    p.add_argument('--audio-pattern', dest='audio_pattern', choices=('tones', 'counter'))
-    p.add_argument('--head', choices=HEADS)
-    p.add_argument('--real-time-factor', dest='real_time_factor', type=float)
-    p.add_argument('--condition', choices=CONDITIONS)
-    p.add_argument('--audio-buffer', dest='audio_buffer', type=int)
-    p.add_argument('--list-faults', action='store_true', help='print the fault syntax and exit')
+    p = argparse.ArgumentParser(
+        prog=NODE_NAME, description='A Pepper robot (naoqi_driver) or Gazebo simulator that '
+        'publishes every sensor topic as the real drivers do, optionally with injected faults. '
+        'Each option overrides the private '
+        'ROS param of the same name (~profile, ...); launch: pepperEmulator.launch.',
+        epilog='examples:\n  rosrun pepper_interface_tests pepperEmulator --profile robot-stock '
+               '--head xtion\n  rosrun pepper_interface_tests pepperEmulator --audio direct '
+               '--faults "laser:nan;microphone:silent_channel=rearRight"\n'
+               'exit codes: 0 after a normal shutdown, 2 when it could not start (bad option or '
+               'param, no master)', formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument('--profile', choices=PROFILES, help='robot: naoqi_driver as the CSSR4Africa fork '
+                   'runs it; robot-stock: stock naoqi_driver (AudioBuffer); simulator: the awesomebytes '
+                   'Gazebo Pepper on sim time (default robot)')
+    p.add_argument('--head', choices=HEADS, help='robot profiles: stereo (Pepper 1.8: depth 640x360 + '
+                   'stereo camera) or xtion (Pepper 1.7: no stereo topic) (default stereo)')
+    p.add_argument('--realsense', choices=('true', 'false'), help='also publish the RealSense D435i '
+                   'topics (robot profiles; default false)')
+    p.add_argument('--audio', choices=AUDIO_MODES, help='bridge: the microphones come from naoqiAudio '
+                   '+ naoqiAudioPublisher; direct: published here; off: none (default: bridge for '
+                   'robot, direct for robot-stock)')
+    p.add_argument('--audio-buffer', dest='audio_buffer', type=int, metavar='N', help='samples per '
+                   'channel per audio message (default robot 4096, robot-stock 8192)')
+    p.add_argument('--audio-pattern', dest='audio_pattern', choices=('tones', 'counter'),
+                   help='microphone content: tones (default) or a sample counter (tests)')
+    p.add_argument('--naoqi-url', dest='naoqi_url', metavar='URL', help='NAOqi endpoint that speaks '
+                   '/speech (default tcp://127.0.0.1:9559)')
+    p.add_argument('--faults', metavar='SPEC', help='faults to inject, e.g. "frontCamera:frozen;laser:nan" '
+                   '(see --list-faults; default none)')
+    p.add_argument('--list-faults', action='store_true', help='print the table of faults, their '
+                   'values and the sensors they apply to, and exit')
+    p.add_argument('--rate-factor', dest='rate_factor', type=float, metavar='F', help='multiplies every '
+                   'publishing rate (default 1.0)')
+    p.add_argument('--camera-resolution', dest='camera_resolution', metavar='RES', help='QQVGA, QVGA or '
+                   'VGA for the front/bottom cameras (default: the driver\'s boot_config.json, VGA for '
+                   'robot, QVGA for robot-stock)')
+    p.add_argument('--real-time-factor', dest='real_time_factor', type=float, metavar='F',
+                   help='simulator: simulated seconds per wall second on /clock (default 0.6)')
+    p.add_argument('--condition', choices=CONDITIONS, help='healthy but unusual: loaded (cameras '
+                   '~1.3 fps with jitter), still (the robot stands still), dark (a dark room) '
+                   '(default normal)')
+    p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
+                   'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
+    p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
     return p
 
 
@@ -260,9 +287,9 @@ def main(argv=None):
     argv = rospy.myargv(sys.argv if argv is None else argv)
     args = _parser().parse_args(argv[1:])
     if args.list_faults:
-        print(faults_mod.__doc__)
-        print('sensors: ' + faults_mod.valid_sensors())
-        print('faults:  ' + faults_mod.valid_faults())
+        from .fault_table import table
+        import shutil
+        print(table(max(60, shutil.get_terminal_size((80, 20)).columns - 1)))
         return 0
     master = rosgraph.Master('/' + NODE_NAME)
     if not master.is_online():

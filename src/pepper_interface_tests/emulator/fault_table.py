@@ -1,0 +1,59 @@
+"""`pepperEmulator --list-faults`: the faults of faults.FAULTS as a table that fits 80 columns:
+fault (with its value), the sensors it applies to, and what it does. The effects are the short
+form of docs/emulator.md's table; a fault added to faults.py without one here still gets a row
+(pointing at the docs), so the table never hides one."""
+import textwrap
+
+from . import faults
+
+EFFECTS = {
+    'silent': 'topic advertised, never published',
+    'rate': 'the rate times VALUE (on top of ~rate_factor)',
+    'die_after': 'publishes until VALUE s after the start, then unregisters',
+    'wrong_type': 'std_msgs/String on the sensor\'s topic',
+    'frozen': 'the same image bytes in every frame',
+    'black': 'all-zero image',
+    'wrong_encoding': 'encoding label does not match the data',
+    'wrong_step': 'step half of width x bytes per pixel',
+    'nan': 'NaN in the values (laser beams, range, joints, pose, rates)',
+    'out_of_range': 'physically impossible values',
+    'broken_quaternion': 'orientation of norm 1.8',
+    'nan_attitude': 'orientation NaN (covariance[0] still -1)',
+    'all_blind': 'every laser slot blind',
+    'no_returns': 'simulator: every laser slot NaN (no return)',
+    'silent_channel': 'channel VALUE all zeros: rearLeft, rearRight, frontLeft or frontRight '
+                      '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
+                      'silent_channel)',
+}
+KIND_NAMES = {'camera': 'cameras', 'stereo': 'stereoCamera', 'depth': 'depth cameras',
+              'sonar': 'sonars', 'laser': 'laser', 'audio': 'microphone', 'joints': 'jointState',
+              'odometry': 'odometry', 'imu': 'imu'}
+
+
+def applies_to(kinds):
+    if kinds is None:
+        return 'every sensor'
+    return ', '.join(KIND_NAMES.get(k, k) for k in kinds)
+
+
+def table(width=79):
+    rows = [(name + ('=VALUE' if takes else ''), applies_to(kinds),
+             EFFECTS.get(name, 'see docs/emulator.md'))
+            for name, (takes, kinds) in faults.FAULTS.items()]
+    w1 = max(len('fault'), *(len(r[0]) for r in rows))
+    w2 = min(24, max(len(r[1]) for r in rows))
+    w3 = max(20, width - w1 - w2 - 4)
+    lines = ['usage: ~faults "sensor:fault[=VALUE][,fault...][;sensor:...]"',
+             '  e.g. "frontCamera:frozen;laser:nan;jointState:die_after=3"', '',
+             '%-*s  %-*s  %s' % (w1, 'fault', w2, 'applies to', 'effect'),
+             '%s  %s  %s' % ('-' * w1, '-' * w2, '-' * min(w3, 30))]
+    for fault, where, effect in rows:
+        left = textwrap.wrap(where, w2) or ['']
+        right = textwrap.wrap(effect, w3, break_long_words=False) or ['']
+        for i in range(max(len(left), len(right))):
+            lines.append(('%-*s  %-*s  %s' % (w1, fault if i == 0 else '', w2,
+                                              left[i] if i < len(left) else '',
+                                              right[i] if i < len(right) else '')).rstrip())
+    lines += ['', 'sensors: ' + faults.valid_sensors()]
+    return '\n'.join(textwrap.fill(l, width, subsequent_indent='  ') if l.startswith('sensors:')
+                     else l for l in lines)
