@@ -22,7 +22,7 @@ def test_simulator_bag_checked_as_robot_suggests_the_simulator(tmp_path):
     assert p.returncode == 1 and 'Traceback' not in p.stderr, p.stdout + p.stderr
     r = results(tmp_path / 'out')
     assert r['backSonar']['reasons'] == ['topic /naoqi_driver/sonar/back is not in the bag']
-    notes = [l for l in p.stdout.splitlines() if 'note:' in l and '--platform' in l]
+    notes = [ln for ln in p.stdout.splitlines() if 'note:' in ln and '--platform' in ln]
     assert len(notes) == 1, p.stdout
     assert ('0 of the 2 robot topics are in the bag, but 2 of the simulator topics are '
             '(/pepper/sonar_back, /pepper/sonar_front): check it with --platform simulator') in notes[0]

@@ -52,7 +52,7 @@ def screen_lines(raw):
 
 
 def summary(lines):
-    i = next(i for i, l in enumerate(lines) if l.startswith('sensor ') or l.startswith('backSonar'))
+    i = next(i for i, ln in enumerate(lines) if ln.startswith('sensor ') or ln.startswith('backSonar'))
     return lines[i:]
 
 
@@ -85,27 +85,27 @@ def test_summary_and_progress_fit_80_columns_and_narrow_ones_get_blocks(module_m
     for raw, width in ((raw80, 80), (raw50, 50), (raw120, 120)):
         lines = screen_lines(raw)
         # a path the user chose may be longer than the line: it is never cut
-        too_long = [l for l in lines if len(l.replace(str(tmp_path), '/tmp/x')) > width]
+        too_long = [ln for ln in lines if len(ln.replace(str(tmp_path), '/tmp/x')) > width]
         assert not too_long, (width, too_long)
     lines80 = screen_lines(raw80)
     # progress: one compact line, time left once, counts and the names of the silent/failing
-    progress = [l for l in lines80 if l.startswith('  ... ')]
+    progress = [ln for ln in lines80 if ln.startswith('  ... ')]
     assert progress, raw80
-    assert all(l.count(' s left') == 1 for l in progress), progress
-    assert any(re.search(r'\d+ s left: 1 receiving, 1 silent \(frontSonar\), 1 failing \(laser\)$', l)
-               for l in progress), progress
+    assert all(ln.count(' s left') == 1 for ln in progress), progress
+    assert any(re.search(r'\d+ s left: 1 receiving, 1 silent \(frontSonar\), 1 failing \(laser\)$', ln)
+               for ln in progress), progress
     # 80 columns: one block per sensor, reasons wrapped whole words under it, indented
     table = summary(lines80)
-    laser = table.index(next(l for l in table if l.startswith('laser ')))
+    laser = table.index(next(ln for ln in table if ln.startswith('laser ')))
     assert 'FAIL' in table[laser]
-    reason = ' '.join(l.strip() for l in table[laser + 1:laser + 4] if l.startswith('    '))
+    reason = ' '.join(ln.strip() for ln in table[laser + 1:laser + 4] if ln.startswith('    '))
     assert 'carries std_msgs/String, expected sensor_msgs/LaserScan' in reason, table
     # 120 columns: a table with the reasons in their own column, starting at one column
     table = summary(screen_lines(raw120))
     assert table[0].split() == ['sensor', 'verdict', 'messages', 'rate', 'Hz', 'expected', 'Hz',
                                 'reasons'], table
     col = table[0].index('reasons')
-    laser = next(l for l in table if l.startswith('laser '))
+    laser = next(ln for ln in table if ln.startswith('laser '))
     assert laser[col:].startswith('topic /tw/laser carries std_msgs/String'), table
     rest = table[table.index(laser) + 1]
     assert rest[:col].strip() == '' and rest[col:].strip(), table
@@ -118,7 +118,7 @@ def test_through_a_pipe_progress_has_no_carriage_returns_and_comes_every_few_sec
         r = sensor_test(module_master, tmp_path / 'out', *(args + ['--duration', '8', '--wait', '8']))
     assert r.rc == 1, r
     assert '\r' not in r.stdout and '\x1b[' not in r.stdout, repr(r.stdout)
-    progress = [l for l in r.stdout.splitlines() if l.startswith('  ... ')]
+    progress = [ln for ln in r.stdout.splitlines() if ln.startswith('  ... ')]
     # 8 s window, one line every 5 s at most: 1 (2 with start-up jitter), never one per tick
     assert 1 <= len(progress) <= 2, r.stdout
     assert re.search(r'1 receiving, 1 silent \(frontSonar\), 1 failing \(laser\)$', progress[0]), progress

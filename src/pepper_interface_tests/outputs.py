@@ -9,8 +9,8 @@ SpeechHearing: while the speech check runs and the microphone is part of the run
 microphone level monitor is offered to it (ctx.services['microphone_levels']).
 """
 import os
-import sys
 import shutil
+import sys
 import textwrap
 from typing import List
 

@@ -55,5 +55,5 @@ def table(width=79):
                                               left[i] if i < len(left) else '',
                                               right[i] if i < len(right) else '')).rstrip())
     lines += ['', 'sensors: ' + faults.valid_sensors()]
-    return '\n'.join(textwrap.fill(l, width, subsequent_indent='  ') if l.startswith('sensors:')
-                     else l for l in lines)
+    return '\n'.join(textwrap.fill(ln, width, subsequent_indent='  ') if ln.startswith('sensors:')
+                     else ln for ln in lines)
