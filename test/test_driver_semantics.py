@@ -159,7 +159,7 @@ def test_audio_rate_band_follows_the_buffer_size(tmp_path):
     from pepper_interface_tests.msg import AudioCustomMsg
 
     def custom(i):
-        return AudioCustomMsg(*[[1000, -1000] * 2048] * 4)
+        return AudioCustomMsg(*[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
     r = feed(run_of('microphone', tmp_path, ROBOT), [custom(i) for i in range(30)], rate=48000 / 4096.0)
     assert r.verdict == PASS, r.reasons
     assert r.expected_rate_hz == [5.86, 17.58]
