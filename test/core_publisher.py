@@ -62,7 +62,8 @@ def make(kind, fault, i):
             names.remove('HeadYaw')
         if fault == 'dup_joint':
             names[1] = names[0]
-        m = JointState(name=names, position=[0.1 * math.sin(i / 20.0)] * len(names),
+        # each joint swings around the middle of its URDF limits (sensors/joint_limits.py)
+        m = JointState(name=names, position=[_middle(n) + 0.1 * math.sin(i / 20.0) for n in names],
                        velocity=[0.0] * (len(names) - (1 if fault == 'short_velocity' else 0)),
                        effort=[0.0] * len(names))
         if fault == 'nan':
@@ -79,12 +80,20 @@ def make(kind, fault, i):
     if kind == 'imu':
         m = Imu()
         m.orientation = Quaternion(0, 0, 0, 0.5 if fault == 'broken_quaternion' else 1.0)
-        m.linear_acceleration.z = float('nan') if fault == 'nan' else 9.81
+        # the inertial board's raw values carry noise from message to message
+        m.linear_acceleration.z = float('nan') if fault == 'nan' else 9.81 + 0.01 * math.sin(0.7 * i)
+        m.angular_velocity.z = 0.001 * math.sin(1.3 * i)
         stamp(m.header, fault, 'base_footprint')
         return m
     if kind == 'string':
         return String(data='not a sensor')
     raise SystemExit('unknown kind ' + kind)
+
+
+def _middle(name):
+    from pepper_interface_tests.sensors.joint_limits import LIMITS
+    lo, hi = LIMITS.get(name, (None, None))[:2]
+    return 0.0 if lo is None else (lo + hi) / 2.0
 
 
 TYPES = {'range': Range, 'laser': LaserScan, 'joints': JointState, 'odometry': Odometry,
