@@ -374,6 +374,105 @@ def test_odometry_faults(tmp_path, kw, words):
     one_reason_with(r, words)
 
 
+# ------------------------------------------------------------------ data that cannot be real (issue 10)
+
+def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
+    """naoqi_driver reads ALMemory at its own rate: 2-3 identical scans in a row are normal,
+    20 (2 s at 10 Hz) are a cached scan republished."""
+    r = judged('laser', tmp_path, [scan(0) for _ in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'laser stuck: 25 identical scans in a row from t = 0.05 s to the end of '
+                       'the window (stuck_scans 20)')
+    r = judged('laser', tmp_path, [scan(i // 3) for i in range(N)])      # each scan three times
+    assert r.verdict == PASS, r.reasons
+    assert r.values['longest_identical_run'] == 3
+    r = judged('laser', tmp_path, [scan(i) for i in range(5)] + [scan(99)] * 22)
+    one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')
+
+
+def test_imu_stuck_readings_fail(tmp_path):
+    r = judged('imu', tmp_path, [imu(0) for _ in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'IMU stuck: 25 identical readings (angular velocity and linear acceleration) '
+                       'in a row from t = 0.05 s')
+
+
+@pytest.mark.parametrize('acc_z, words', [
+    (0.0, 'median |linear acceleration| 0 m/s^2 outside acceleration_norm [6.8, 12.8] (an upright '
+          'robot measures g = 9.81 m/s^2: a dead accelerometer reads 0)'),
+    (1.0, 'values in g instead of m/s^2?'),
+    (19.6, 'not the gravity an upright robot measures'),
+])
+def test_imu_acceleration_far_from_g_fails(tmp_path, acc_z, words):
+    r = judged('imu', tmp_path, [imu(i, acc_z=acc_z) for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, words)
+
+
+def test_imu_one_bump_is_a_warning_and_gyro_beyond_its_range_fails(tmp_path):
+    msgs = [imu(i, acc_z=25.0 if i == 7 else 9.81) for i in range(N)]
+    r = judged('imu', tmp_path, msgs)
+    assert r.verdict == PASS, r.reasons
+    assert any('outside acceleration_norm [6.8, 12.8] m/s^2' in w and 'at t = 0.75 s' in w
+               for w in r.warnings), r.warnings
+    msgs = [imu(i) for i in range(N)]
+    msgs[10].angular_velocity.z = 12.0
+    r = judged('imu', tmp_path, msgs)
+    assert r.verdict == FAIL
+    one_reason_with(r, "|angular velocity| beyond the gyrometer's range (max_angular_velocity 8.73 "
+                       "rad/s, ~500 deg/s) in 1 of 25 messages (e.g. 12 rad/s, first at t = 1.05 s)")
+
+
+def test_joint_positions_beyond_the_urdf_limits_fail(tmp_path):
+    msgs = [joints(i) for i in range(NJ)]
+    for m in msgs[60:]:
+        m.position[JOINTS.index('HeadPitch')] = 1.2        # the URDF allows -0.71..0.64
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == FAIL
+    one_reason_with(r, "position of HeadPitch outside Pepper's joint limits [-0.7069, 0.637] rad "
+                       "(pepper.urdf:41) by more than position_margin 0.05 in 65 of 125 messages "
+                       "(e.g. 1.2 rad, first at t = 1.25 s)")
+
+
+def test_joint_jumps_fail_and_reported_velocity_spikes_warn(tmp_path):
+    msgs = [joints(i) for i in range(NJ)]
+    for k, m in enumerate(msgs):
+        m.position[JOINTS.index('HeadYaw')] = 2.0 if (k // 10) % 2 else -2.0    # 4 rad in 0.02 s
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == FAIL
+    one_reason_with(r, 'position of HeadYaw jumps: implied speed above 11.01 rad/s (URDF velocity '
+                       'limit 7.34 x velocity_factor 1.5, pepper.urdf:15)')
+    msgs = [joints(i, velocity=[0.01] * len(JOINTS)) for i in range(NJ)]
+    msgs[30].velocity = [0.01] * (len(JOINTS) - 1) + [30.0]
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == PASS, r.reasons
+    assert any(w.startswith('reported velocity of %s beyond' % JOINTS[-1]) for w in r.warnings), r.warnings
+
+
+def _odom_at(x, vx):
+    m = odom(0, x=x)
+    m.twist.twist.linear.x = vx
+    return m
+
+
+def test_odometry_of_a_robot_standing_still_passes(tmp_path):
+    r = judged('odometry', tmp_path, [_odom_at(1.0, 0.0) for _ in range(37)])
+    assert r.verdict == PASS, r.reasons
+
+
+def test_odometry_pose_jumps_and_twist_against_pose(tmp_path):
+    msgs = [_odom_at(0.01 * i + (1.0 if i >= 20 else 0.0), 0.15) for i in range(37)]
+    r = judged('odometry', tmp_path, msgs)
+    assert r.verdict == FAIL
+    one_reason_with(r, 'pose jumps: consecutive poses imply more than max_speed 0.8 m/s (Pepper '
+                       'drives at most ~0.55 m/s)')
+    # the twist says 0.4 m/s, the poses stand still
+    r = judged('odometry', tmp_path, [_odom_at(0.0, 0.4) for _ in range(37)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'twist contradicts the pose: |twist| and the speed the poses imply differ by '
+                       'more than twist_tolerance 0.25 m/s')
+
+
 # ------------------------------------------------------------------ IMU
 
 @pytest.mark.parametrize('kw, words', [

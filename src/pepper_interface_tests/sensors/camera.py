@@ -343,13 +343,14 @@ class CameraCheck(ImageCheck):
             if not frames:
                 continue
             text = 'image %s (%s) in %d of %d frames' % (word, limit_text, frames, n)
-            if frames > self.bad_share * n:
-                self.fail(text)
-                continue
+            # turned black partway and stayed black: a partial failure, whatever its share
             trailing = self.black_run.since() if word == 'black' else None
-            if trailing and trailing[1] >= self.frozen_frames and trailing[2] >= 1.0:
-                self.fail('image black from t = %s s to the end of the window (%d frames, %s s)'
-                          % (fmt(trailing[0], 2), trailing[1], fmt(trailing[2], 1)))
+            late = trailing and trailing[1] >= self.frozen_frames and trailing[2] >= 1.0
+            if late:
+                text = ('image black from t = %s s to the end of the window (%d frames, %s s; '
+                        '%s)' % (fmt(trailing[0], 2), trailing[1], fmt(trailing[2], 1), text))
+            if late or frames > self.bad_share * n:
+                self.fail(text)
             else:
                 self.warn(text)
         if self.longest_run >= self.frozen_frames:
