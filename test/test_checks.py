@@ -1063,3 +1063,48 @@ def test_a_check_that_raises_fails_its_sensor_by_name(tmp_path):
     r = close(run)
     assert r.verdict == FAIL and r.messages == 20
     assert any('could not be checked (ValueError: cannot handle this reading)' in x for x in r.reasons), r.reasons
+
+
+def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
+    """Issue 10, item 4: a suspicious but possible condition (here a pause in the stream) keeps
+    the PASS, and every output says which PASS carries it: terminal PASS* with a legend, the
+    .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
+    from diagnostic_msgs.msg import DiagnosticStatus
+    from pepper_interface_tests.diagnostics import Status, final_status
+    run = make_run('backSonar', tmp_path)
+    msgs = [sonar(i) for i in range(N)]
+    t = T0
+    for i, m in enumerate(msgs):
+        t = T0 + 0.05 + i / 10.0 + (1.5 if i >= 12 else 0.0)      # one 1.6 s pause
+        m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
+        run.feed_raw(run.sensor.msg_type, ser(m), t, R0 + (t - T0))
+    warned = close(run, at=4.5)
+    assert warned.verdict == PASS and warned.warnings, (warned.reasons, warned.warnings)
+    clean = judged('frontSonar', tmp_path, [sonar(i, frame='SonarFront_frame') for i in range(N)])
+    assert clean.verdict == PASS and not clean.warnings, clean.warnings
+    rr = RunResult(platform='robot', mode='parallel', start=1700000000.0, end=1700000005.0,
+                   output_dir=str(tmp_path), sensors=[warned, clean])
+    term = io.StringIO()
+    Terminal(stream=term).run_ended(rr)
+    rows = {line.split()[0]: line for line in term.getvalue().splitlines() if line[:1].isalpha()}
+    assert rows['backSonar'].split()[1] == 'PASS*' and 'warning: ' in rows['backSonar']
+    assert rows['frontSonar'].split()[1] == 'PASS'
+    assert 'PASS* = passed with 1 warning to read (not a failure)' in term.getvalue()
+    f = results.OutputFile(str(tmp_path / results.OUTPUT_FILE))
+    f.begin(rr)
+    for s in rr.sensors:
+        f.sensor(s)
+    f.end(rr)
+    f.close()
+    results.write_json(rr, str(tmp_path / results.JSON_FILE))
+    results.write_junit(rr, str(tmp_path / results.JUNIT_FILE))
+    assert '[WARNING] ' + warned.warnings[0] in open(str(tmp_path / results.OUTPUT_FILE)).read()
+    data = results.load_json(str(tmp_path / results.JSON_FILE))
+    assert data['sensors'][0]['verdict'] == 'PASS' and data['sensors'][0]['warnings'] == warned.warnings
+    case = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')[0]
+    assert case.find('failure') is None and 'WARNING: ' + warned.warnings[0] in case.find('system-out').text
+    status = Status('backSonar', '/t', 'sensor_msgs/Range')
+    final_status(status, warned)
+    assert status.level == DiagnosticStatus.WARN and status.message.startswith('PASS with warnings: ')
+    final_status(status, clean)
+    assert status.level == DiagnosticStatus.OK

@@ -306,7 +306,8 @@ def junit_text(run):
     for s in run.sensors:
         head = '  <testcase classname="pepper_interface_tests.sensorTest" name=%s time="%.3f"' % (
             quoteattr(s.name), s.window_s)
-        detail = '\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes + s.warnings)
+        detail = '\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes
+                           + ['WARNING: ' + w for w in s.warnings])
         if s.verdict == FAIL:
             out.append(head + '>')
             out.append('    <failure message=%s>%s</failure>' % (_xml_attr('; '.join(s.reasons)),

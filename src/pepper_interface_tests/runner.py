@@ -334,6 +334,10 @@ class SensorRun:
             for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
                 if rate is not None and not (lo <= rate <= hi):
                     out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
+                elif rate is not None and label == rate_label and (rate < 1.1 * lo or rate > 0.9 * hi):
+                    # inside the band but within 10 % of an edge: possible, worth a look
+                    warnings.append('%s %.2f Hz near the edge of the expected %g-%g Hz'
+                                    % (label, rate, lo, hi))
         if s.zero_stamps:
             out.append('%d message%s with a zero header stamp'
                        % (s.zero_stamps, '' if s.zero_stamps == 1 else 's'))

@@ -168,12 +168,18 @@ class Terminal:
         for r in run.sensors:
             rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
             band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
-            reasons = _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
+            reasons = _reasons(r.reasons) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
             wrapped = textwrap.wrap(reasons, width) or ['']
-            row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, r.verdict, r.messages, rate, band, wrapped[0])
+            # a PASS that carries warnings reads "PASS*" at a glance (legend under the table)
+            verdict = r.verdict + ('*' if r.verdict == PASS and r.warnings else '')
+            row = '%-22s %-8s %8d %10s %13s  %s' % (r.name, verdict, r.messages, rate, band, wrapped[0])
             self.line(self._paint(row, r.verdict))
             for more in wrapped[1:]:
                 self.line(' ' * 68 + more)
         c = run.counts()
+        warned = sum(1 for r in run.sensors if r.verdict == PASS and r.warnings)
         self.line()
+        if warned:
+            self.line('PASS* = passed with %d warning%s to read (not a failure)'
+                      % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
