@@ -81,7 +81,7 @@ def make(kind, fault, i):
         m = Imu()
         m.orientation = Quaternion(0, 0, 0, 0.5 if fault == 'broken_quaternion' else 1.0)
         # the inertial board's raw values carry noise from message to message
-        m.linear_acceleration.z = float('nan') if fault == 'nan' else 9.81 + 0.01 * math.sin(0.7 * i)
+        m.linear_acceleration.z = float('nan') if fault == 'nan' else 9.81
         m.angular_velocity.z = 0.001 * math.sin(1.3 * i)
         stamp(m.header, fault, 'base_footprint')
         return m

@@ -67,7 +67,8 @@ def sim_laser(a, i):
     r = [float('nan')] * n
     if a.fault != 'no_returns':
         for k in range(200, 240):
-            r[k] = 2.0 + 0.01 * (k % 7)
+            # the model's Gaussian noise (sd 0.01 m, pepperGazeboCPU.xacro) per scan
+            r[k] = 2.0 + 0.01 * (k % 7) + 0.005 * math.sin(1.7 * i + k)
     m.ranges = r
     m.header.frame_id = 'base_footprint'
     return m

@@ -146,13 +146,14 @@ class StreamPublisher(threading.Thread):
             if self.faults.wrong_type:
                 msg = String(data='emulator fault wrong_type: %s should be %s'
                              % (self.spec.name, self.spec.msg_type))
-            elif stuck and index in self.stuck_msgs:
-                msg = self.stuck_msgs[index]    # a driver republishing its last reading
             else:
-                msg = self.build(t, frame, index)
-                if stuck:
-                    self.stuck_msgs[index] = msg
-                if hasattr(msg, 'header'):
+                if stuck and index in self.stuck_msgs:
+                    msg = self.stuck_msgs[index]    # a driver republishing its last reading
+                else:
+                    msg = self.build(t, frame, index)
+                    if stuck:
+                        self.stuck_msgs[index] = msg
+                if hasattr(msg, 'header'):      # the stamps keep moving, as naoqi_driver's
                     msg.header.stamp = self.clock.stamp()
                     msg.header.frame_id = frame
             pub.publish(msg)

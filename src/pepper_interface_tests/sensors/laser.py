@@ -90,9 +90,10 @@ class LaserCheck(Check):
         if msg.intensities and len(msg.intensities) != n:
             self.failures.add('intens', 'intensities (%d) not as long as ranges (%d)'
                               % (len(msg.intensities), n))
-        self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
+        returns = self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
         if self.stuck.limit:
-            self.stuck.add(array('f', msg.ranges).tobytes(), t)
+            # a scan without a return is judged as such, not as stuck (nothing to carry noise)
+            self.stuck.add(array('f', msg.ranges).tobytes() if returns else t, t)
         self.beams += n
         self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), msg.range_min,
                           msg.range_max, self.expect.blind_value)
@@ -127,6 +128,7 @@ class LaserCheck(Check):
         if not returns:
             self.failures.add('empty', 'scan without a single valid return (every slot blind, '
                               'NaN or invalid)')
+        return returns
 
     def finish(self):
         counted = max(1, self.beams - self.blind - self.no_return)
