@@ -1108,3 +1108,14 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
     assert status.level == DiagnosticStatus.WARN and status.message.startswith('PASS with warnings: ')
     final_status(status, clean)
     assert status.level == DiagnosticStatus.OK
+
+
+def test_suspicious_but_possible_conditions_are_warnings(tmp_path):
+    """A constant 2 s clock offset (inside max_delay 5 s) and a rate near the band's edge
+    keep the PASS and are named as warnings."""
+    r = judged('backSonar', tmp_path, [sonar(i) for i in range(N)], delay=2.0)
+    assert r.verdict == PASS, r.reasons
+    assert any(w.startswith('clock offset: header stamps a constant 2.0 s behind') for w in r.warnings), r.warnings
+    r = judged('backSonar', tmp_path, [sonar(i) for i in range(12)], rate=4.2)
+    assert r.verdict == PASS, r.reasons
+    assert any('near the edge of the expected 4-16 Hz' in w for w in r.warnings), r.warnings

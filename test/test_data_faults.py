@@ -129,3 +129,19 @@ def test_simulator_stuck_and_impossible_data_fail(master, tmp_path):
     reason_with(res['laser'], 'laser stuck:', 'stuck_scans 13')
     reason_with(res['jointState'], 'position of HeadYaw jumps')
     reason_with(res['odometry'], 'twist contradicts the pose')
+
+
+def test_new_faults_parse_list_and_reject_bad_values():
+    from pepper_interface_tests.emulator.faults import FaultError, parse_faults, format_faults, valid_faults
+    f = parse_faults('laser:stuck,after=1.5;imu:dead_accelerometer,gyro_overrange;'
+                     'odometry:pose_jump,twist_mismatch;jointState:joint_jump;depthCamera:far_depth')
+    assert f['laser'].stuck and f['laser'].after == 1.5 and f['imu'].dead_accelerometer
+    assert parse_faults(format_faults(f)) == f
+    for name in ('stuck', 'after=VALUE', 'dead_accelerometer', 'joint_jump', 'pose_jump', 'flat_depth'):
+        assert name in valid_faults()
+    with pytest.raises(FaultError, match='after=1.5'):
+        parse_faults('laser:stuck,after')
+    with pytest.raises(FaultError, match='does not apply to backSonar'):
+        parse_faults('backSonar:stuck')          # a sonar reading its maximum repeats: no such fault
+    with pytest.raises(FaultError, match='non-negative'):
+        parse_faults('laser:stuck,after=-1')
