@@ -356,6 +356,7 @@ class CameraCheck(ImageCheck):
         if self.longest_run >= self.frozen_frames:
             self.fail('image frozen: %d identical consecutive frames from t = %s s %s (frozen_frames %d)'
                       % (self.longest_run, fmt(self.longest_run_from or 0.0, 2),
+                         # the current run is the longest and ends at the last frame judged
                          'to the end of the window' if self.longest_run == self.run
                          and self.longest_run_at == round(self.black_run.last_t or 0.0, 2)
                          else 'to t = %s s' % fmt(self.longest_run_at, 2), self.frozen_frames))
