@@ -51,7 +51,9 @@ def laser(a, i):
     from sensor_msgs.msg import LaserScan
     m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0, scan_time=0.1)
     m.angle_increment = (2 * 2.0944) / 61
-    m.ranges = [-1.0 if (k in BLIND or a.fault == 'all_blind') else 5.0 + 0.01 * (k % 5) for k in range(61)]
+    # raw distances carry measurement noise from scan to scan (a stuck rule relies on it)
+    m.ranges = [-1.0 if (k in BLIND or a.fault == 'all_blind') else
+                5.0 + 0.01 * (k % 5) + 0.003 * math.sin(1.7 * i + k) for k in range(61)]
     m.header.frame_id = 'base_footprint'
     return m
 
@@ -65,7 +67,8 @@ def sim_laser(a, i):
     r = [float('nan')] * n
     if a.fault != 'no_returns':
         for k in range(200, 240):
-            r[k] = 2.0 + 0.01 * (k % 7)
+            # the model's Gaussian noise (sd 0.01 m, pepperGazeboCPU.xacro) per scan
+            r[k] = 2.0 + 0.01 * (k % 7) + 0.005 * math.sin(1.7 * i + k)
     m.ranges = r
     m.header.frame_id = 'base_footprint'
     return m
@@ -76,8 +79,9 @@ def imu(a, i):
     from sensor_msgs.msg import Imu
     m = Imu()
     m.orientation = Quaternion(*([float('nan')] * 4 if a.fault == 'nan_attitude' else (0, 0, 0, 1.0)))
-    m.angular_velocity.z = 0.01
-    m.linear_acceleration.z = 9.81
+    # the inertial board's raw values carry noise from message to message
+    m.angular_velocity.z = 0.01 + 0.001 * math.sin(1.3 * i)
+    m.linear_acceleration.z = 9.81 + 0.01 * math.sin(0.7 * i)
     for cov in (m.orientation_covariance, m.angular_velocity_covariance, m.linear_acceleration_covariance):
         cov[0] = -1.0
     m.header.frame_id = 'base_footprint'

@@ -67,8 +67,16 @@ def laser(i, t, fault='', swing=0.2, marked=False, frame_id=None):
     return m
 
 
+def _middle(name):
+    """The middle of a joint's URDF limits (sensors/joint_limits.py), 0 for an unlimited one."""
+    from pepper_interface_tests.sensors.joint_limits import LIMITS
+    lo, hi = LIMITS.get(name, (None, None))[:2]
+    return 0.0 if lo is None else (lo + hi) / 2.0
+
+
 def joints(i, t, fault='', varied=False, frame_id=''):
-    """All 20 joints; `varied` gives each joint its own position, velocity and effort."""
+    """All 20 joints, each swinging around the middle of its URDF limits; `varied` gives each
+    joint its own position, velocity and effort."""
     from sensor_msgs.msg import JointState
     names = list(JOINTS)
     if fault == 'missing_joint':
@@ -77,10 +85,11 @@ def joints(i, t, fault='', varied=False, frame_id=''):
         names[1] = names[0]
     n = len(names)
     if varied:
-        m = JointState(name=names, position=[0.1 * math.sin(i / 20.0 + k) for k in range(n)],
+        m = JointState(name=names, position=[_middle(x) + 0.1 * math.sin(i / 20.0 + k)
+                                             for k, x in enumerate(names)],
                        velocity=[0.01 * k for k in range(n)], effort=[0.5] * n)
     else:
-        m = JointState(name=names, position=[0.1 * math.sin(i / 20.0)] * n,
+        m = JointState(name=names, position=[_middle(x) + 0.1 * math.sin(i / 20.0) for x in names],
                        velocity=[0.0] * (n - (1 if fault == 'short_velocity' else 0)), effort=[0.0] * n)
     if fault == 'nan':
         m.position[2] = float('nan')
@@ -112,8 +121,8 @@ def imu(i, t, fault='', moving=False, frame_id=None):
     m.orientation = Quaternion(0, 0, 0, 0.5 if fault == 'broken_quaternion' else 1.0)
     m.linear_acceleration.z = (float('nan') if fault == 'nan'
                                else 9.81 + (0.05 * math.sin(i) if moving else 0.0))
-    if moving:
-        m.angular_velocity.z = 0.1 * math.sin(i / 3.0)
+    # the inertial board's raw values carry noise from message to message (no "stuck" IMU)
+    m.angular_velocity.z = 0.1 * math.sin(i / 3.0) if moving else 0.001 * math.sin(1.3 * i)
     stamp(m.header, t, frame_id or spec('imu').frame_id, fault)
     return m
 

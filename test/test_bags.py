@@ -25,15 +25,21 @@ FAILURES = {
     'robot_good': {},
     'robot_faulty': {'frontCamera': 'frozen', 'laser': 'beams are invalid',
                      'imu': 'not a unit quaternion', 'backSonar': 'is not in the bag',
-                     'microphone': 'rearRight is silent'},
+                     'microphone': 'rearRight is silent',
+                     # issue 10: data that looks healthy but cannot be real
+                     'depthCamera': 'depth image frozen:', 'jointState': 'position of HeadYaw jumps',
+                     'odometry': 'pose jumps'},
     'robot_xtion_good': {},
     'robot_stock_good': {},
-    'robot_stock_faulty': {'imu': '', 'microphone': 'frontLeft', 'laser': '', 'frontSonar': ''},
+    'robot_stock_faulty': {'imu': '', 'microphone': 'frontLeft', 'laser': '', 'frontSonar': '',
+                           'odometry': 'twist contradicts the pose',
+                           'realsenseDepthCamera': "outside the camera's physical range"},
     'simulator_good': {},
     'simulator_no_returns': {'laser': ''},
     # depthCamera: 16UC1 data labelled 32FC1
     'simulator_faulty': {'depthCamera': 'bytes per pixel', 'laser': 'beams are invalid',
-                         'odometry': 'rate 6.00 Hz outside', 'frontSonar': 'is not in the bag'},
+                         'odometry': 'rate 6.00 Hz outside', 'frontSonar': 'is not in the bag',
+                         'jointState': 'position of HeadYaw jumps'},
 }
 
 

@@ -94,7 +94,11 @@ def test_frozen_is_exact_a_change_in_one_pixel_is_a_new_frame(tmp_path):
 def test_frozen_frames_late_in_the_window_are_found(tmp_path):
     same = image_msg(pattern(160, 120, 99), 'rgb8')
     c = feed(make_check('frontCamera', tmp_path, record=False), good(40) + [same] * 6)
-    assert any(r.startswith('image frozen: 6 identical consecutive frames (until t=4.5 s')
+    assert any(r.startswith('image frozen: 6 identical consecutive frames from t = 4 s to the end '
+                            'of the window') for r in c.failure_reasons()), c.failure_reasons()
+    # a run that ends before the window does says where it ends
+    c = feed(make_check('frontCamera', tmp_path, record=False), good(40) + [same] * 6 + good(3))
+    assert any(r.startswith('image frozen: 6 identical consecutive frames from t = 4 s to t = 4.5 s')
                for r in c.failure_reasons()), c.failure_reasons()
 
 

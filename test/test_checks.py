@@ -27,6 +27,7 @@ from pepper_interface_tests.outputs import ResultFiles
 from pepper_interface_tests.results import FAIL, PASS, SKIPPED, RunResult, SensorResult
 from pepper_interface_tests.runner import Runner, SensorRun, lanes_for, message_class
 from pepper_interface_tests.sensors.base import Acc, RunContext, Tally, fmt
+from pepper_interface_tests.sensors.joint_limits import LIMITS
 from pepper_interface_tests.settings import Options, SensorPlan
 from pepper_interface_tests.stats import StreamStats
 from pepper_interface_tests.terminal import Terminal
@@ -115,11 +116,18 @@ def scan(i, n=61, blind=BLIND, **fields):
     return m
 
 
+def _middle(name):
+    lo, hi = LIMITS.get(name, (0.0, 0.0))[:2]
+    return 0.0 if lo is None else (lo + hi) / 2.0
+
+
 def joints(i, names=None, velocity=None, position=None):
+    """Every joint swinging by 0.1 rad around the middle of its URDF limits."""
     names = list(names or JOINTS)
     n = len(names)
     return JointState(name=names,
-                      position=position if position is not None else [0.1 * math.sin(i / 7.0)] * n,
+                      position=position if position is not None else
+                      [_middle(j) + 0.1 * math.sin(i / 7.0) for j in names],
                       velocity=velocity if velocity is not None else [0.01] * n,
                       effort=[0.5] * n)
 
@@ -286,8 +294,8 @@ def test_laser_invalid_share_limit(tmp_path):
 
 def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
     """naoqi_driver does not clip to range_max 3.0 (laser.cpp:170-175): 5 m in a wide room."""
-    r = judged('laser', tmp_path, [scan(i, ranges=[-1.0 if k in BLIND else 5.0 for k in range(61)])
-                                   for i in range(N)])
+    r = judged('laser', tmp_path, [scan(i, ranges=[-1.0 if k in BLIND else 5.0 + 0.001 * (i % 3)
+                                                   for k in range(61)]) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert r.values['beyond_advertised_max'] == 45 * N and r.values['invalid_beams'] == 0
 
@@ -340,9 +348,10 @@ def test_joint_short_arrays_do_not_break_the_fields(tmp_path):
 
 
 def test_joint_empty_velocity_and_effort_are_allowed(tmp_path):
-    msgs = [JointState(name=JOINTS, position=[0.2] * len(JOINTS)) for _ in range(NJ)]
+    rest = [0.2 if LIMITS[j][0] is None else min(max(0.2, LIMITS[j][0]), LIMITS[j][1]) for j in JOINTS]
+    msgs = [JointState(name=JOINTS, position=rest) for _ in range(NJ)]
     r = judged('jointState', tmp_path, msgs)
-    assert r.verdict == PASS, r.reasons
+    assert r.verdict == PASS, r.reasons     # a robot at rest: the same angles every time is no fault
     assert r.values['joint_count'] == len(JOINTS)
     assert r.values['joints']['HeadYaw']['position'] == {'min': 0.2, 'mean': 0.2, 'max': 0.2}
 
@@ -363,6 +372,105 @@ def test_odometry_faults(tmp_path, kw, words):
     r = judged('odometry', tmp_path, [odom(i, **kw) for i in range(37)])   # 2.5 s at 15 Hz
     assert r.verdict == FAIL
     one_reason_with(r, words)
+
+
+# ------------------------------------------------------------------ data that cannot be real (issue 10)
+
+def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
+    """naoqi_driver reads ALMemory at its own rate: 2-3 identical scans in a row are normal,
+    20 (2 s at 10 Hz) are a cached scan republished."""
+    r = judged('laser', tmp_path, [scan(0) for _ in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'laser stuck: 25 identical scans in a row from t = 0.05 s to the end of '
+                       'the window (stuck_scans 20)')
+    r = judged('laser', tmp_path, [scan(i // 3) for i in range(N)])      # each scan three times
+    assert r.verdict == PASS, r.reasons
+    assert r.values['longest_identical_run'] == 3
+    r = judged('laser', tmp_path, [scan(i) for i in range(5)] + [scan(99)] * 22)
+    one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')
+
+
+def test_imu_stuck_readings_fail(tmp_path):
+    r = judged('imu', tmp_path, [imu(0) for _ in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'IMU stuck: 25 identical readings (angular velocity and linear acceleration) '
+                       'in a row from t = 0.05 s')
+
+
+@pytest.mark.parametrize('acc_z, words', [
+    (0.0, 'median |linear acceleration| 0 m/s^2 outside acceleration_norm [6.8, 12.8] (an upright '
+          'robot measures g = 9.81 m/s^2: a dead accelerometer reads 0)'),
+    (1.0, 'values in g instead of m/s^2?'),
+    (19.6, 'not the gravity an upright robot measures'),
+])
+def test_imu_acceleration_far_from_g_fails(tmp_path, acc_z, words):
+    r = judged('imu', tmp_path, [imu(i, acc_z=acc_z) for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, words)
+
+
+def test_imu_one_bump_is_a_warning_and_gyro_beyond_its_range_fails(tmp_path):
+    msgs = [imu(i, acc_z=25.0 if i == 7 else 9.81) for i in range(N)]
+    r = judged('imu', tmp_path, msgs)
+    assert r.verdict == PASS, r.reasons
+    assert any('outside acceleration_norm [6.8, 12.8] m/s^2' in w and 'at t = 0.75 s' in w
+               for w in r.warnings), r.warnings
+    msgs = [imu(i) for i in range(N)]
+    msgs[10].angular_velocity.z = 12.0
+    r = judged('imu', tmp_path, msgs)
+    assert r.verdict == FAIL
+    one_reason_with(r, "|angular velocity| beyond the gyrometer's range (max_angular_velocity 8.73 "
+                       "rad/s, ~500 deg/s) in 1 of 25 messages (e.g. 12 rad/s, first at t = 1.05 s)")
+
+
+def test_joint_positions_beyond_the_urdf_limits_fail(tmp_path):
+    msgs = [joints(i) for i in range(NJ)]
+    for m in msgs[60:]:
+        m.position[JOINTS.index('HeadPitch')] = 1.2        # the URDF allows -0.71..0.64
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == FAIL
+    one_reason_with(r, "position of HeadPitch outside Pepper's joint limits [-0.7069, 0.637] rad "
+                       "(pepper.urdf:41) by more than position_margin 0.05 in 65 of 125 messages "
+                       "(e.g. 1.2 rad, first at t = 1.25 s)")
+
+
+def test_joint_jumps_fail_and_reported_velocity_spikes_warn(tmp_path):
+    msgs = [joints(i) for i in range(NJ)]
+    for k, m in enumerate(msgs):
+        m.position[JOINTS.index('HeadYaw')] = 2.0 if (k // 10) % 2 else -2.0    # 4 rad in 0.02 s
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == FAIL
+    one_reason_with(r, 'position of HeadYaw jumps: implied speed above 11.01 rad/s (URDF velocity '
+                       'limit 7.34 x velocity_factor 1.5, pepper.urdf:15)')
+    msgs = [joints(i, velocity=[0.01] * len(JOINTS)) for i in range(NJ)]
+    msgs[30].velocity = [0.01] * (len(JOINTS) - 1) + [30.0]
+    r = judged('jointState', tmp_path, msgs, rate=50.0)
+    assert r.verdict == PASS, r.reasons
+    assert any(w.startswith('reported velocity of %s beyond' % JOINTS[-1]) for w in r.warnings), r.warnings
+
+
+def _odom_at(x, vx):
+    m = odom(0, x=x)
+    m.twist.twist.linear.x = vx
+    return m
+
+
+def test_odometry_of_a_robot_standing_still_passes(tmp_path):
+    r = judged('odometry', tmp_path, [_odom_at(1.0, 0.0) for _ in range(37)])
+    assert r.verdict == PASS, r.reasons
+
+
+def test_odometry_pose_jumps_and_twist_against_pose(tmp_path):
+    msgs = [_odom_at(0.01 * i + (1.0 if i >= 20 else 0.0), 0.15) for i in range(37)]
+    r = judged('odometry', tmp_path, msgs)
+    assert r.verdict == FAIL
+    one_reason_with(r, 'pose jumps: consecutive poses imply more than max_speed 0.8 m/s (Pepper '
+                       'drives at most ~0.55 m/s)')
+    # the twist says 0.4 m/s, the poses stand still
+    r = judged('odometry', tmp_path, [_odom_at(0.0, 0.4) for _ in range(37)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'twist contradicts the pose: |twist| and the speed the poses imply differ by '
+                       'more than twist_tolerance 0.25 m/s')
 
 
 # ------------------------------------------------------------------ IMU
@@ -955,3 +1063,59 @@ def test_a_check_that_raises_fails_its_sensor_by_name(tmp_path):
     r = close(run)
     assert r.verdict == FAIL and r.messages == 20
     assert any('could not be checked (ValueError: cannot handle this reading)' in x for x in r.reasons), r.reasons
+
+
+def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
+    """Issue 10, item 4: a suspicious but possible condition (here a pause in the stream) keeps
+    the PASS, and every output says which PASS carries it: terminal PASS* with a legend, the
+    .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
+    from diagnostic_msgs.msg import DiagnosticStatus
+    from pepper_interface_tests.diagnostics import Status, final_status
+    run = make_run('backSonar', tmp_path)
+    msgs = [sonar(i) for i in range(N)]
+    t = T0
+    for i, m in enumerate(msgs):
+        t = T0 + 0.05 + i / 10.0 + (1.5 if i >= 12 else 0.0)      # one 1.6 s pause
+        m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
+        run.feed_raw(run.sensor.msg_type, ser(m), t, R0 + (t - T0))
+    warned = close(run, at=4.5)
+    assert warned.verdict == PASS and warned.warnings, (warned.reasons, warned.warnings)
+    clean = judged('frontSonar', tmp_path, [sonar(i, frame='SonarFront_frame') for i in range(N)])
+    assert clean.verdict == PASS and not clean.warnings, clean.warnings
+    rr = RunResult(platform='robot', mode='parallel', start=1700000000.0, end=1700000005.0,
+                   output_dir=str(tmp_path), sensors=[warned, clean])
+    term = io.StringIO()
+    Terminal(stream=term).run_ended(rr)
+    rows = {line.split()[0]: line for line in term.getvalue().splitlines() if line[:1].isalpha()}
+    assert rows['backSonar'].split()[1] == 'PASS*' and 'warning: ' in rows['backSonar']
+    assert rows['frontSonar'].split()[1] == 'PASS'
+    assert 'PASS* = passed with 1 warning to read (not a failure)' in term.getvalue()
+    f = results.OutputFile(str(tmp_path / results.OUTPUT_FILE))
+    f.begin(rr)
+    for s in rr.sensors:
+        f.sensor(s)
+    f.end(rr)
+    f.close()
+    results.write_json(rr, str(tmp_path / results.JSON_FILE))
+    results.write_junit(rr, str(tmp_path / results.JUNIT_FILE))
+    assert '[WARNING] ' + warned.warnings[0] in open(str(tmp_path / results.OUTPUT_FILE)).read()
+    data = results.load_json(str(tmp_path / results.JSON_FILE))
+    assert data['sensors'][0]['verdict'] == 'PASS' and data['sensors'][0]['warnings'] == warned.warnings
+    case = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')[0]
+    assert case.find('failure') is None and 'WARNING: ' + warned.warnings[0] in case.find('system-out').text
+    status = Status('backSonar', '/t', 'sensor_msgs/Range')
+    final_status(status, warned)
+    assert status.level == DiagnosticStatus.WARN and status.message.startswith('PASS with warnings: ')
+    final_status(status, clean)
+    assert status.level == DiagnosticStatus.OK
+
+
+def test_suspicious_but_possible_conditions_are_warnings(tmp_path):
+    """A constant 2 s clock offset (inside max_delay 5 s) and a rate near the band's edge
+    keep the PASS and are named as warnings."""
+    r = judged('backSonar', tmp_path, [sonar(i) for i in range(N)], delay=2.0)
+    assert r.verdict == PASS, r.reasons
+    assert any(w.startswith('clock offset: header stamps a constant 2.0 s behind') for w in r.warnings), r.warnings
+    r = judged('backSonar', tmp_path, [sonar(i) for i in range(12)], rate=4.2)
+    assert r.verdict == PASS, r.reasons
+    assert any('near the edge of the expected 4-16 Hz' in w for w in r.warnings), r.warnings

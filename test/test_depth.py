@@ -24,7 +24,8 @@ def mm_frame(value_mm, w=160, h=120, invalid_rows=0):
 
 def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
     frames = [mm_frame(1500 + 10 * i, invalid_rows=12) for i in range(10)]
-    c = feed(make_check('depthCamera', tmp_path, record=False), frames)
+    # flat synthetic frames: a real Xtion's noise is absent, so its noise rules are off here
+    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
     assert c.failure_reasons() == []
     d = c.values['depth_m']
     assert d['min'] == 1.5 and d['max'] == 1.59 and abs(d['median'] - 1.545) < 1e-6
@@ -110,7 +111,7 @@ def test_big_endian_and_padded_rows_are_read_right(tmp_path):
     padded[:, :160] = a
     msg = image_msg(padded, '16UC1', width=160)
     msg.is_bigendian = 1
-    c = feed(make_check('depthCamera', tmp_path, record=False), [msg] * 3)
+    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), [msg] * 3)
     assert c.failure_reasons() == [] and c.values['depth_m']['median'] == 1.5
 
 

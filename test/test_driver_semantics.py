@@ -67,14 +67,15 @@ def feed(run, msgs, rate, type_name=None, conn=None):
 
 # ------------------------------------------------------------------ messages as the drivers build them
 
-def sim_scan(returns=True):
-    """laser_publisher.py:427-434: 61 x 8 slots of NaN over +-120 deg, filled where a point is."""
+def sim_scan(returns=True, i=0):
+    """laser_publisher.py:427-434: 61 x 8 slots of NaN over +-120 deg, filled where a point is;
+    the model's Gaussian noise (sd 0.01 m, pepperGazeboCPU.xacro) moves the returns per scan."""
     n, half = 488, math.radians(120.0)
     m = LaserScan(angle_min=-half, angle_max=half, angle_increment=2 * half / n, range_min=0.1, range_max=7.0)
     r = [float('nan')] * n
     if returns:
         for k in range(150, 190):
-            r[k] = 1.5 + 0.01 * (k % 9)
+            r[k] = 1.5 + 0.01 * (k % 9) + 0.005 * math.sin(1.7 * i + k)
         r[300] = 9.0      # a return beyond range_max: real
     m.ranges = r
     m.header.frame_id = 'base_footprint'
@@ -95,7 +96,7 @@ def audio_buffer(i, cmap=(3, 5, 0, 2), dead=None, samples=8192, frequency=48000)
 # ------------------------------------------------------------------ simulator laser
 
 def test_simulator_laser_mostly_nan_with_returns_passes(tmp_path):
-    r = feed(run_of('laser', tmp_path, SIM), [sim_scan() for _ in range(18)], rate=6.25)
+    r = feed(run_of('laser', tmp_path, SIM), [sim_scan(i=i) for i in range(18)], rate=6.25)
     assert r.verdict == PASS, r.reasons
     assert r.values['no_return_beams'] == 18 * (488 - 41) and r.values['invalid_beams'] == 0
     assert r.values['beyond_advertised_max'] == 18
@@ -110,7 +111,7 @@ def test_simulator_laser_without_returns_fails(tmp_path):
 
 def test_robot_layout_is_not_applied_to_the_simulator(tmp_path):
     """The robot's expectations (61 slots, blind layout) would fail the simulator's scan."""
-    r = feed(run_of('laser', tmp_path, ROBOT), [sim_scan() for _ in range(18)], rate=6.25)
+    r = feed(run_of('laser', tmp_path, ROBOT), [sim_scan(i=i) for i in range(18)], rate=6.25)
     assert r.verdict == FAIL
     assert any('488 ranges where the driver publishes 61' in x for x in r.reasons)
 
@@ -159,7 +160,7 @@ def test_audio_rate_band_follows_the_buffer_size(tmp_path):
     from pepper_interface_tests.msg import AudioCustomMsg
 
     def custom(i):
-        return AudioCustomMsg(*[[1000, -1000] * 2048] * 4)
+        return AudioCustomMsg(*[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
     r = feed(run_of('microphone', tmp_path, ROBOT), [custom(i) for i in range(30)], rate=48000 / 4096.0)
     assert r.verdict == PASS, r.reasons
     assert r.expected_rate_hz == [5.86, 17.58]

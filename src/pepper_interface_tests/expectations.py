@@ -170,6 +170,9 @@ class LaserExpect(Expect):
     blind_slots: Optional[Tuple[Tuple[int, int], ...]] = _field(slot_ranges('[[15, 22], [38, 45]]'))
     nan_is_no_return: bool = _field(flag, False)
     max_invalid_share: Optional[float] = _field(number(0, 1, example='0.5'))
+    # N scans identical slot for slot in a row fail as stuck; None: not checked (a noise-free
+    # simulated laser in a still world repeats itself legitimately)
+    stuck_scans: Optional[int] = _field(whole(2, '20'))
 
 
 @dataclass(frozen=True)
@@ -194,6 +197,11 @@ class DepthExpect(ImageExpect):
     min_valid_share: Optional[float] = _field(number(0, 1, example='0.2'))
     median_range: Optional[Tuple[float, float]] = _field(band(example='[0.3, 8.0]'))
     video_range: Tuple[float, float] = _field(band(strict=True, example='[0.0, 5.0]'), (0.0, 5.0))
+    # N identical consecutive depth images fail as frozen; None: not checked (see the yaml)
+    frozen_frames: Optional[int] = _field(whole(3, '10'))
+    # [min, max] m the camera can measure: a frame with most valid pixels outside it is
+    # impossible data; None: not checked
+    physical_range: Optional[Tuple[float, float]] = _field(band(example='[0.0, 10.0]'))
 
 
 @dataclass(frozen=True)
@@ -204,21 +212,44 @@ class AudioExpect(Expect):
     max_clipping_share: float = _field(number(0, 1, example='0.01'), 0.01)
     # without `rate`: the message rate band is sample_rate / buffer size +- this share
     buffer_rate_tolerance: Optional[float] = _field(number(0, 1, hi_open=True, example='0.5'))
+    # N identical consecutive buffers fail as stuck; None: not checked
+    stuck_buffers: Optional[int] = _field(whole(2, '3'))
+    # a channel silent (below silence_dbfs) from some time to the end for at least this many
+    # seconds fails as "went silent at t = ..."; None: not checked
+    channel_death_s: Optional[float] = _field(number(0, lo_open=True, example='1.0'))
 
 
 @dataclass(frozen=True)
 class JointsExpect(Expect):
     joints: Tuple[str, ...] = _field(names('HeadYaw, HeadPitch'), ())
+    # positions beyond Pepper's joint limits (joint_limits.py, from pepper_description's URDF)
+    # by more than this many rad fail; None: limits not checked
+    position_margin: Optional[float] = _field(number(0, example='0.05'), 0.05)
+    # speeds (from positions over >= 0.1 s) above limit x this factor fail; the reported
+    # velocity above it is a warning; None: not checked
+    velocity_factor: Optional[float] = _field(number(1, example='1.5'), 1.5)
 
 
 @dataclass(frozen=True)
 class OdometryExpect(Expect):
     child_frame_id: Optional[str] = _field(text('base_link'))
+    # a speed implied by poses >= 0.5 s apart above this (m/s) fails as a jump; None: off
+    max_speed: Optional[float] = _field(number(0, lo_open=True, example='0.8'), 0.8)
+    # |twist| differing from the pose-implied speed by more than this (m/s) in most of the
+    # window fails as "twist contradicts the pose"; None: not checked
+    twist_tolerance: Optional[float] = _field(number(0, lo_open=True, example='0.25'), 0.25)
 
 
 @dataclass(frozen=True)
 class ImuExpect(Expect):
-    pass
+    # N identical consecutive readings (rates and accelerations) fail as stuck; None: off
+    stuck_messages: Optional[int] = _field(whole(2, '10'))
+    # [min, max] m/s^2 the median |linear acceleration| must lie in (gravity included, the
+    # robot upright); messages outside it are a warning; None: not checked
+    acceleration_norm: Optional[Tuple[float, float]] = _field(band(example='[6.8, 12.8]'),
+                                                              (6.8, 12.8))
+    # rad/s beyond the gyrometer's range (~500 deg/s): impossible; None: not checked
+    max_angular_velocity: Optional[float] = _field(number(0, lo_open=True, example='8.73'), 8.73)
 
 
 @dataclass(frozen=True)

@@ -304,7 +304,8 @@ def junit_text(run):
     for s in run.sensors:
         case = ET.SubElement(suite, 'testcase', classname='pepper_interface_tests.sensorTest',
                              name=_xml(s.name), time='%.3f' % s.window_s)
-        detail = _xml('\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes + s.warnings),
+        detail = _xml('\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes
+                                 + ['WARNING: ' + w for w in s.warnings]),
                       one_line=False)
         if s.verdict == FAIL:
             ET.SubElement(case, 'failure', message=_xml('; '.join(s.reasons))).text = detail

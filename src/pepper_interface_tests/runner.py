@@ -334,6 +334,10 @@ class SensorRun:
             for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
                 if rate is not None and not (lo <= rate <= hi):
                     out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
+                elif rate is not None and label == rate_label and (rate < 1.1 * lo or rate > 0.9 * hi):
+                    # inside the band but within 10 % of an edge: possible, worth a look
+                    warnings.append('%s %.2f Hz near the edge of the expected %g-%g Hz'
+                                    % (label, rate, lo, hi))
         if s.zero_stamps:
             out.append('%d message%s with a zero header stamp'
                        % (s.zero_stamps, '' if s.zero_stamps == 1 else 's'))
@@ -346,7 +350,13 @@ class SensorRun:
         offset = clock_offset(delay, e.max_delay, e.max_future)
         if offset:
             out.append(offset)
-        elif delay:
+        elif delay and delay['max'] - delay['min'] <= OFFSET_SPREAD and abs(delay['mean']) >= 1.0:
+            # a constant offset inside the limits: possible (clocks a second apart), worth a look
+            warnings.append('clock offset: header stamps a constant %.1f s %s this computer\'s clock '
+                            '(within max_delay %g s / max_future %g s; sync both clocks with chrony)'
+                            % (abs(delay['mean']), 'behind' if delay['mean'] > 0 else 'ahead of',
+                               e.max_delay, e.max_future))
+        if delay and not offset:
             if delay['max'] > e.max_delay:
                 out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
                            % (delay['max'], e.max_delay))

@@ -242,16 +242,21 @@ class Terminal:
         else:
             self._blocks(run, width)
         c = run.counts()
+        warned = sum(1 for r in run.sensors if r.verdict == PASS and r.warnings)
         self.line()
+        if warned:
+            self.line('PASS* = passed with %d warning%s to read (not a failure)'
+                      % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
 
     def _verdict_cell(self, r):
-        """The verdict column's text (a marker may follow the verdict, up to 8 characters)."""
-        return r.verdict
+        """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance
+        (legend under the table)."""
+        return r.verdict + ('*' if r.verdict == PASS and r.warnings else '')
 
     @staticmethod
     def _summary_reasons(r):
-        return _reasons(r.reasons) or ('note: ' + _reasons(r.warnings) if r.warnings else '')
+        return _reasons(r.reasons) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
 
     def _table(self, run, width):
         """One row per sensor, reasons wrapped inside their own column."""

@@ -32,16 +32,19 @@ from .profiles import RESOLUTIONS, build_profile
 VARIANTS = OrderedDict([
     ('robot_good', ('robot', '', {})),
     ('robot_faulty', ('robot', 'frontCamera:frozen;laser:nan;imu:broken_quaternion;'
-                               'backSonar:silent;microphone:silent_channel=rearRight', {})),
+                               'backSonar:silent;microphone:silent_channel=rearRight;'
+                               # data that looks healthy but cannot be real (issue 10)
+                               'depthCamera:stuck;jointState:joint_jump;odometry:pose_jump', {})),
     ('robot_xtion_good', ('robot', '', {'head': 'xtion'})),
     ('robot_stock_good', ('robot-stock', '', {})),
     # the issue's real fault classes: NaN attitude with covariance -1, a dead microphone inside
     # an AudioBuffer, an all-blind laser, a NaN sonar
     ('robot_stock_faulty', ('robot-stock', 'imu:nan_attitude;microphone:silent_channel=frontLeft;'
-                                           'laser:all_blind;frontSonar:nan', {})),
+                                           'laser:all_blind;frontSonar:nan;'
+                                           'odometry:twist_mismatch;realsenseDepthCamera:far_depth', {})),
     ('simulator_good', ('simulator', '', {})),
     ('simulator_faulty', ('simulator', 'depthCamera:wrong_encoding;laser:out_of_range;'
-                                       'odometry:rate=0.3;frontSonar:silent', {})),
+                                       'odometry:rate=0.3;frontSonar:silent;jointState:joint_jump', {})),
     ('simulator_no_returns', ('simulator', 'laser:no_returns', {})),
 ])
 SIM_RTF = 0.5                  # the simulator bags' real-time factor

@@ -5,6 +5,8 @@ Format (documented in docs/emulator.md)::
     sensor:fault[=value][,fault[=value]...][;sensor:...]
 
 e.g. ``frontCamera:frozen;laser:nan;imu:broken_quaternion;jointState:die_after=3``.
+``after=T`` makes a sensor's stuck, frozen, black and silent_channel faults begin T s after its
+first subscriber (a partial failure inside the window): ``laser:stuck,after=1.5``.
 Sensor names are the canonical names (any spelling the catalog knows, case-insensitive);
 fault names are case-insensitive. Every mistake raises FaultError naming the valid choices.
 """
@@ -32,6 +34,16 @@ FAULTS = {
     'all_blind': (False, ('laser',)),
     'no_returns': (False, ('laser',)),
     'silent_channel': (True, ('audio',)),
+    # data that looks healthy but cannot be real (issue 10)
+    'stuck': (False, ('laser', 'imu', 'depth', 'camera', 'stereo', 'audio')),
+    'after': (True, None),
+    'dead_accelerometer': (False, ('imu',)),
+    'gyro_overrange': (False, ('imu',)),
+    'joint_jump': (False, ('joints',)),
+    'pose_jump': (False, ('odometry',)),
+    'twist_mismatch': (False, ('odometry',)),
+    'far_depth': (False, ('depth',)),
+    'flat_depth': (False, ('depth',)),
 }
 
 # canonical sensor name -> kind, for validation before a profile is built
@@ -65,6 +77,15 @@ class Faults:
     all_blind: bool = False         # laser: every slot blind (-1.0 robot, NaN simulator)
     no_returns: bool = False        # laser, simulator: no point reaches laser_2 (all NaN)
     silent_channel: tuple = ()
+    stuck: bool = False             # the data of one message republished with new stamps
+    after: Optional[float] = None   # stuck/frozen/black/silent_channel from T s after the first subscriber
+    dead_accelerometer: bool = False    # imu: linear acceleration 0, 0, 0
+    gyro_overrange: bool = False    # imu: 12 rad/s about z, beyond the gyrometer's ~500 deg/s
+    joint_jump: bool = False        # joints: HeadYaw jumps between -2 and +2 rad every 0.25 s
+    pose_jump: bool = False         # odometry: x jumps by 1 m every 2 s
+    twist_mismatch: bool = False    # odometry: twist says 0.4 m/s whatever the pose does
+    far_depth: bool = False         # depth: every pixel about 20 m
+    flat_depth: bool = False        # depth: every pixel 1.5 m
 
     def describe(self):
         out = []
@@ -135,14 +156,14 @@ def parse_faults(text):
                                  % (fault, name, valid_faults(kind)))
             if takes_value and not value:
                 raise FaultError('fault "%s" of %s needs a value, e.g. %s'
-                                 % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3',
+                                 % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3', 'after': 'after=1.5',
                                                   'silent_channel': 'silent_channel=rearRight'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
                 values['rate'] = _number(name, fault, value)
-            elif fault == 'die_after':
-                values['die_after'] = _number(name, fault, value, positive_only=False)
+            elif fault in ('die_after', 'after'):
+                values[fault] = _number(name, fault, value, positive_only=False)
             elif fault == 'silent_channel':
                 channels = list(values.get('silent_channel', ()))
                 for ch in (c.strip() for c in value.replace('+', '|').split('|')):

@@ -218,7 +218,8 @@ class Emulator(object):
             seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource
-                channels = fault.silent_channel if fault else ()
+                # with after=T the publisher silences them itself from T on
+                channels = fault.silent_channel if fault and fault.after is None else ()
                 self.source = AudioSource(rate=48000, channels=4, pattern=cfg.audio_pattern,
                                           silent_channels=channels, seed=cfg.seed)
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,

@@ -104,6 +104,8 @@ class StreamPublisher(threading.Thread):
         self.published = 0
         self.dead = False
         self.error = None
+        self.first_wanted = None    # scene time of the first tick with a subscriber
+        self.stuck_msgs = {}        # output index -> the message republished by the fault stuck
         topics = [(spec.topic, spec.frame_id)] + list(spec.extra)
         msg_class = String if self.faults.wrong_type else self.msg_class()
         self.outputs = [(rospy.Publisher(topic, msg_class, queue_size=self.queue_size), frame)
@@ -124,18 +126,34 @@ class StreamPublisher(threading.Thread):
     def wanted(self):
         return any(pub.get_num_connections() > 0 for pub, _ in self.outputs)
 
+    def partial_on(self, t):
+        """True once a partial fault (stuck, frozen, black, silent_channel) is in force: at
+        once, or with after=T from T s after the stream's first subscriber."""
+        after = self.faults.after
+        if after is None:
+            return True
+        return self.first_wanted is not None and t - self.first_wanted >= after
+
     def tick(self):
         t = self.clock.now()
         self.always_tick(t)
         if self.faults.silent or not self.wanted():
             return
+        if self.first_wanted is None:
+            self.first_wanted = t
+        stuck = self.faults.stuck and self.partial_on(t)
         for index, (pub, frame) in enumerate(self.outputs):
             if self.faults.wrong_type:
                 msg = String(data='emulator fault wrong_type: %s should be %s'
                              % (self.spec.name, self.spec.msg_type))
             else:
-                msg = self.build(t, frame, index)
-                if hasattr(msg, 'header'):
+                if stuck and index in self.stuck_msgs:
+                    msg = self.stuck_msgs[index]    # a driver republishing its last reading
+                else:
+                    msg = self.build(t, frame, index)
+                    if stuck:
+                        self.stuck_msgs[index] = msg
+                if hasattr(msg, 'header'):      # the stamps keep moving, as naoqi_driver's
                     msg.header.stamp = self.clock.stamp()
                     msg.header.frame_id = frame
             pub.publish(msg)
@@ -203,18 +221,22 @@ class ImagePublisher(StreamPublisher):
 
     def pixels(self, t):
         f = self.faults
-        if f.black:
+        if f.black and self.partial_on(t):
             if self.cached is None:
                 shape = (self.spec.height, self.spec.width) + ((3,) if self.bpp == 3 else ())
                 self.cached = np.zeros(shape, np.uint8 if self.bpp == 3 else np.uint16).tobytes()
             return self.cached
-        if f.frozen:
+        if f.frozen and self.partial_on(t):
             if self.cached is None:
                 self.cached = self.renderer.render(t).tobytes()
             return self.cached
         img = self.renderer.render(t)
         if self.dark:
             img = (img * DARK_FACTOR).astype(img.dtype)
+        if f.far_depth:         # every pixel ~20 m: beyond what the camera measures
+            img = (20000 + img % 100).astype(img.dtype)
+        elif f.flat_depth:      # one value everywhere, no noise, no floor
+            img = np.full_like(img, 1500)
         return img.tobytes()
 
     def build(self, t, frame_id, index):
@@ -328,13 +350,15 @@ class OdometryPublisher(StreamPublisher):
     def build(self, t, frame_id, index):
         f = self.faults
         x, y, yaw = scene.robot_pose(t)
+        if f.pose_jump:     # an odometry that jumps 1 m every 2 s
+            x += float(int(t / 2.0))
         msg = Odometry()
         msg.child_frame_id = self.spec.child_frame_id
         msg.pose.pose.position.x = float('nan') if f.nan else x
         msg.pose.pose.position.y = y
         msg.pose.pose.orientation = _quaternion(yaw, f.broken_quaternion)
         v, w = scene.speeds()
-        msg.twist.twist.linear.x = float('nan') if f.nan else v
+        msg.twist.twist.linear.x = float('nan') if f.nan else (0.4 if f.twist_mismatch else v)
         msg.twist.twist.angular.z = w
         return msg
 
@@ -364,6 +388,10 @@ class ImuPublisher(StreamPublisher):
         msg.linear_acceleration.x = 0.02 * n[3]
         msg.linear_acceleration.y = v * w + 0.02 * n[4]
         msg.linear_acceleration.z = scene.GRAVITY + 0.02 * n[5]
+        if f.dead_accelerometer:
+            msg.linear_acceleration.x = msg.linear_acceleration.y = msg.linear_acceleration.z = 0.0
+        if f.gyro_overrange:
+            msg.angular_velocity.z = 12.0 + 0.002 * n[2]
         if f.nan:
             msg.angular_velocity.z = float('nan')
             msg.linear_acceleration.z = float('nan')
@@ -410,6 +438,8 @@ class JointStatePublisher(StreamPublisher):
         if f.out_of_range:
             for j, v in _OUT_OF_RANGE.items():
                 positions[names.index(j)] = v
+        if f.joint_jump:    # within HeadYaw's limits, but 4 rad in 0.25 s: an encoder jumping
+            positions[names.index('HeadYaw')] = 2.0 if int(t / 0.25) % 2 else -2.0
         # joint_state.cpp:120-133: NaN velocity and effort where ALMemory has no value
         for j in (JOINTS_WITHOUT_VELOCITY if self.spec.layout != 'gazebo' else ()):
             velocities[names.index(j)] = np.nan
@@ -440,8 +470,19 @@ class AudioPublisher(StreamPublisher):
     def always_tick(self, t):
         self.block = self.source.read(self.spec.width)
 
-    def build(self, t, frame_id, index):
+    def data_block(self, t):
+        """This tick's samples, with after=T's silent channels zeroed from T on."""
         b = self.block
+        f = self.faults
+        if f.silent_channel and f.after is not None and self.partial_on(t):
+            from .profiles import MIC_CHANNELS
+            b = b.copy()
+            for name in f.silent_channel:
+                b[:, MIC_CHANNELS.index(name)] = 0
+        return b
+
+    def build(self, t, frame_id, index):
+        b = self.data_block(t)
         cls = self.msg_class()
         return cls(rearLeft=b[:, 0].tolist(), rearRight=b[:, 1].tolist(),
                    frontLeft=b[:, 2].tolist(), frontRight=b[:, 3].tolist())
@@ -463,7 +504,7 @@ class AudioBufferPublisher(AudioPublisher):
         # channelMap is uint8[]: genpy serialises it from bytes
         msg.channelMap = bytes(PEPPER_CHANNEL_MAP)
         # the source's columns are rearLeft, rearRight, frontLeft, frontRight = codes 3, 5, 0, 2
-        msg.data = self.block.reshape(-1).tolist()
+        msg.data = self.data_block(t).reshape(-1).tolist()
         return msg
 
 

@@ -23,6 +23,12 @@ Over the window (FAIL at the end):
     common one seen): sample_rate / buffer within +-`buffer_rate_tolerance` (0.5 = +-50 %,
     room for NAOqi's irregular delivery; the sample rate itself is checked at 5 %), e.g.
     4096 samples (CSSR bridge) -> 11.7 Hz, 5.9-17.6 Hz accepted. A `rate` band, if given, wins;
+  * stuck: `stuck_buffers` identical consecutive buffers (all four channels, every sample):
+    a microphone's samples carry noise, so two real buffers never match; a bridge that
+    resends its last buffer does;
+  * a channel that dies partway: silent (below `silence_dbfs`, or all zero) in every buffer
+    from some time to the end of the window, for at least `channel_death_s` seconds and 3
+    buffers, fails as "microphone frontLeft went silent from t = 2.1 s".
 Reported: RMS and peak per channel in dBFS (0 dBFS = full scale 32768), clipping share per
 channel (|sample| >= 32767; above `max_clipping_share`, default 0.01, a warning), gaps (a pause
 between buffers longer than 3 buffer periods; a warning), buffer size.
@@ -51,7 +57,7 @@ import numpy as np
 
 from ..naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from ..recording import WavWriter
-from .base import Check, fmt
+from .base import Check, StuckRun, TrailingRun, fmt
 
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 FULL_SCALE = 32768.0
@@ -124,6 +130,9 @@ class AudioCheck(Check):
         self.player = None
         for name in CHANNELS:
             self.series['level_dbfs_' + name] = []
+        self.stuck = StuckRun(self.expect.stuck_buffers)
+        self.last_block = None
+        self.dying = [TrailingRun() for _ in CHANNELS]
 
     # ---- set-up -------------------------------------------------------------------------
     def window(self, duration):
@@ -206,6 +215,13 @@ class AudioCheck(Check):
         self.peak = np.maximum(self.peak, absval.max(axis=0))
         self.clipped += np.count_nonzero(absval >= 32767, axis=0)
         self.nonzero += np.count_nonzero(block, axis=0)
+        if self.stuck.limit:
+            last = self.last_block
+            same = last is not None and last.shape == block.shape and np.array_equal(last, block)
+            self.last_block = block
+            self.stuck.add(self.stuck.last if same else t, t)
+        for i, run in enumerate(self.dying):
+            run.add(sq[i] == 0 or dbfs(math.sqrt(sq[i] / n)) < self.silence, t)
         if len(self.series['level_dbfs_rearLeft']) < SERIES_MAX:
             for i, name in enumerate(CHANNELS):
                 self.series['level_dbfs_' + name].append(
@@ -275,10 +291,16 @@ class AudioCheck(Check):
             elif dbfs(rms) < self.silence:
                 self.fail('microphone %s is silent: RMS %s dBFS below silence_dbfs %s'
                           % (name, fmt(dbfs(rms), 1), fmt(self.silence, 1)))
+            else:
+                self._judge_death(name, i)
             if level['clipping_share'] > self.max_clipping:
                 self.warn('microphone %s clips in %.2f%% of its samples (max_clipping_share %s%%)'
                           % (name, 100 * level['clipping_share'], fmt(100 * self.max_clipping, 2)))
         self.values['channels'] = levels
+        self.values['longest_identical_run'] = self.stuck.longest
+        stuck = self.stuck.finding('buffers', 'stuck_buffers')
+        if stuck:
+            self.fail('microphone stream stuck: ' + stuck)
         self.notes.append('Levels (RMS / peak dBFS): ' + ', '.join(
             '%s %s / %s' % (n, fmt(v['rms_dbfs'], 1), fmt(v['peak_dbfs'], 1)) for n, v in levels.items()))
         if self.gaps:
@@ -287,6 +309,16 @@ class AudioCheck(Check):
             self.warn('%d gap%s in the audio stream (pause > 3 buffer periods), longest %.2f s'
                       % (len(self.gaps), '' if len(self.gaps) == 1 else 's', longest))
         self._play()
+
+    def _judge_death(self, name, i):
+        """A channel alive at first and silent from some time to the end of the window."""
+        limit = self.expect.channel_death_s
+        since = self.dying[i].since()
+        if limit is None or since is None or since[1] < 3 or since[2] < limit:
+            return
+        self.fail('microphone %s went silent from t = %s s to the end of the window (%d buffers, '
+                  '%s s below silence_dbfs %s)' % (name, fmt(since[0], 2), since[1], fmt(since[2], 1),
+                                                   fmt(self.silence, 1)))
 
     def _report_files(self):
         self.values['mic_mode'] = self.mode

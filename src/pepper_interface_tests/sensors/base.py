@@ -195,3 +195,73 @@ def quaternion_norm(q):
 
 def finite(values):
     return all(math.isfinite(v) for v in values)
+
+
+class StuckRun:
+    """Consecutive identical readings (stuck data): the longest run and where it lies.
+
+    `add(key, t)` takes a value that compares equal exactly when two readings are identical
+    (bytes, a tuple of floats) and the reading's time in the window (s). `finding()` gives
+    None or the text of a run of at least `limit` identical readings, naming when it began
+    ("from t = 4.1 s to the end of the window"): a stream that stops changing partway through
+    says so. Cheap: one comparison per message, no copies beyond the key the caller made.
+    """
+
+    __slots__ = ('limit', 'last', 'run', 'start', 'longest', 'longest_from', 'longest_to',
+                 'last_t')
+
+    def __init__(self, limit):
+        self.limit = limit
+        self.last = None
+        self.run = 0
+        self.start = self.last_t = None
+        self.longest = 0
+        self.longest_from = self.longest_to = None
+
+    def add(self, key, t):
+        if self.run and key == self.last:
+            self.run += 1
+        else:
+            self.run, self.start, self.last = 1, t, key
+        self.last_t = t
+        if self.run > self.longest:
+            self.longest, self.longest_from, self.longest_to = self.run, self.start, t
+
+    def to_end(self):
+        """True when the longest run lasts until the last reading."""
+        return self.longest_to == self.last_t and self.run == self.longest
+
+    def finding(self, what, key_name):
+        """'N identical <what> in a row from t = A s to the end of the window (<key_name> L)'."""
+        if not self.limit or self.longest < self.limit:
+            return None
+        where = ('to the end of the window' if self.to_end()
+                 else 'to t = %s s' % fmt(self.longest_to, 2))
+        return ('%d identical %s in a row from t = %s s %s (%s %d)'
+                % (self.longest, what, fmt(self.longest_from, 2), where, key_name, self.limit))
+
+
+class TrailingRun:
+    """A condition (black, silent, all zero) that holds from some time to the end of the
+    window: `add(bad, t)` per reading; `since()` is the time the last unbroken run of bad
+    readings began when it lasts to the end, with its length in readings and in seconds."""
+
+    __slots__ = ('start', 'n', 'last_t')
+
+    def __init__(self):
+        self.start, self.n, self.last_t = None, 0, None
+
+    def add(self, bad, t):
+        if bad:
+            if not self.n:
+                self.start = t
+            self.n += 1
+        else:
+            self.start, self.n = None, 0
+        self.last_t = t
+
+    def since(self):
+        """(start t, readings, seconds) of a run lasting to the last reading, or None."""
+        if not self.n:
+            return None
+        return self.start, self.n, self.last_t - self.start

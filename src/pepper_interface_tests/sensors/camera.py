@@ -29,7 +29,7 @@ import struct
 import numpy as np
 
 from ..recording import VideoRecorder, save_jpeg, to_bgr
-from .base import Acc, Check, fmt
+from .base import Acc, Check, TrailingRun, fmt
 
 # bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)
 BYTES_PER_PIXEL = {
@@ -253,6 +253,8 @@ class CameraCheck(ImageCheck):
         self.longest_run = 0
         self.longest_run_at = None
         self.frozen_runs = 0
+        self.run_from = self.longest_run_from = None
+        self.black_run = TrailingRun()
         self.same_halves = 0
         self.series['brightness'] = []
 
@@ -285,6 +287,7 @@ class CameraCheck(ImageCheck):
             self.constant += 1
             bad = 'constant'
         self._frozen(msg, t)
+        self.black_run.add(bad == 'black', t)
         if self.stereo and not bad and msg.width % 2 == 0:
             half = msg.width // 2
             if np.array_equal(colour[::4, :half:4], colour[::4, half::4]):
@@ -309,10 +312,11 @@ class CameraCheck(ImageCheck):
             if self.run == self.frozen_frames:
                 self.frozen_runs += 1
         else:
-            self.run = 1
+            self.run, self.run_from = 1, t
         self.last_image = (geometry, data)
         if self.run > self.longest_run:
             self.longest_run, self.longest_run_at = self.run, round(t, 2)
+            self.longest_run_from = self.run_from
 
     def finish(self):
         self.finish_media()
@@ -339,12 +343,22 @@ class CameraCheck(ImageCheck):
             if not frames:
                 continue
             text = 'image %s (%s) in %d of %d frames' % (word, limit_text, frames, n)
-            if frames > self.bad_share * n:
+            # turned black partway and stayed black: a partial failure, whatever its share
+            trailing = self.black_run.since() if word == 'black' else None
+            late = trailing and trailing[1] >= self.frozen_frames and trailing[2] >= 1.0
+            if late:
+                text = ('image black from t = %s s to the end of the window (%d frames, %s s; '
+                        '%s)' % (fmt(trailing[0], 2), trailing[1], fmt(trailing[2], 1), text))
+            if late or frames > self.bad_share * n:
                 self.fail(text)
             else:
                 self.warn(text)
         if self.longest_run >= self.frozen_frames:
-            self.fail('image frozen: %d identical consecutive frames (until t=%s s; frozen_frames %d)'
-                      % (self.longest_run, fmt(self.longest_run_at, 2), self.frozen_frames))
+            self.fail('image frozen: %d identical consecutive frames from t = %s s %s (frozen_frames %d)'
+                      % (self.longest_run, fmt(self.longest_run_from or 0.0, 2),
+                         # the current run is the longest and ends at the last frame judged
+                         'to the end of the window' if self.longest_run == self.run
+                         and self.longest_run_at == round(self.black_run.last_t or 0.0, 2)
+                         else 'to t = %s s' % fmt(self.longest_run_at, 2), self.frozen_frames))
         elif self.longest_run > 1:
             self.notes.append('Longest run of identical frames: %d' % self.longest_run)

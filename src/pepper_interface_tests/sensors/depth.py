@@ -8,6 +8,18 @@ Over the window (FAIL at the end):
   * valid share: mean share of valid pixels (non-zero and finite) below `min_valid_share`;
   * median depth (median over frames of each frame's median of valid pixels, in metres)
     outside `median_range` [m, m].
+Data that cannot be real (reasons in config/sensorExpectations.yaml):
+  * frozen: `frozen_frames` identical consecutive images (sampled bytes first, every byte only
+    when those match, as the cameras do); the Xtion's depth is noisy at every pixel edge;
+  * a single value everywhere: every sampled valid pixel the same depth, in more than half
+    of the frames (a real scene has a floor, walls and noise). Checked with the frozen test,
+    where `frozen_frames` is set (a sensor with noise): Gazebo's noise-free depth of a wall
+    square to the camera is one value everywhere;
+  * most of the image outside the camera's `physical_range` [m, m]: in more than half of the
+    frames, more than half of the sampled valid pixels beyond what the camera can measure;
+  * partial failure: frames with no valid pixel from some time to the end of the window
+    (at least 3 frames and 1 s) fail as "depth all zero from t = ..." even when they are
+    fewer than the whole window.
 Reported: min / median / max depth (m), valid share. The image is a numpy view over the
 message's bytes (no copy); the valid share (and so "all zero") counts every pixel, the median,
 min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
@@ -22,7 +34,7 @@ import math
 
 import numpy as np
 
-from .base import Acc, fmt
+from .base import Acc, StuckRun, TrailingRun, fmt
 from ..recording import to_bgr
 from .camera import SERIES_MAX, ImageCheck
 
@@ -59,6 +71,12 @@ class DepthCheck(ImageCheck):
         self.lo = Acc()
         self.hi = Acc()
         self.all_zero = 0
+        self.stuck = StuckRun(self.expect.frozen_frames)
+        self.last_data = None
+        self.zero_run = TrailingRun()
+        self.single = 0             # frames whose sampled valid pixels hold one value
+        self.outside = 0            # frames mostly outside physical_range
+        self.physical = self.expect.physical_range
         self._lut = None            # millimetres -> packed BGR0 pixel (uint32)
         self._jet = None            # 0..255 -> packed BGR0 pixel
         self.series['median_depth_m'] = []
@@ -90,6 +108,8 @@ class DepthCheck(ImageCheck):
         share = n_valid / float(depth.size)
         self.share.add(share)
         median = None
+        self._frozen(msg, t)
+        self.zero_run.add(not n_valid, t)
         if not n_valid:
             self.all_zero += 1
             self.failures.add('all_zero', 'depth image has no valid pixel (all zero or not finite)')
@@ -100,8 +120,17 @@ class DepthCheck(ImageCheck):
                 values = depth[depth > 0] if scale != 1.0 else depth[np.isfinite(depth) & (depth > 0)]
             median = float(np.median(values)) * scale
             self.medians.append(median)
-            self.lo.add(float(values.min()) * scale)
-            self.hi.add(float(values.max()) * scale)
+            v_lo, v_hi = float(values.min()) * scale, float(values.max()) * scale
+            self.lo.add(v_lo)
+            self.hi.add(v_hi)
+            if v_lo == v_hi:
+                self.single += 1
+            if self.physical is not None:
+                lo_mm, hi_mm = self.physical[0] / scale, self.physical[1] / scale
+                if v_lo < lo_mm * scale or v_hi > hi_mm * scale:
+                    out = int(np.count_nonzero((values < lo_mm) | (values > hi_mm)))
+                    if out > values.size / 2:
+                        self.outside += 1
         if len(self.series['valid_share']) < SERIES_MAX:
             self.series['valid_share'].append((round(t, 3), round(share, 4)))
             self.series['median_depth_m'].append((round(t, 3), None if median is None else round(median, 4)))
@@ -110,6 +139,20 @@ class DepthCheck(ImageCheck):
             self.viewer.post(self.plan.name, to_bgr(*self.prepare_frame(depth, kind)))
         if self.recorder is not None:
             self.recorder.add(depth, t, kind)
+
+    def _frozen(self, msg, t):
+        """Identical to the previous image: about 900 sampled bytes first, every byte only when
+        they match (a changing image differs there), as the cameras' frozen test."""
+        if self.stuck.limit is None:
+            return
+        data = np.frombuffer(msg.data, np.uint8)
+        last = self.last_data
+        same = False
+        if last is not None and len(last) == len(data):
+            stride = max(1, len(data) // 900)
+            same = np.array_equal(last[::stride], data[::stride]) and np.array_equal(last, data)
+        self.last_data = data
+        self.stuck.add(self.stuck.last if same else t, t)
 
     def depth_view(self, msg):
         """The depth image as a numpy view over the message's bytes (cv_bridge for anything
@@ -160,9 +203,25 @@ class DepthCheck(ImageCheck):
         if median is not None:
             self.notes.append('Depth min %s, median %s, max %s m; valid pixels %.1f%% (mean)'
                               % (fmt(self.lo.lo, 3), fmt(median, 3), fmt(self.hi.hi, 3), 100 * mean_share))
+        self.values['longest_identical_run'] = self.stuck.longest
+        frozen = self.stuck.finding('frames', 'frozen_frames')
+        if frozen:
+            self.fail('depth image frozen: ' + frozen)
         if self.all_zero == self.converted:
             self.fail('depth all zero: no valid pixel in any of the %d frames' % self.converted)
             return
+        trailing = self.zero_run.since()
+        if trailing and trailing[1] >= 3 and trailing[2] >= 1.0:
+            self.fail('depth all zero from t = %s s to the end of the window (%d frames, %s s)'
+                      % (fmt(trailing[0], 2), trailing[1], fmt(trailing[2], 1)))
+        n = self.converted - self.all_zero
+        if self.stuck.limit is not None and self.single > n / 2.0:
+            self.fail('depth image holds a single value everywhere in %d of %d frames (a real '
+                      'scene has a floor, walls and noise)' % (self.single, n))
+        if self.physical is not None and self.outside > n / 2.0:
+            self.fail('most of the depth image outside the camera\'s physical range [%s, %s] m '
+                      'in %d of %d frames' % (fmt(self.physical[0]), fmt(self.physical[1]),
+                                              self.outside, n))
         if self.min_valid_share is not None and mean_share < float(self.min_valid_share):
             self.fail('only %.1f%% of the pixels are valid (min_valid_share %s%%)'
                       % (100 * mean_share, fmt(100 * float(self.min_valid_share), 1)))

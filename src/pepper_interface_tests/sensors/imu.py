@@ -7,10 +7,22 @@ ros-naoqi/naoqi_driver src/converters/imu.cpp:123-126) while publishing all thre
 means "covariance unknown", never "skip the check": a NaN or non-unit attitude and NaN rates or
 accelerations fail whatever the covariance says. The accelerometer includes gravity
 (imu.cpp:119-121, raw ALMemory values), so |a| is about 9.8 m/s^2 at rest.
+
+Data that cannot be real:
+  * stuck: `stuck_messages` readings in a row with the same angular velocity and linear
+    acceleration, to the last bit. The inertial board's raw values carry sensor noise, and
+    naoqi_driver reads them from ALMemory at 10 Hz (imu.cpp) while the board updates them
+    every DCM cycle (~100 Hz), so two consecutive messages never repeat all six values on a
+    healthy robot; a converter republishing a cached message does;
+  * the median |linear acceleration| outside `acceleration_norm`: a dead accelerometer reads
+    0, one reporting in g reads 1, a saturated one ~2 g (the accelerometer's range, Aldebaran
+    "Pepper - Inertial unit"); single messages outside it are a warning (a bump);
+  * |angular velocity| above `max_angular_velocity`: beyond the gyrometer's ~500 deg/s range
+    (same page), the sensor cannot report it.
 """
 import math
 
-from .base import Acc, Check, finite, fmt, quaternion_norm
+from .base import Acc, Check, StuckRun, finite, fmt, quaternion_norm
 
 
 def _v3(v):
@@ -24,6 +36,8 @@ class ImuCheck(Check):
         super().__init__(plan, ctx)
         self.acc_norm, self.gyro_norm = Acc(), Acc()
         self.series['acceleration_m_s2'], self.series['angular_velocity_rad_s'] = [], []
+        self.stuck = StuckRun(self.expect.stuck_messages)
+        self.acc_values = []
 
     def fields(self, msg):
         q = msg.orientation
@@ -58,11 +72,39 @@ class ImuCheck(Check):
         an, wn = math.sqrt(a.x ** 2 + a.y ** 2 + a.z ** 2), math.sqrt(w.x ** 2 + w.y ** 2 + w.z ** 2)
         self.acc_norm.add(an)
         self.gyro_norm.add(wn)
+        self.acc_values.append(an)
+        self.stuck.add((a.x, a.y, a.z, w.x, w.y, w.z), t)
+        band = self.expect.acceleration_norm
+        if band is not None and not (band[0] <= an <= band[1]):
+            self.warnings.add('acc_band', '|linear acceleration| outside acceleration_norm [%s, %s] '
+                              'm/s^2 (gravity included)' % (fmt(band[0]), fmt(band[1])),
+                              '%s m/s^2 at t = %s s' % (fmt(an, 3), fmt(t, 2)))
+        top = self.expect.max_angular_velocity
+        if top is not None and wn > top:
+            self.failures.add('gyro_range', '|angular velocity| beyond the gyrometer\'s range '
+                              '(max_angular_velocity %s rad/s, ~500 deg/s)' % fmt(top),
+                              '%s rad/s, first at t = %s s' % (fmt(wn, 2), fmt(t, 2)))
         if len(self.series['acceleration_m_s2']) < 2000:
             self.series['acceleration_m_s2'].append((round(t, 3), an))
             self.series['angular_velocity_rad_s'].append((round(t, 3), wn))
 
     def finish(self):
+        stuck = self.stuck.finding('readings (angular velocity and linear acceleration)',
+                                   'stuck_messages')
+        if stuck:
+            self.fail('IMU stuck: ' + stuck)
+        self.values['longest_identical_run'] = self.stuck.longest
+        band = self.expect.acceleration_norm
+        if band is not None and self.acc_values:
+            median = sorted(self.acc_values)[len(self.acc_values) // 2]
+            self.values['acceleration_norm_median_m_s2'] = round(median, 4)
+            if not (band[0] <= median <= band[1]):
+                self.fail('median |linear acceleration| %s m/s^2 outside acceleration_norm [%s, %s] '
+                          '(an upright robot measures g = 9.81 m/s^2: %s)'
+                          % (fmt(median, 3), fmt(band[0]), fmt(band[1]),
+                             'a dead accelerometer reads 0' if median < 0.5 else
+                             'values in g instead of m/s^2?' if median < 2 else
+                             'not the gravity an upright robot measures'))
         self.values['acceleration_norm_m_s2'] = self.acc_norm.as_dict()
         self.values['angular_velocity_norm_rad_s'] = self.gyro_norm.as_dict()
         if self.count:

@@ -1,8 +1,25 @@
 """Joint states (sensor_msgs/JointState): unique names, array lengths, finite positions,
-the expected Pepper joints present."""
+the expected Pepper joints present, and physically possible values.
+
+Impossible values (joint_limits.py: Pepper's URDF limits, cited there):
+  * a position beyond the joint's [lower, upper] by more than `position_margin` rad fails
+    (naoqi_driver publishes ALMotion getAngles("Body", true), the sensed angles,
+    src/converters/joint_state.cpp:90, 102; the margin covers encoder resolution and the
+    hands' 0..1 scale against the URDF's 0.02..0.98);
+  * a speed implied by two positions of one joint at least 0.1 s apart (header stamps; the
+    receive times when stamps are zero) above velocity x `velocity_factor` fails: the encoder
+    jumped. The wheels (continuous joints, positions wrap at +-pi) are left out;
+  * a reported velocity above velocity x `velocity_factor` is a warning only: naoqi_driver
+    reads it from ALMemory's Motion/Velocity/Sensor (joint_state.cpp:119-131), a value the
+    DCM differentiates, which can spike.
+No stuck rule: a robot at rest publishes the same angles message after message.
+"""
 import math
 
 from .base import Acc, Check, fmt
+from .joint_limits import LIMITS
+
+BASELINE = 0.1     # s between the two positions a speed is computed from
 
 
 class JointsCheck(Check):
@@ -12,6 +29,10 @@ class JointsCheck(Check):
         super().__init__(plan, ctx)
         self.joints = {}     # name -> {'position': Acc, 'velocity': Acc, 'effort': Acc}
         self.names_seen = []
+        self.margin = self.expect.position_margin
+        self.factor = self.expect.velocity_factor
+        self.anchor = {}     # name -> (time, position) a speed is measured from
+        self.fast = {}       # name -> (implied speed, t) the fastest impossible speed
 
     def fields(self, msg):
         out = [('Header frame id', msg.header.frame_id), ('Number of joints', len(msg.name))]
@@ -41,11 +62,54 @@ class JointsCheck(Check):
                     acc[label].add(seq[i])
             if len(msg.position) == n and math.isnan(msg.position[i]):
                 self.failures.add('nan_' + name, 'position of %s is NaN' % name)
+            elif len(msg.position) == n:
+                self._judge_limits(name, msg.position[i], t, msg.header.stamp.to_sec() or None)
+            if len(msg.velocity) == n and self.factor is not None and name in LIMITS:
+                v = msg.velocity[i]
+                limit = LIMITS[name][2] * self.factor
+                if math.isfinite(v) and abs(v) > limit:
+                    self.warnings.add('vel_' + name, 'reported velocity of %s beyond %s rad/s '
+                                      '(URDF limit %s x velocity_factor %s)'
+                                      % (name, fmt(limit, 2), fmt(LIMITS[name][2]), fmt(self.factor)),
+                                      '%s rad/s at t = %s s' % (fmt(v, 2), fmt(t, 2)))
+
+    def _judge_limits(self, name, p, t, stamp):
+        limits = LIMITS.get(name)
+        if limits is None or not math.isfinite(p):
+            return
+        lower, upper, velocity, line = limits
+        if self.margin is not None and lower is not None and \
+                not (lower - self.margin <= p <= upper + self.margin):
+            self.failures.add('limit_' + name, 'position of %s outside Pepper\'s joint limits '
+                              '[%s, %s] rad (pepper.urdf:%d) by more than position_margin %s'
+                              % (name, fmt(lower), fmt(upper), line, fmt(self.margin)),
+                              '%s rad, first at t = %s s' % (fmt(p), fmt(t, 2)))
+        if self.factor is None or lower is None:
+            return
+        when = stamp if stamp is not None else t
+        anchor = self.anchor.get(name)
+        if anchor is None or when < anchor[0]:
+            self.anchor[name] = (when, p)
+            return
+        dt = when - anchor[0]
+        if dt < BASELINE:
+            return
+        speed = abs(p - anchor[1]) / dt
+        self.anchor[name] = (when, p)
+        if speed > velocity * self.factor:
+            if name not in self.fast or speed > self.fast[name][0]:
+                self.fast[name] = (speed, t)
+            self.failures.add('speed_' + name, 'position of %s jumps: implied speed above %s '
+                              'rad/s (URDF velocity limit %s x velocity_factor %s, pepper.urdf:%d)'
+                              % (name, fmt(velocity * self.factor, 2), fmt(velocity), fmt(self.factor),
+                                 line), '%s rad/s, first at t = %s s' % (fmt(speed, 2), fmt(t, 2)))
 
     def finish(self):
         self.values['joints'] = {name: {k: a.as_dict() for k, a in acc.items()}
                                  for name, acc in self.joints.items()}
         self.values['joint_count'] = len(self.joints)
+        if self.fast:
+            self.values['impossible_speeds_rad_s'] = {n: round(v[0], 3) for n, v in self.fast.items()}
         expected = self.expect.joints
         missing = [j for j in expected if j not in self.joints]
         if self.count and missing:

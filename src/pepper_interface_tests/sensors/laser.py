@@ -22,10 +22,17 @@ range", information). Invalid: NaN (unless no-return), -inf is valid (REP 117, t
 negative values (a blind value outside the blind layout too), readings below range_min.
 A scan with no valid return at all fails; more than `max_invalid_share` invalid beams (blind
 and no-return slots excluded) fails.
+
+Stuck (`stuck_scans`): that many scans in a row identical slot for slot (every float to the
+last bit) fail, naming when the run began. naoqi_driver reads the laser from ALMemory at the
+converter's rate (laser.cpp:165-205), so a few identical scans in a row happen when it reads
+faster than ALMemory updates (reference/pepper-sensors.md); a run of seconds of identical raw
+distances, which carry measurement noise, is a driver republishing a cached scan.
 """
 import math
+from array import array
 
-from .base import Acc, Check, fmt
+from .base import Acc, Check, StuckRun, fmt
 
 
 def blind_indices(slots):
@@ -50,6 +57,7 @@ class LaserCheck(Check):
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
         self.last_scan = None
+        self.stuck = StuckRun(self.expect.stuck_scans)
 
     def fields(self, msg):
         return [('Frame id', msg.header.frame_id),
@@ -82,7 +90,10 @@ class LaserCheck(Check):
         if msg.intensities and len(msg.intensities) != n:
             self.failures.add('intens', 'intensities (%d) not as long as ranges (%d)'
                               % (len(msg.intensities), n))
-        self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
+        returns = self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
+        if self.stuck.limit:
+            # a scan without a return is judged as such, not as stuck (nothing to carry noise)
+            self.stuck.add(array('f', msg.ranges).tobytes() if returns else t, t)
         self.beams += n
         self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), msg.range_min,
                           msg.range_max, self.expect.blind_value)
@@ -117,6 +128,7 @@ class LaserCheck(Check):
         if not returns:
             self.failures.add('empty', 'scan without a single valid return (every slot blind, '
                               'NaN or invalid)')
+        return returns
 
     def finish(self):
         counted = max(1, self.beams - self.blind - self.no_return)
@@ -141,6 +153,10 @@ class LaserCheck(Check):
         if self.beyond:
             self.notes.append('%d readings beyond the advertised range (raw distances, valid)'
                               % self.beyond)
+        self.values['longest_identical_run'] = self.stuck.longest
+        stuck = self.stuck.finding('scans', 'stuck_scans')
+        if stuck:
+            self.fail('laser stuck: ' + stuck)
         limit = self.expect.max_invalid_share
         if self.count and limit is not None and share > limit:
             self.fail('%.0f%% of the beams are invalid (NaN, negative or below range_min, blind '

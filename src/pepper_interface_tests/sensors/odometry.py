@@ -1,4 +1,16 @@
-"""Odometry (nav_msgs/Odometry): frame ids, unit quaternion, finite pose, twist and covariances."""
+"""Odometry (nav_msgs/Odometry): frame ids, unit quaternion, finite pose, twist and covariances,
+and a motion Pepper can make.
+
+naoqi_driver fills the pose from ALMotion getPosition("Torso", FRAME_WORLD) and the twist from
+getRobotVelocity (src/converters/odom.cpp:56, 59, 82-93), so both describe one motion:
+  * a speed implied by two poses at least BASELINE s apart (header stamps; receive times
+    when the stamps are zero) above `max_speed` fails: the pose jumped. Pepper's base drives
+    at most ~0.55 m/s (Aldebaran's NAOqi 2.5 documentation); `max_speed` adds room for the
+    torso swaying on top of the base and for stamp jitter;
+  * |twist linear| differing from the pose-implied speed by more than `twist_tolerance` in
+    more than half of the pose pairs fails: the twist contradicts the pose.
+No stuck rule: a robot standing still publishes the same pose and a zero twist every time.
+"""
 import math
 
 from .base import Acc, Check, finite, fmt, quaternion_norm
@@ -16,6 +28,9 @@ def _twist_text(t):
         fmt(t.angular.x), fmt(t.angular.y), fmt(t.angular.z))
 
 
+BASELINE = 0.5      # s between the two poses a speed is computed from
+
+
 class OdometryCheck(Check):
     family = 'odometry'
 
@@ -23,6 +38,11 @@ class OdometryCheck(Check):
         super().__init__(plan, ctx)
         self.x, self.y, self.speed = Acc(), Acc(), Acc()
         self.series['x_m'], self.series['y_m'] = [], []
+        self.anchor = None        # (time, x, y, |twist|) the next pose pair starts from
+        self.pairs = 0
+        self.mismatch = 0
+        self.mismatch_example = None
+        self.implied = Acc()
 
     def fields(self, msg):
         return [('Header', 'frame id %s, stamp %d.%09d, seq %d' % (
@@ -53,12 +73,51 @@ class OdometryCheck(Check):
             self.failures.add('cov', 'a covariance holds NaN or inf')
         self.x.add(p.x)
         self.y.add(p.y)
+        if finite(values):
+            self._judge_motion(p.x, p.y, math.hypot(twist.linear.x, twist.linear.y), t,
+                               msg.header.stamp.to_sec() or None)
         self.speed.add(math.hypot(twist.linear.x, twist.linear.y))
         if len(self.series['x_m']) < 2000:
             self.series['x_m'].append((round(t, 3), p.x if math.isfinite(p.x) else None))
             self.series['y_m'].append((round(t, 3), p.y if math.isfinite(p.y) else None))
 
+    def _judge_motion(self, x, y, speed, t, stamp):
+        when = stamp if stamp is not None else t
+        a = self.anchor
+        if a is None or when < a[0]:
+            self.anchor = (when, x, y, speed)
+            return
+        dt = when - a[0]
+        if dt < BASELINE:
+            return
+        implied = math.hypot(x - a[1], y - a[2]) / dt
+        self.anchor = (when, x, y, speed)
+        self.pairs += 1
+        self.implied.add(implied)
+        limit = self.expect.max_speed
+        if limit is not None and implied > limit:
+            self.failures.add('jump', 'pose jumps: consecutive poses imply more than max_speed '
+                              '%s m/s (Pepper drives at most ~0.55 m/s)' % fmt(limit),
+                              '%s m/s, first at t = %s s' % (fmt(implied, 2), fmt(t, 2)))
+        tol = self.expect.twist_tolerance
+        twist = (speed + a[3]) / 2.0
+        if tol is not None and abs(twist - implied) > tol:
+            self.mismatch += 1
+            if self.mismatch_example is None:
+                self.mismatch_example = (twist, implied, t)
+
     def finish(self):
+        self.values['pose_implied_speed_m_s'] = self.implied.as_dict()
+        tol = self.expect.twist_tolerance
+        if tol is not None and self.pairs and self.mismatch > self.pairs / 2.0:
+            tw, im, at = self.mismatch_example
+            self.fail('twist contradicts the pose: |twist| and the speed the poses imply differ by '
+                      'more than twist_tolerance %s m/s in %d of %d pose pairs %.1f s apart (e.g. '
+                      'twist %s m/s, poses %s m/s at t = %s s)'
+                      % (fmt(tol), self.mismatch, self.pairs, BASELINE, fmt(tw, 3), fmt(im, 3), fmt(at, 2)))
+        elif self.mismatch:
+            self.notes.append('twist and pose-implied speed differ by more than %s m/s in %d of %d '
+                              'pose pairs' % (fmt(tol), self.mismatch, self.pairs))
         self.values['x_m'] = self.x.as_dict()
         self.values['y_m'] = self.y.as_dict()
         self.values['speed_m_s'] = self.speed.as_dict()
