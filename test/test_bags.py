@@ -113,13 +113,13 @@ def test_rostest_bag_playback(recorded_bags, variant, tmp_path):
 def test_debug_prints_one_line_per_message(recorded_bags, tmp_path):
     cmd = script('sensorTest') + ['--bag', recorded_bags['robot_good'], '--sensors', 'laser,imu',
                                   '--output-dir', str(tmp_path), '--no-history', '--no-report', '--debug']
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=120)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stdout + p.stderr
     with open(str(tmp_path / 'sensorTestResults.json')) as f:
         counts = {s['name']: s['messages'] for s in json.load(f)['sensors']}
-    lines = [l for l in p.stderr.splitlines() if l.startswith('[debug] ')]
+    lines = [ln for ln in p.stderr.splitlines() if ln.startswith('[debug] ')]
     for name in ('laser', 'imu'):
-        mine = [l for l in lines if l.startswith('[debug] %s #' % name)]
+        mine = [ln for ln in lines if ln.startswith('[debug] %s #' % name)]
         assert len(mine) == counts[name] > 10
         assert 'frame "base_footprint"' in mine[0]
     assert '[debug]' not in p.stdout                  # the terminal summary stays readable

@@ -521,8 +521,10 @@ def test_wrong_message_type_names_both_types(tmp_path):
 
 @pytest.mark.parametrize('lookup, words', [
     (lambda topic: (None, []), 'no publisher on /t (is the driver running'),
-    (lambda topic: ('sensor_msgs/Image', []), 'topic /t is advertised as sensor_msgs/Image, expected sensor_msgs/Range'),
-    (lambda topic: ('sensor_msgs/Range', ['/sonar_node']), 'no message on /t within 2.0 s although /sonar_node publishes it'),
+    (lambda topic: ('sensor_msgs/Image', []), 'topic /t is advertised as sensor_msgs/Image, expected '
+                                              'sensor_msgs/Range'),
+    (lambda topic: ('sensor_msgs/Range', ['/sonar_node']), 'no message on /t within 2.0 s although '
+                                                           '/sonar_node publishes it'),
     (lambda topic: None, 'no message on /t within 2.0 s'),
     (None, 'no message on /t within 2.0 s'),
 ])
@@ -836,7 +838,8 @@ def run_bag(tmp_path, mode, sensors, extra_observers=(), cameras=None):
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
     term = io.StringIO()
     runner = Runner(plan, ctx, source, clock=source.clock,
-                    observers=[Terminal(stream=term)] + list(extra_observers) + [ResultFiles(str(out), out=io.StringIO())])
+                    observers=[Terminal(stream=term)] + list(extra_observers)
+                    + [ResultFiles(str(out), out=io.StringIO())])
     run = runner.execute()
     return run, out, term.getvalue()
 
@@ -971,7 +974,7 @@ def test_output_file_blocks(tmp_path):
     sonar_block = first.split('[TESTING] ---- BACK SONAR ----\n')[1].split('\n\n')[0].splitlines()
     assert sonar_block[0] == '[TOPIC] /t (sensor_msgs/Range)'
     assert sonar_block[1] == '[MESSAGES] Printing back sonar data received.'
-    assert [l.split(':')[0] for l in sonar_block[2:7]] == ['Frame id', 'Field of view', 'Minimum range value',
+    assert [ln.split(':')[0] for ln in sonar_block[2:7]] == ['Frame id', 'Field of view', 'Minimum range value',
                                                          'Maximum range value', 'Range value']
     assert sonar_block[7] == '[END MESSAGES] Finished printing.'
     assert sonar_block[8].startswith('[SUMMARY] 25 messages in 3.0 s, rate 10.00 Hz')
@@ -1070,6 +1073,7 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
     the PASS, and every output says which PASS carries it: terminal PASS* with a legend, the
     .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
     from diagnostic_msgs.msg import DiagnosticStatus
+
     from pepper_interface_tests.diagnostics import Status, final_status
     run = make_run('backSonar', tmp_path)
     msgs = [sonar(i) for i in range(N)]

@@ -132,7 +132,7 @@ def test_simulator_stuck_and_impossible_data_fail(master, tmp_path):
 
 
 def test_new_faults_parse_list_and_reject_bad_values():
-    from pepper_interface_tests.emulator.faults import FaultError, parse_faults, format_faults, valid_faults
+    from pepper_interface_tests.emulator.faults import FaultError, format_faults, parse_faults, valid_faults
     f = parse_faults('laser:stuck,after=1.5;imu:dead_accelerometer,gyro_overrange;'
                      'odometry:pose_jump,twist_mismatch;jointState:joint_jump;depthCamera:far_depth')
     assert f['laser'].stuck and f['laser'].after == 1.5 and f['imu'].dead_accelerometer

@@ -21,8 +21,12 @@ import soundfile
 from sensor_msgs.msg import LaserScan
 
 from pepper_interface_tests import catalog, settings
-from pepper_interface_tests.naoqi_msgs import (AUDIO_BUFFER_DEFINITION, AUDIO_BUFFER_TYPE, CHANNEL_NAMES,
-                                               audio_buffer_class)
+from pepper_interface_tests.naoqi_msgs import (
+    AUDIO_BUFFER_DEFINITION,
+    AUDIO_BUFFER_TYPE,
+    CHANNEL_NAMES,
+    audio_buffer_class,
+)
 from pepper_interface_tests.results import FAIL, PASS
 from pepper_interface_tests.runner import SensorRun
 from pepper_interface_tests.sensors.base import RunContext

@@ -85,7 +85,7 @@ def unique_name():
     return 'pepperEmulator_%d' % time.time_ns()
 
 
-class Emulator(object):
+class Emulator:
     """The emulator script as a subprocess; output captured in a file."""
 
     def __init__(self, master, tmp_path, *params):

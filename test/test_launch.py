@@ -29,8 +29,7 @@ NS = '/naoqi_driver'
 
 
 def roslaunch(*args, env=None):
-    out = subprocess.run(['roslaunch'] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, timeout=120, env=env)
+    out = subprocess.run(['roslaunch'] + list(args), capture_output=True, text=True, timeout=120, env=env)
     return out.returncode, out.stdout, out.stderr
 
 
@@ -74,8 +73,8 @@ def launch_nodes(path, *args, env=None):
             'cfg = roslaunch.config.load_config_default([path], None)\n'
             'print(json.dumps({n.namespace + n.name: dict(package=n.package, type=n.type, '
             'args=n.args, required=n.required, prefix=n.launch_prefix) for n in cfg.nodes}))\n')
-    out = subprocess.run([sys.executable, '-c', code, path] + list(args), stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, cwd='/', timeout=120, env=env)
+    out = subprocess.run([sys.executable, '-c', code, path] + list(args), capture_output=True,
+                         text=True, cwd='/', timeout=120, env=env)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout.strip().splitlines()[-1])
 

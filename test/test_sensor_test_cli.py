@@ -178,7 +178,8 @@ class Running:
             self.proc.wait(timeout)
         except subprocess.TimeoutExpired:
             kill_group(self.proc, signal.SIGKILL)
-            raise AssertionError('sensorTest did not end within %s s:\n%s' % (timeout, ''.join(self.out)))
+            raise AssertionError('sensorTest did not end within %s s:\n%s'
+                                 % (timeout, ''.join(self.out))) from None
         elapsed = time.monotonic() - self.t0
         for t in self._threads:
             t.join(5)
@@ -283,7 +284,8 @@ FAULTS = {
     'sonar_nan': ('A', 'backSonar', 'range', ['--fault', 'nan', '--frame', 'SonarBack_frame'], 'range is NaN'),
     'sonar_out_of_range': ('A', 'frontSonar', 'range', ['--fault', 'out_of_range', '--frame', 'SonarFront_frame'],
                            "range outside the sensor's physical limits [0, 5] m"),
-    'laser_wrong_ranges': ('A', 'laser', 'laser', ['--fault', 'wrong_ranges'], '40 ranges where the driver publishes 61'),
+    'laser_wrong_ranges': ('A', 'laser', 'laser', ['--fault', 'wrong_ranges'], '40 ranges where the driver '
+                                                                               'publishes 61'),
     'joints_missing': ('A', 'jointState', 'joints', ['--fault', 'missing_joint', '--rate', '50'],
                        'expected joints missing: HeadYaw'),
     'odometry_quaternion': ('A', 'odometry', 'odometry', ['--fault', 'broken_quaternion'],
@@ -303,7 +305,8 @@ FAULTS = {
     'joints_short_velocity': ('C', 'jointState', 'joints', ['--fault', 'short_velocity', '--rate', '50'],
                               'velocity has 19 values for 20 joints'),
     'imu_nan': ('C', 'imu', 'imu', ['--fault', 'nan'], 'angular velocity or linear acceleration holds NaN'),
-    'laser_frame': ('C', 'laser', 'laser', ['--fault', 'frame'], 'frame_id is "wrong_frame", expected "base_footprint"'),
+    'laser_frame': ('C', 'laser', 'laser', ['--fault', 'frame'], 'frame_id is "wrong_frame", expected '
+                                                                 '"base_footprint"'),
     'odometry_zero_stamp': ('C', 'odometry', 'odometry', ['--fault', 'zero_stamp'], 'with a zero header stamp'),
 }
 _batches = {}
@@ -335,7 +338,7 @@ def test_each_fault_fails_with_its_reason(module_master, tmp_path_factory, fault
     assert s['verdict'] == 'FAIL' and s['messages'] > 0, s['reasons']
     assert any(words in reason for reason in s['reasons']), s['reasons']
     title = s['title']
-    result_line = [l for l in r.block(title).splitlines() if l.startswith('[RESULT] ')][0]
+    result_line = [ln for ln in r.block(title).splitlines() if ln.startswith('[RESULT] ')][0]
     assert result_line.startswith('[RESULT] FAIL: ') and words in result_line
     case = [c for c in r.junit.findall('testcase') if c.get('name') == sensor][0]
     assert words in case.find('failure').get('message')
@@ -404,7 +407,7 @@ def test_sequential_and_parallel_order_and_timing(module_master, good, tmp_path)
     assert all(x['window_s'] >= 1.9 for x in s + p)
     assert par.elapsed < seq.elapsed
     # terminal shows the starts in this order
-    starts = [l.split()[1] for l in seq.stdout.splitlines() if l.strip().startswith('start ')]
+    starts = [ln.split()[1] for ln in seq.stdout.splitlines() if ln.strip().startswith('start ')]
     assert starts == names
     # the output file is appended: both runs are in it
     assert par.dat.count('[TESTING] ############ SENSORS ############') == 2

@@ -58,7 +58,7 @@ class BagSource:
         except Exception as e:  # ROSBagException, unindexed or foreign files
             raise ConfigError('cannot open the bag: %s' % e, path,
                               fix='check it is a ROS 1 bag (rosbag info %s); reindex with '
-                                  '"rosbag reindex" if it was not closed' % path)
+                                  '"rosbag reindex" if it was not closed' % path) from None
         info = self.bag.get_type_and_topic_info()
         self.types = {t: v.msg_type for t, v in info.topics.items()}
         times = sorted(self._record_times())

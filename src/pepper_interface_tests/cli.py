@@ -52,36 +52,60 @@ def build_parser():
     f.add_argument('--config', metavar='FILE', help='configuration file (default config/sensorTestConfiguration.ini)')
     f.add_argument('--input', metavar='FILE', help='input file: which sensors run (default config/sensorTestInput.ini)')
     f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
-    f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is looked up (default data/)')
+    f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is '
+                                                       'looked up (default data/)')
     f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
-    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when writable, else $ROS_HOME/pepper_interface_tests, $ROS_HOME being ~/.ros unless set)')
+    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when '
+                                                       'writable, else $ROS_HOME/pepper_interface_tests, '
+                                                       '$ROS_HOME being ~/.ros unless set)')
     r = p.add_argument_group('run')
     r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
     r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
     r.add_argument('--duration', metavar='S', help='seconds each sensor is listened to (default 10)')
     r.add_argument('--wait', metavar='S', help='seconds allowed for the first message (default 5)')
-    r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores the input file)')
-    r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did not pass in the latest run of the output folder (its sensorTestResults.json)')
-    r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or both, whatever the input file says (default: the input file decides)')
-    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as its verdict is settled (quick_messages, default 10, spanning at least 0.8 s, and the sensor\'s own checks)')
+    r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores '
+                                                        'the input file)')
+    r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did '
+                                                                            'not pass in the latest run of '
+                                                                            'the output folder (its '
+                                                                            'sensorTestResults.json)')
+    r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or '
+                                                      'both, whatever the input file says (default: the '
+                                                      'input file decides)')
+    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as '
+                                                                     'its verdict is settled '
+                                                                     '(quick_messages, default 10, spanning '
+                                                                     'at least 0.8 s, and the sensor\'s own checks)')
     r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
     r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
     r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '
                    'the exit code to $PEPPER_SENSORTEST_EXIT_FILE and end the roslaunch that started '
                    'this node (no "REQUIRED process has died" banner; see sensorTestLaunch)')
-    r.add_argument('--node-name', metavar='NAME', help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
-                   'which also reads params set under /sensorTest/)')
+    r.add_argument('--node-name', metavar='NAME',
+                   help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
+                        'which also reads params set under /sensorTest/)')
     m = p.add_argument_group('media')
-    m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write videos and WAV files')
-    m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras (default: when a display exists)')
+    m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write '
+                                                                                         'videos and WAV files')
+    m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras '
+                                                                                 '(default: when a display exists)')
     m.add_argument('--no-show', dest='show', action='store_const', const=False, help='no live view')
-    m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True, help='play the recorded microphones afterwards (spec behaviour)')
-    m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the WAV after playing it')
-    m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential (each microphone in turn, as the spec)')
-    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the microphones hear it (needs the microphone in the run)')
+    m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True,
+                   help='play the recorded microphones afterwards (spec behaviour)')
+    m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the '
+                                                                                               'WAV after playing it')
+    m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential '
+                                                      '(each microphone in turn, as the spec)')
+    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the '
+                                                                             'microphones hear it (needs '
+                                                                             'the microphone in the run)')
     o = p.add_argument_group('results')
-    o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep this run in the run history')
-    o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not publish /diagnostics')
+    o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep '
+                                                                                           'this run in the '
+                                                                                           'run history')
+    o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not '
+                                                                                                   'publish '
+                                                                                                   '/diagnostics')
     o.add_argument('--no-report', dest='report', action='store_const', const=False, help='do not write the HTML report')
     return p
 
@@ -133,7 +157,7 @@ def check_output_dir(path):
         os.remove(probe)
     except OSError as e:
         raise ConfigError('cannot write results to %s: %s' % (path, e.strerror or e),
-                          fix='choose a writable folder with --output-dir (or ~output_dir)')
+                          fix='choose a writable folder with --output-dir (or ~output_dir)') from None
 
 
 def _fatal(message):
@@ -199,6 +223,7 @@ def run_live(plan, cli, plan_error=None, node_name=None):
                               fix='start roscore (or roslaunch), or point ROS_MASTER_URI at the robot\'s master')
         time.sleep(0.25)
     import rospy
+
     from . import node
     rospy.init_node(node_name or 'sensorTest', anonymous=not node_name, disable_signals=True)
     try:
@@ -258,16 +283,16 @@ def execute(plan, source, clock, source_name, param_sources=None):
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
     interrupts.POLICY.phase = 'defer'
     interrupts.pause('run-folder')
+    from . import outputs
+    from .history import RunFolder
     from .runner import Runner
     from .sensors.base import RunContext
     from .terminal import Terminal
-    from . import outputs
-    from .history import RunFolder
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
         folder = RunFolder.create(plan.output_dir, keep=plan.options.history is not False)
     except OSError as e:
         raise ConfigError('cannot create a run folder in %s: %s' % (plan.output_dir, e.strerror or e),
-                          fix='choose a writable folder with --output-dir, or run with --no-history')
+                          fix='choose a writable folder with --output-dir, or run with --no-history') from None
     plan = settings.replace(plan, output_dir=folder.path)
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
     if plan.options.debug:

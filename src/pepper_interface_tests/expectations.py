@@ -20,7 +20,7 @@ import dataclasses
 import difflib
 import math
 from dataclasses import dataclass, field, fields
-from typing import Optional, Tuple
+from typing import Dict, Optional, Tuple
 
 import yaml
 
@@ -270,7 +270,7 @@ def family_of(name):
 
 
 def all_keys():
-    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})
+    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})   # type: ignore[attr-defined]
 
 
 def default_for(name):
@@ -315,7 +315,7 @@ def _construct_mapping(loader, node):
             hash(key)
         except TypeError:
             raise ConfigError('a key that is a list or mapping (%r)' % (key,), loader.path, line,
-                              fix='keys are plain names, e.g. "rate:"')
+                              fix='keys are plain names, e.g. "rate:"') from None
         if key in out and id(key_node) in originals and out.lines[key] in own_lines:
             raise ConfigError('duplicate key "%s" (first on line %d); YAML would silently keep '
                               'only the last one' % (key, out.lines[key]), loader.path, line,
@@ -342,7 +342,7 @@ def parse_yaml(path):
     except yaml.YAMLError as e:
         mark = getattr(e, 'problem_mark', None)
         raise ConfigError('cannot read expectations: %s' % str(e).splitlines()[0], path,
-                          mark.line + 1 if mark is not None else None, fix='fix the YAML syntax')
+                          mark.line + 1 if mark is not None else None, fix='fix the YAML syntax') from None
     finally:
         loader.dispose()
 
@@ -374,7 +374,13 @@ def _validate(where, key, value, kind, path, line):
     try:
         return kind(key, value)
     except Bad as e:
-        raise ConfigError('%s: %s %s' % (where, key, e.problem), path, line, fix='write e.g. ' + e.fix)
+        raise ConfigError('%s: %s %s' % (where, key, e.problem), path, line,
+                          fix='write e.g. ' + e.fix) from None
+
+
+def _lines(mapping) -> dict:
+    """Key -> line of a parsed YAML mapping (empty for one built here)."""
+    return getattr(mapping, 'lines', {})
 
 
 def load(path, platform):
@@ -387,20 +393,21 @@ def load(path, platform):
                           fix='see the comments at the top of config/sensorExpectations.yaml')
     for key in data:
         if key not in SECTIONS:
-            raise _unknown_key('top level', key, list(SECTIONS), path, data.lines.get(key))
+            raise _unknown_key('top level', key, list(SECTIONS), path, _lines(data).get(key))
     every = {}
     for cls in FAMILIES.values():
         every.update(_kinds(cls))
-    defaults = _need_mapping('defaults', data.get('defaults'), path, data.lines.get('defaults'))
+    defaults = _need_mapping('defaults', data.get('defaults'), path, _lines(data).get('defaults'))
     checked_defaults = {}
     for key, value in defaults.items():
         if key not in every:
-            raise _unknown_key('defaults', key, sorted(every), path, defaults.lines.get(key))
-        checked_defaults[key] = _validate('defaults', key, value, every[key], path, defaults.lines.get(key))
-    section = _need_mapping(platform, data.get(platform), path, data.lines.get(platform))
-    given, seen = {}, {}
+            raise _unknown_key('defaults', key, sorted(every), path, _lines(defaults).get(key))
+        checked_defaults[key] = _validate('defaults', key, value, every[key], path, _lines(defaults).get(key))
+    section = _need_mapping(platform, data.get(platform), path, _lines(data).get(platform))
+    given: Dict[str, dict] = {}
+    seen: Dict[str, tuple] = {}
     for spelling, block in section.items():
-        line = section.lines.get(spelling)
+        line = _lines(section).get(spelling)
         name = catalog.canonical(str(spelling))
         if name is None:
             raise ConfigError('unknown sensor "%s" in section %s' % (spelling, platform), path, line,
@@ -416,8 +423,8 @@ def load(path, platform):
         values = {}
         for key, value in block.items():
             if key not in kinds:
-                raise _unknown_key(where, key, sorted(kinds), path, block.lines.get(key))
-            values[key] = _validate(where, key, value, kinds[key], path, block.lines.get(key))
+                raise _unknown_key(where, key, sorted(kinds), path, _lines(block).get(key))
+            values[key] = _validate(where, key, value, kinds[key], path, _lines(block).get(key))
         given[name] = values
     out = {}
     for name in catalog.SENSORS:

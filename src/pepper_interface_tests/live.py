@@ -62,7 +62,7 @@ def master_state(uri=None, timeout=MASTER_TIMEOUT):
             return conn
 
     try:
-        code, _, _ = xmlrpc.client.ServerProxy(uri, transport=_Transport()).getPid('/sensorTest')
+        code, _, _ = xmlrpc.client.ServerProxy(uri, transport=_Transport()).getPid('/sensorTest')  # type: ignore[misc,str-unpack]  # getPid answers [code, status, pid]
         return 'ok' if code == 1 else 'silent'
     except ConnectionRefusedError:
         return 'refused'

@@ -16,6 +16,7 @@ Ctrl-C.
 import sys
 import threading
 import time
+from typing import Callable, List, Optional
 
 from . import catalog, interrupts
 from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult
@@ -67,15 +68,15 @@ class SensorRun:
         self.lock = threading.Lock()
         self.cls = message_class(self.sensor.msg_type)
         self.classes = {self.sensor.msg_type: self.cls}   # type name -> class (audio: several)
-        self.publishers = []         # caller ids of the nodes whose messages arrived, in order
+        self.publishers: List[str] = []   # caller ids of the nodes whose messages arrived, in order
         self.received_type = None
-        self.sim_clock = None        # callable -> simulation time (s) when /use_sim_time is true
-        self.sim_t0 = None           # simulation time when listening began
-        self.sim_stopped_at = None
+        self.sim_clock: Optional[Callable[[], float]] = None   # simulation time (s) under /use_sim_time
+        self.sim_t0: Optional[float] = None                    # simulation time when listening began
+        self.sim_stopped_at: Optional[float] = None
         # a check may decode its messages itself (images: no copy of the pixels)
         self.decode = getattr(self.check, 'decode', None)
-        self.stats = None
-        self.t0 = None
+        self.stats = StreamStats()   # its start is set by begin()
+        self.t0: Optional[float] = None
         self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
         self.closed = False
         self.result = None
@@ -88,8 +89,7 @@ class SensorRun:
 
     # ---------------------------------------------------------------- feeding
     def begin(self, now):
-        self.t0 = now
-        self.stats = StreamStats(start=now)
+        self.t0 = self.stats.start = now
         self.check.start()
 
     def use_sim_clock(self, sim_clock):
@@ -102,7 +102,7 @@ class SensorRun:
 
     def _sim_start(self):
         """Simulation time when listening began, once /clock has started (0 before)."""
-        if self.sim_t0 is None:
+        if self.sim_t0 is None and self.sim_clock is not None:
             t = self.sim_clock()
             if t > 0:
                 self.sim_t0 = self.stats.clock_start = t
@@ -160,8 +160,8 @@ class SensorRun:
             debug = self.ctx.services.get('debug')
             if debug is not None:
                 debug('%s #%d t=%.3f s%s' % (
-                    self.sensor.name, self.stats.count, t_recv - self.t0,
-                    ' stamp %.3f frame "%s"' % (stamp, header.frame_id) if header is not None else ''))
+                    self.sensor.name, self.stats.count, t_recv - (self.t0 or 0.0),
+                    ' stamp %.3f frame "%s"' % (stamp or 0.0, header.frame_id) if header is not None else ''))
 
     # ---------------------------------------------------------------- deciding when to stop
     def due(self, now):
@@ -227,8 +227,8 @@ class SensorRun:
     def _judge(self, now, reason, lookup):
         s, check, e = self.stats, self.check, self.expect
         elapsed = now - self.t0
-        reasons = []
-        warnings = []
+        reasons: List[str] = []
+        warnings: List[str] = []
         topic = self.plan.topic
         if not check.active:
             reasons += self._arrival_reasons(elapsed, None if reason == 'interrupted' else lookup)
@@ -253,7 +253,7 @@ class SensorRun:
         if self.sim_clock is not None:
             clock_end = self.sim_stopped_at
             rtf = None
-            if self.sim_t0 is not None and elapsed > 0:
+            if self.sim_t0 is not None and self.sim_stopped_at is not None and elapsed > 0:
                 rtf = round((self.sim_stopped_at - self.sim_t0) / elapsed, 3)
             summary['real_time_factor'] = rtf
             notes.append('rates measured on the simulation clock (/use_sim_time); real-time '
@@ -427,7 +427,8 @@ def lanes_for(plan, live=True):
     even in parallel mode; a bag replay has no such limit."""
     if plan.mode == 'sequential':
         return [list(plan.sensors)]
-    lanes, cameras = [], []
+    lanes: List[list] = []
+    cameras: list = []
     serial_cameras = live and plan.platform == 'simulator'
     for s in plan.sensors:
         if serial_cameras and s.sensor.family in ('camera', 'depth') and s.skip_reason is None:
@@ -532,7 +533,7 @@ class Runner:
     def execute(self):
         """Run every lane to its end (or to an interrupt). Returns the RunResult."""
         self.start = self.clock()
-        self.lanes = [list(l) for l in lanes_for(self.plan, live=getattr(self.source, 'live', True))]
+        self.lanes = [list(ln) for ln in lanes_for(self.plan, live=getattr(self.source, 'live', True))]
         self.current = [None] * len(self.lanes)
         self.observers.call('run_started', self.run, self.plan)
         try:
@@ -579,7 +580,7 @@ class Runner:
         (robot off, wrong ROS_MASTER_URI, driver not started), say so once within --wait and fail
         those sensors with that reason, instead of waiting --wait per sensor in turn."""
         probe = getattr(self.source, 'published_topics', None)
-        plans = [p for l in self.lanes for p in l
+        plans = [p for lane in self.lanes for p in lane
                  if p.skip_reason is None and p.sensor.family != 'speech']
         if probe is None or not plans:
             return

@@ -157,7 +157,7 @@ def main(argv=None):
                 try:
                     master = PrivateMaster('/recordTestBags').start()
                 except MasterError as e:
-                    raise RecordError(str(e))
+                    raise RecordError(str(e)) from None
                 env = master.env()
             try:
                 for name in variants:

@@ -11,7 +11,7 @@ Sensor names are the canonical names (any spelling the catalog knows, case-insen
 fault names are case-insensitive. Every mistake raises FaultError naming the valid choices.
 """
 from dataclasses import dataclass
-from typing import Optional
+from typing import Dict, Optional
 
 from .. import catalog
 from .profiles import MIC_CHANNELS
@@ -107,7 +107,7 @@ def valid_sensors():
 
 def valid_faults(kind=None):
     return ', '.join(n + ('=VALUE' if FAULTS[n][0] else '') for n in FAULTS
-                     if kind is None or FAULTS[n][1] is None or kind in FAULTS[n][1])
+                     if kind is None or FAULTS[n][1] is None or kind in FAULTS[n][1])  # type: ignore[operator]  # FAULTS[n][1] is a tuple when not None
 
 
 def _number(sensor, fault, value, positive_only=True):
@@ -127,7 +127,7 @@ def parse_faults(text):
     if text is None:
         return {}
     text = str(text).strip()
-    found = {}
+    found: Dict[str, dict] = {}
     for entry in (e.strip() for e in text.replace('\n', ';').split(';')):
         if not entry:
             continue

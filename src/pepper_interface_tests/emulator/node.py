@@ -39,8 +39,7 @@ from std_msgs.msg import String
 from .. import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
-from .profiles import (AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile,
-                       default_resolution)
+from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
 from .publishers import KINDS, AudioPublisher, Clock, ClockPublisher
 from .speech import DirectSpeech, NaoqiSpeech
 
@@ -51,7 +50,7 @@ DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127
                 audio_buffer=0)
 
 
-class EmulatorConfig(object):
+class EmulatorConfig:
     """Validated settings of one emulator run (read once)."""
 
     def __init__(self, values):
@@ -71,7 +70,7 @@ class EmulatorConfig(object):
         self.real_time_factor = self._positive(v, 'real_time_factor', 'e.g. 0.6 (Gazebo slower '
                                                'than real time) or 1.0', upper=10)
         try:
-            self.audio_buffer = int(v['audio_buffer'] or 0)
+            self.audio_buffer = int(v['audio_buffer'] or 0)  # type: ignore[call-overload]  # a param value (int or str)
         except (TypeError, ValueError):
             self.audio_buffer = -1
         if not 0 <= self.audio_buffer <= 65536:
@@ -79,7 +78,7 @@ class EmulatorConfig(object):
                                        fix='give samples per channel, e.g. 4096 or 8192 (0 = default)')
         self.naoqi_url = str(v['naoqi_url'])
         try:
-            self.rate_factor = float(v['rate_factor'])
+            self.rate_factor = float(v['rate_factor'])  # type: ignore[arg-type]  # a param value (float or str)
         except (TypeError, ValueError):
             self.rate_factor = -1.0
         if not 0 < self.rate_factor < 1000:
@@ -90,7 +89,7 @@ class EmulatorConfig(object):
             raise settings.ConfigError('~camera_resolution "%s" is not valid' % v['camera_resolution'],
                                        fix='use one of: ' + ', '.join(RESOLUTIONS))
         self.camera_resolution = res
-        self.seed = int(v['seed'])
+        self.seed = int(v['seed'])  # type: ignore[call-overload]  # a param value (int or str)
         self.audio_pattern = settings.choice(v['audio_pattern'], ('tones', 'counter'), '~audio_pattern')
         self.ignored = []
         if self.profile == 'simulator':
@@ -187,7 +186,7 @@ def _parser():
     return p
 
 
-class Emulator(object):
+class Emulator:
     """Owns the publisher threads, the speech relay and the audio source of one run."""
 
     def __init__(self, config):
@@ -225,7 +224,7 @@ class Emulator(object):
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,
                           cfg.condition, source=self.source)
             else:
-                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,
+                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,  # type: ignore[call-arg,assignment]  # cls: one of the publisher classes
                           cfg.condition)
             self.threads.append(pub)
         topic = cfg.profile_spec.speech_topic
@@ -242,7 +241,7 @@ class Emulator(object):
 
     def _on_speech(self, msg):
         rospy.loginfo('pepperEmulator: /speech "%s"', msg.data)
-        self.speech.say(msg.data)
+        self.speech.say(msg.data)  # type: ignore[union-attr]  # set in start() before any /speech
 
     def summary_line(self):
         cfg = self.config
@@ -288,8 +287,9 @@ def main(argv=None):
     argv = rospy.myargv(sys.argv if argv is None else argv)
     args = _parser().parse_args(argv[1:])
     if args.list_faults:
-        from .fault_table import table
         import shutil
+
+        from .fault_table import table
         print(table(max(60, shutil.get_terminal_size((80, 20)).columns - 1)))
         return 0
     master = rosgraph.Master('/' + NODE_NAME)

@@ -12,6 +12,7 @@ every header stamp is the simulated time (the /clock the emulator publishes).
 import math
 import threading
 import time
+from typing import Any
 
 import numpy as np
 import rospy
@@ -22,9 +23,18 @@ from std_msgs.msg import String
 
 from . import scene
 from .faults import HEALTHY
-from .profiles import (AUDIO_RATE, JOINT_NAMES, JOINTS_WITHOUT_VELOCITY, LASER_ANGLE,
-                       LASER_BEAMS, LASER_BLIND_VALUE, LASER_INCREMENT, SIM_LASER_ANGLE,
-                       SIM_LASER_SLOTS, laser_blind_mask)
+from .profiles import (
+    AUDIO_RATE,
+    JOINT_NAMES,
+    JOINTS_WITHOUT_VELOCITY,
+    LASER_ANGLE,
+    LASER_BEAMS,
+    LASER_BLIND_VALUE,
+    LASER_INCREMENT,
+    SIM_LASER_ANGLE,
+    SIM_LASER_SLOTS,
+    laser_blind_mask,
+)
 
 BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
 LOADED_CAMERA_HZ = 1.3
@@ -33,7 +43,7 @@ WRONG_ENCODING = {'rgb8': 'bgr8', '16UC1': '32FC1'}
 BROKEN_QUATERNION_SCALE = 1.8
 
 
-class Clock(object):
+class Clock:
     """Seconds since the emulator started (the scene's time base), monotonic.
 
     Wall clock (rtf None): stamps are rospy.Time.now(), as naoqi_driver's ros::Time::now().
@@ -207,6 +217,7 @@ class ImagePublisher(StreamPublisher):
     def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal'):
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.dark = condition == 'dark' and spec.kind != 'depth'
+        self.renderer: Any
         if spec.kind == 'depth':
             self.renderer = scene.DepthCamera(spec.width, spec.height, spec.hfov, seed=seed)
         elif spec.kind == 'stereo':

@@ -89,7 +89,7 @@ def raycast(x, y, angles, t):
 # ---------------------------------------------------------------- colour images
 
 def _hsv_colour(h, s=200, v=220):
-    px = np.uint8([[[int(h) % 180, s, v]]])
+    px = np.uint8([[[int(h) % 180, s, v]]])  # type: ignore[arg-type]  # numpy accepts nested lists
     return tuple(int(c) for c in cv2.cvtColor(px, cv2.COLOR_HSV2RGB)[0, 0])
 
 
@@ -120,7 +120,7 @@ class _Panorama:
         room = np.where(is_floor[..., None], floor, wall)
         strip[:, :self.full] = np.clip(room, 0, 255).astype(np.uint8)
         # doors and pictures at fixed headings
-        for k, (pos, hue, tall) in enumerate(((0.08, 10, 0.7), (0.3, 100, 0.3), (0.47, 60, 0.4),
+        for pos, hue, tall in (((0.08, 10, 0.7), (0.3, 100, 0.3), (0.47, 60, 0.4),
                                               (0.66, 140, 0.65), (0.85, 25, 0.3))):
             cx = int(pos * self.full)
             half = max(2, int(width * 0.06))

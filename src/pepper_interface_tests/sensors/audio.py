@@ -124,7 +124,7 @@ class AudioCheck(Check):
         self.last_t = None
         self.buffer_rates = []     # samples / time since the previous buffer, per buffer
         self.prev_t = None
-        self.lengths = collections.Counter()
+        self.lengths: collections.Counter = collections.Counter()
         self.gaps = []              # (t, pause)
         self.writers = {}
         self.player = None
@@ -251,7 +251,7 @@ class AudioCheck(Check):
         if len(self.buffer_rates) < 2:
             if self.first_t is None or self.last_t is None or self.last_t <= self.first_t:
                 return None
-            return (self.samples - self.first_len) / (self.last_t - self.first_t)
+            return (self.samples - (self.first_len or 0)) / (self.last_t - self.first_t)
         return float(np.median(self.buffer_rates))
 
     def finish(self):
@@ -368,7 +368,7 @@ class LevelMonitor:
         self.history = float(history)
         self.baseline = float(baseline)
         self.rise_db = float(rise_db)
-        self._levels = collections.deque()
+        self._levels: collections.deque = collections.deque()
         self._lock = threading.Lock()
         self._sub = None
 

@@ -7,10 +7,14 @@ window has closed). Subclasses override `fields`, `on_message`, and optionally `
 """
 import math
 from collections import OrderedDict
+from typing import Optional
 
 
 def fmt(value, nd=4):
-    """Short, readable text for numbers, sequences and the rest."""
+    """Short, readable text for numbers, sequences and the rest; "-" for a missing value (no
+    Python None in any output)."""
+    if value is None:
+        return '-'
     if isinstance(value, float):
         if math.isnan(value) or math.isinf(value):
             return str(value)
@@ -41,8 +45,8 @@ class Acc:
     def as_dict(self, nd=4):
         if not self.n:
             return {'min': None, 'mean': None, 'max': None}
-        return {'min': round(self.lo, nd), 'mean': round(self.total / self.n, nd),
-                'max': round(self.hi, nd)}
+        lo, hi = float(self.lo or 0.0), float(self.hi or 0.0)    # set once n > 0
+        return {'min': round(lo, nd), 'mean': round(self.total / self.n, nd), 'max': round(hi, nd)}
 
     def text(self, unit=''):
         if not self.n:
@@ -98,7 +102,7 @@ class RunContext:
 
 
 class Check:
-    family = None
+    family: Optional[str] = None
     active = False          # True: the check drives itself (speech) instead of listening
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
@@ -264,4 +268,4 @@ class TrailingRun:
         """(start t, readings, seconds) of a run lasting to the last reading, or None."""
         if not self.n:
             return None
-        return self.start, self.n, self.last_t - self.start
+        return self.start, self.n, (self.last_t or 0.0) - (self.start or 0.0)

@@ -25,6 +25,7 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 import math
 import os
 import struct
+from typing import Any
 
 import numpy as np
 
@@ -78,7 +79,7 @@ class ImageCheck(Check):
     # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call.
     buff_size = 1 << 18
     queue_seconds = 2.0
-    prepare_frame = None        # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
+    prepare_frame: Any = None   # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
@@ -227,7 +228,7 @@ class ImageCheck(Check):
                       % (rec.dropped, rec.received))
         if rec.resized:
             self.warn('%d frames of another size resized to %dx%d for the video'
-                      % (rec.resized, rec.size[0], rec.size[1]))
+                      % ((rec.resized,) + tuple(rec.size or (0, 0))))
         for kind, image in (('first_frame', rec.first_frame), ('last_frame', rec.last_frame)):
             if image is None:
                 continue
@@ -346,7 +347,7 @@ class CameraCheck(ImageCheck):
             # turned black partway and stayed black: a partial failure, whatever its share
             trailing = self.black_run.since() if word == 'black' else None
             late = trailing and trailing[1] >= self.frozen_frames and trailing[2] >= 1.0
-            if late:
+            if late and trailing is not None:
                 text = ('image black from t = %s s to the end of the window (%d frames, %s s; '
                         '%s)' % (fmt(trailing[0], 2), trailing[1], fmt(trailing[2], 1), text))
             if late or frames > self.bad_share * n:

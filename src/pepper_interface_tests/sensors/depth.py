@@ -34,8 +34,8 @@ import math
 
 import numpy as np
 
-from .base import Acc, StuckRun, TrailingRun, fmt
 from ..recording import to_bgr
+from .base import Acc, StuckRun, TrailingRun, fmt
 from .camera import SERIES_MAX, ImageCheck
 
 MM_ENCODINGS = ('16UC1', 'mono16')
@@ -197,9 +197,9 @@ class DepthCheck(ImageCheck):
         mean_share = self.share.total / self.share.n if self.share.n else 0.0
         self.values['valid_share'] = self.share.as_dict(4)
         median = float(np.median(self.medians)) if self.medians else None
-        self.values['depth_m'] = {'min': round(self.lo.lo, 4) if self.lo.n else None,
+        self.values['depth_m'] = {'min': round(self.lo.lo or 0.0, 4) if self.lo.n else None,
                                   'median': round(median, 4) if median is not None else None,
-                                  'max': round(self.hi.hi, 4) if self.hi.n else None}
+                                  'max': round(self.hi.hi or 0.0, 4) if self.hi.n else None}
         if median is not None:
             self.notes.append('Depth min %s, median %s, max %s m; valid pixels %.1f%% (mean)'
                               % (fmt(self.lo.lo, 3), fmt(median, 3), fmt(self.hi.hi, 3), 100 * mean_share))

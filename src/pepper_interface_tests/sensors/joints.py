@@ -37,7 +37,7 @@ class JointsCheck(Check):
     def fields(self, msg):
         out = [('Header frame id', msg.header.frame_id), ('Number of joints', len(msg.name))]
         for i, name in enumerate(msg.name):
-            def at(seq):
+            def at(seq, i=i):
                 return fmt(seq[i]) if i < len(seq) else 'n/a'
             out.append(('Joint', '%s: Position %s, Velocity %s, Effort %s'
                         % (name, at(msg.position), at(msg.velocity), at(msg.effort))))

@@ -31,12 +31,13 @@ distances, which carry measurement noise, is a driver republishing a cached scan
 """
 import math
 from array import array
+from typing import Set
 
 from .base import Acc, Check, StuckRun, fmt
 
 
 def blind_indices(slots):
-    out = set()
+    out: Set[int] = set()
     for first, last in slots or ():
         out.update(range(int(first), int(last) + 1))
     return out

@@ -110,7 +110,7 @@ class OdometryCheck(Check):
         self.values['pose_implied_speed_m_s'] = self.implied.as_dict()
         tol = self.expect.twist_tolerance
         if tol is not None and self.pairs and self.mismatch > self.pairs / 2.0:
-            tw, im, at = self.mismatch_example
+            tw, im, at = self.mismatch_example or (0.0, 0.0, 0.0)   # set with the first mismatch
             self.fail('twist contradicts the pose: |twist| and the speed the poses imply differ by '
                       'more than twist_tolerance %s m/s in %d of %d pose pairs %.1f s apart (e.g. '
                       'twist %s m/s, poses %s m/s at t = %s s)'

@@ -14,7 +14,6 @@ from std_msgs.msg import String
 from .base import Check
 
 
-
 class SpeechCheck(Check):
     family = 'speech'
     active = True
