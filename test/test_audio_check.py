@@ -62,6 +62,8 @@ def test_levels_rate_and_the_four_channel_wav(tmp_path):
 def test_a_silent_channel_fails_by_its_place(tmp_path):
     c = feed(make_check('microphone', tmp_path, record=False), buffers(6, silent='frontLeft'))
     assert c.failure_reasons() == ['microphone frontLeft is silent: all samples are zero']
+    levels = [n for n in c.notes if n.startswith('Levels')]
+    assert levels and 'frontLeft - / -' in levels[0] and 'None' not in ' '.join(c.notes), c.notes
     c = feed(make_check('microphone', tmp_path, record=False), buffers(6, amplitude=5))
     assert len(c.failure_reasons()) == 4
     assert 'microphone rearRight is silent: RMS -80.9 dBFS below silence_dbfs -70' in c.failure_reasons()
