@@ -258,6 +258,16 @@ def test_rates_lines_are_coloured_by_the_rates_own_verdict(tmp_path):
     assert _rates_pixels(text, red) > 200 and '2.0 Hz out of band' not in text   # said in the figure
 
 
+def test_a_pass_with_warnings_is_marked_at_a_glance(tmp_path):
+    """The summary's badge reads PASS* for a PASS that carries warnings (as on the terminal)."""
+    from pepper_interface_tests import report
+    from report_fixtures import run_of, sensor
+    text = report.render(run_of(str(tmp_path), [
+        sensor('frontSonar', 'PASS', warnings=['rate 4.3 Hz within 10 % of the band\'s edge']),
+        sensor('backSonar', 'PASS')]))
+    assert text.count('title="passed with warnings">PASS*</span>') == 1, text
+
+
 def test_camera_without_video_says_why(tmp_path):
     from pepper_interface_tests import report
     from report_fixtures import run_of, sensor
