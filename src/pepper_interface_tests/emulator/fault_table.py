@@ -21,6 +21,16 @@ EFFECTS = {
     'nan_attitude': 'orientation NaN (covariance[0] still -1)',
     'all_blind': 'every laser slot blind',
     'no_returns': 'simulator: every laser slot NaN (no return)',
+    'stuck': 'one message\'s data republished with new stamps',
+    'after': 'stuck, frozen, black or silent_channel begin VALUE s after the first '
+                   'subscriber (a partial failure)',
+    'dead_accelerometer': 'linear acceleration 0, 0, 0',
+    'gyro_overrange': '12 rad/s about z, beyond the gyrometer\'s range',
+    'joint_jump': 'HeadYaw jumps -2 / +2 rad every 0.25 s',
+    'pose_jump': 'x jumps by 1 m every 2 s',
+    'twist_mismatch': 'twist 0.4 m/s whatever the pose does',
+    'far_depth': 'every pixel about 20 m',
+    'flat_depth': 'every pixel 1.5 m, no noise',
     'silent_channel': 'channel VALUE all zeros: rearLeft, rearRight, frontLeft or frontRight '
                       '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
                       'silent_channel)',
