@@ -1074,7 +1074,7 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
     .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
     from diagnostic_msgs.msg import DiagnosticStatus
 
-    from pepper_interface_tests.diagnostics import Status, final_status
+    from pepper_interface_tests.diagnostics import result_status
     run = make_run('backSonar', tmp_path)
     msgs = [sonar(i) for i in range(N)]
     t = T0
@@ -1107,11 +1107,9 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
     assert data['sensors'][0]['verdict'] == 'PASS' and data['sensors'][0]['warnings'] == warned.warnings
     case = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')[0]
     assert case.find('failure') is None and 'WARNING: ' + warned.warnings[0] in case.find('system-out').text
-    status = Status('backSonar', '/t', 'sensor_msgs/Range')
-    final_status(status, warned)
+    status = result_status(warned)
     assert status.level == DiagnosticStatus.WARN and status.message.startswith('PASS with warnings: ')
-    final_status(status, clean)
-    assert status.level == DiagnosticStatus.OK
+    assert result_status(clean).level == DiagnosticStatus.OK
 
 
 def test_suspicious_but_possible_conditions_are_warnings(tmp_path):
