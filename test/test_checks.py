@@ -1068,7 +1068,7 @@ def test_a_check_that_raises_fails_its_sensor_by_name(tmp_path):
     assert any('could not be checked (ValueError: cannot handle this reading)' in x for x in r.reasons), r.reasons
 
 
-def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
+def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     """Issue 10, item 4: a suspicious but possible condition (here a pause in the stream) keeps
     the PASS, and every output says which PASS carries it: terminal PASS* with a legend, the
     .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
@@ -1089,6 +1089,7 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path):
     rr = RunResult(platform='robot', mode='parallel', start=1700000000.0, end=1700000005.0,
                    output_dir=str(tmp_path), sensors=[warned, clean])
     term = io.StringIO()
+    monkeypatch.setenv('COLUMNS', '130')      # the summary as a table (narrower: one block per sensor)
     Terminal(stream=term).run_ended(rr)
     rows = {line.split()[0]: line for line in term.getvalue().splitlines() if line[:1].isalpha()}
     assert rows['backSonar'].split()[1] == 'PASS*' and 'warning: ' in rows['backSonar']

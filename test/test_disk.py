@@ -16,7 +16,7 @@ from test_sensor_test_cli import (
     Publishers,
     Running,
     assert_outputs_complete,
-    topic_of,
+    sonar_and_laser,
     write_topics,
 )
 
@@ -28,11 +28,7 @@ NAMES = ['backSonar', 'laser']
 @pytest.fixture(scope='module')
 def pubs(module_master, tmp_path_factory):
     tmp = tmp_path_factory.mktemp('disk')
-    p = Publishers(module_master, tmp)
-    p.start('backSonar', topic_of(PREFIX, 'backSonar'), 'range', '--frame', 'SonarBack_frame')
-    p.start('laser', topic_of(PREFIX, 'laser'), 'laser')
-    p.wait([topic_of(PREFIX, n) for n in NAMES])
-    p.topics = write_topics(tmp / 'topics.dat', PREFIX, NAMES)
+    p = sonar_and_laser(module_master, tmp, PREFIX)
     yield p
     p.stop()
 

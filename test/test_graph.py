@@ -7,7 +7,15 @@ import time
 import pytest
 import rosgraph
 
-from test_sensor_test_cli import Publishers, Running, assert_outputs_complete, child_pids, topic_of, write_topics
+from test_sensor_test_cli import (
+    Publishers,
+    Running,
+    assert_outputs_complete,
+    child_pids,
+    sonar_and_laser,
+    topic_of,
+    write_topics,
+)
 
 PREFIX = '/graph'
 NAMES = ['backSonar', 'laser']
@@ -16,11 +24,7 @@ NAMES = ['backSonar', 'laser']
 @pytest.fixture(scope='module')
 def pubs(module_master, tmp_path_factory):
     tmp = tmp_path_factory.mktemp('graph')
-    p = Publishers(module_master, tmp)
-    p.start('backSonar', topic_of(PREFIX, 'backSonar'), 'range', '--frame', 'SonarBack_frame')
-    p.start('laser', topic_of(PREFIX, 'laser'), 'laser')
-    p.wait([topic_of(PREFIX, n) for n in NAMES])
-    p.topics = write_topics(tmp / 'topics.dat', PREFIX, NAMES)
+    p = sonar_and_laser(module_master, tmp, PREFIX)
     yield p
     p.stop()
 

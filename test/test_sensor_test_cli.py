@@ -67,6 +67,17 @@ def wait_registered(master, topics=(), subscribed=(), timeout=START_LIMIT):
         time.sleep(0.2)
 
 
+def sonar_and_laser(master, tmp, prefix, extra_topics=()):
+    """Publishers of a good back sonar and laser under `prefix`, and a topics file naming them
+    (plus `extra_topics`, sensors nobody publishes) as `.topics`; stop() them when done."""
+    p = Publishers(master, tmp)
+    p.start('backSonar', topic_of(prefix, 'backSonar'), 'range', '--frame', 'SonarBack_frame')
+    p.start('laser', topic_of(prefix, 'laser'), 'laser')
+    p.wait([topic_of(prefix, n) for n in ('backSonar', 'laser')])
+    p.topics = write_topics(tmp / 'topics.dat', prefix, ['backSonar', 'laser'] + list(extra_topics))
+    return p
+
+
 class Publishers:
     """core_publisher.py processes for one test (or module); stopped on exit."""
 

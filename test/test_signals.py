@@ -13,12 +13,10 @@ import pytest
 
 from rosmaster import kill_group, script, spawn
 from test_sensor_test_cli import (
-    Publishers,
     Result,
     Running,
     assert_outputs_complete,
-    topic_of,
-    write_topics,
+    sonar_and_laser,
 )
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -29,11 +27,7 @@ NAMES = ['backSonar', 'laser']
 @pytest.fixture(scope='module')
 def pubs(module_master, tmp_path_factory):
     tmp = tmp_path_factory.mktemp('sig')
-    p = Publishers(module_master, tmp)
-    p.start('backSonar', topic_of(PREFIX, 'backSonar'), 'range', '--frame', 'SonarBack_frame')
-    p.start('laser', topic_of(PREFIX, 'laser'), 'laser')
-    p.wait([topic_of(PREFIX, n) for n in NAMES])
-    p.topics = write_topics(tmp / 'topics.dat', PREFIX, NAMES + ['frontSonar'])
+    p = sonar_and_laser(module_master, tmp, PREFIX, ['frontSonar'])
     yield p
     p.stop()
 
