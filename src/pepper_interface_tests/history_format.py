@@ -1,16 +1,17 @@
 """sensorTestHistory's text output: `list` and `compare` as tables that fit the terminal (its
 width, else $COLUMNS, else 80 columns), free-text cells wrapped inside their column."""
 import os
-import shutil
 import textwrap
 
 from . import results
 from .history import PASSING, RATE_FLAG, RUNS_DIR
+from .terminal import columns
 
 
 def width():
-    """Columns to fit: the terminal's, else $COLUMNS, else 80; never under 60."""
-    return max(60, shutil.get_terminal_size((80, 24)).columns)
+    """Columns to fit: $COLUMNS, else the terminal's, else 80 (less the one column kept free);
+    never under 60."""
+    return columns(80, minimum=60)
 
 
 def _counts(data):

@@ -9,12 +9,12 @@ SpeechHearing: while the speech check runs and the microphone is part of the run
 microphone level monitor is offered to it (ctx.services['microphone_levels']).
 """
 import os
-import shutil
 import sys
 import textwrap
 from typing import List
 
 from . import results
+from .terminal import columns
 
 
 def write_error(run, path, error):
@@ -71,7 +71,7 @@ class ResultFiles:
         stream = self.out or sys.stdout
         stream.write(textwrap.fill('results in %s: %s' % (self.dir, ', '.join((
             results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE))),
-            max(40, shutil.get_terminal_size((120, 20)).columns - 1), subsequent_indent='  ',
+            columns(minimum=40), subsequent_indent='  ',
             break_long_words=False, break_on_hyphens=False) + '\n')
         stream.flush()
 

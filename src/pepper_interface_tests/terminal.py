@@ -79,10 +79,10 @@ def _reasons(texts):
     return '; '.join(printable(t, REASON_LIMIT) for t in texts)
 
 
-def _width(fallback=120):
+def columns(fallback=120, minimum=20):
     """Usable columns: $COLUMNS, else the terminal's width, else `fallback` (a pipe, a file);
-    one column is kept free so that no line makes the terminal wrap."""
-    return max(20, shutil.get_terminal_size((fallback, 20)).columns - 1)
+    one column is kept free so that no line makes the terminal wrap; never under `minimum`."""
+    return max(minimum, shutil.get_terminal_size((fallback, 20)).columns - 1)
 
 
 def under_roslaunch(argv=None):
@@ -162,7 +162,7 @@ class Terminal:
     def run_started(self, run, plan):
         self.plan = plan
         n = len(plan.sensors)
-        width = _width()
+        width = columns()
         self.line(textwrap.fill(
                   'sensorTest: %d sensor%s on the %s (%s mode, %s), results in %s'
                   % (n, '' if n == 1 else 's', 'simulator' if plan.platform == 'simulator'
@@ -182,7 +182,7 @@ class Terminal:
             text = '  start  %-22s publishing on %s' % (p.name, p.topic)
         else:
             text = '  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(sensor_run.window, 1))
-        for part in textwrap.wrap(text, _width(), subsequent_indent=' ' * 9) or [text]:
+        for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9) or [text]:
             self.line(part)
 
     def sensor_done(self, r):
@@ -197,7 +197,7 @@ class Terminal:
                 text += ', %.2f Hz' % r.rate_hz
             if r.reasons:
                 text += ': ' + _reasons(r.reasons)
-        for part in textwrap.wrap(text, _width(), subsequent_indent=' ' * 9,
+        for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9,
                                   break_on_hyphens=False) or [text]:
             self.line(self._paint(part, r.verdict))
 
@@ -209,7 +209,7 @@ class Terminal:
                 'started; the topics file names other topics (--platform, --topics). Every '
                 'listened-to sensor FAILs with this reason.'
                 % (len(topics), ' at %s' % uri if uri else '', waited))
-        self.line(self._paint(textwrap.fill(text, _width(), initial_indent='sensorTest: ',
+        self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 
     def tick(self, runs, now):
@@ -219,7 +219,7 @@ class Terminal:
             if now - self._last_tty < 0.5:
                 return
             self._last_tty = now
-            self.out.write('\r\033[K' + progress_text(runs, now, self._failed, _width(100)))
+            self.out.write('\r\033[K' + progress_text(runs, now, self._failed, columns(100)))
             self.out.flush()
             self._status_shown = True
         else:
@@ -227,12 +227,12 @@ class Terminal:
                 self._last_plain = now
             if now - self._last_plain >= self.plain_every:
                 self._last_plain = now
-                self.line(progress_text(runs, now, self._failed, _width()))
+                self.line(progress_text(runs, now, self._failed, columns()))
 
     def run_ended(self, run):
         self._clear()
         self.line()
-        width = _width()
+        width = columns()
         if run.interrupted:
             for i, text in enumerate(textwrap.wrap('INTERRUPTED: %s' % printable(
                     run.interrupt_reason, REASON_LIMIT), width)):
