@@ -8,6 +8,7 @@ here is deleted and nothing else changes.
 import math
 import re
 
+from ..results import printable
 from .values import (
     AudioValues,
     CameraValues,
@@ -170,7 +171,6 @@ def adapt(family, result, run):
 
 # ---------------------------------------------------------------- text shown on the page
 
-_CONTROL = re.compile('[\x00-\x08\x0b-\x1f\x7f-\x9f]')
 _NONE = re.compile(r'(?<![\w+/=])None(?![\w+/=])')
 
 
@@ -179,5 +179,4 @@ def clean(text):
     characters shown as \\xNN instead of breaking the layout."""
     if text is None:
         return '-'
-    text = _NONE.sub('-', str(text))
-    return _CONTROL.sub(lambda m: '\\x%02x' % ord(m.group(0)), text)
+    return printable(_NONE.sub('-', str(text)), one_line=False)
