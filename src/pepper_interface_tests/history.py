@@ -83,12 +83,17 @@ def _publish_file(src, dst):
     if os.path.lexists(tmp):
         os.unlink(tmp)
     try:
-        os.link(src, tmp)
-        how = 'link'
-    except OSError:
-        shutil.copy2(src, tmp)
-        how = 'copy'
-    os.replace(tmp, dst)
+        try:
+            os.link(src, tmp)
+            how = 'link'
+        except OSError:
+            shutil.copy2(src, tmp)
+            how = 'copy'
+        os.replace(tmp, dst)
+    except BaseException:       # a full disk mid-copy: no half-copied temporary file left
+        if os.path.lexists(tmp):
+            os.unlink(tmp)
+        raise
     return how
 
 
