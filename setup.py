@@ -4,11 +4,16 @@ from setuptools import setup
 
 setup(**generate_distutils_setup(
     packages=['pepper_interface_tests',
+              'pepper_interface_tests.plan',
+              'pepper_interface_tests.sources',
+              'pepper_interface_tests.media',
               'pepper_interface_tests.sensors',
+              'pepper_interface_tests.outputs',
+              'pepper_interface_tests.launch',
               'pepper_interface_tests.audio_bridge',
               'pepper_interface_tests.emulator',
-              'pepper_interface_tests.report',
-              'pepper_interface_tests.report.views'],
+              'pepper_interface_tests.outputs.report',
+              'pepper_interface_tests.outputs.report.views'],
     package_dir={'': 'src'},
-    package_data={'pepper_interface_tests.report': ['templates/*']},
+    package_data={'pepper_interface_tests.outputs.report': ['templates/*']},
 ))

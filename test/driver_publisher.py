@@ -31,7 +31,7 @@ import time
 import numpy as np
 import rospy
 
-from pepper_interface_tests.naoqi_msgs import CHANNEL_NAMES, audio_buffer_class
+from pepper_interface_tests.sources.naoqi_msgs import CHANNEL_NAMES, audio_buffer_class
 
 TONES = {'rearLeft': 500.0, 'rearRight': 1000.0, 'frontLeft': 1500.0, 'frontRight': 2500.0}
 BLIND = list(range(15, 23)) + list(range(38, 46))

@@ -183,7 +183,7 @@ def main():
     records, subs = {}, []
     for topic, type_name in types.items():
         if type_name == 'naoqi_bridge_msgs/AudioBuffer':      # usually not installed
-            from pepper_interface_tests.naoqi_msgs import audio_buffer_class
+            from pepper_interface_tests.sources.naoqi_msgs import audio_buffer_class
             cls = audio_buffer_class()
         else:
             cls = rostopic.get_topic_class(topic)[0]

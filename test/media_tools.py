@@ -145,7 +145,7 @@ def explain(done, results):
 
 def make_check(sensor, tmp, platform='robot', services=None, expect=None, **options):
     """A sensor's Check built from the package's real plan (settings.load_plan), not started."""
-    from pepper_interface_tests import settings
+    from pepper_interface_tests.plan import settings
     from pepper_interface_tests.sensors import check_class
     from pepper_interface_tests.sensors.base import RunContext
     opts = settings.Options(platform=platform, sensors=(sensor,), topics=topics_file(tmp),

@@ -65,7 +65,7 @@ def media_run(folder, sensors=MEDIA_SENSORS):
     """A RunResult whose results come from the real checks fed with made-up messages."""
     import rospy.rostime
 
-    from pepper_interface_tests import settings
+    from pepper_interface_tests.plan import settings
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
     from pepper_interface_tests.runner import SensorRun
     from pepper_interface_tests.sensors.base import RunContext
@@ -137,7 +137,7 @@ def rate_series(rate, seconds):
 
 def sensor(name, verdict='PASS', **kw):
     """A SensorResult of the catalog's sensor `name` with plausible defaults, for report tests."""
-    from pepper_interface_tests import catalog
+    from pepper_interface_tests.plan import catalog
     from pepper_interface_tests.results import SensorResult
     s = catalog.SENSORS[name]
     fields = dict(name=name, title=name.upper(), topic='/t/' + name, msg_type=s.msg_type, verdict=verdict,

@@ -17,7 +17,7 @@ import genpy
 import rosbag
 from sensor_msgs.msg import Image, Range
 
-from pepper_interface_tests.bag import MAX_SILENCE, dense_span
+from pepper_interface_tests.sources.bag import MAX_SILENCE, dense_span
 from rosmaster import script
 
 T0 = 1700000000.0

@@ -96,7 +96,7 @@ def test_rostest_bag_playback(recorded_bags, variant, tmp_path):
     if variant == 'simulator_good':   # live simulator cameras run one after another: keep it short
         names = [n for n in names if n not in ('bottomCamera', 'depthCamera')]
     expect = ';'.join('%s=%s' % (n, 'FAIL:' + failures[n] if n in failures else 'PASS') for n in names)
-    from pepper_interface_tests import settings
+    from pepper_interface_tests.plan import settings
     plan = settings.load_plan(settings.Options(platform=variant.split('_')[0], sensors=tuple(names)))
     topics = ' '.join(s.topic for s in plan.sensors)
     env = dict(os.environ, ROS_HOME=str(tmp_path / 'ros_home'))

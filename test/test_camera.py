@@ -169,7 +169,7 @@ def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
 
 
 def test_frames_are_posted_to_the_viewer_service(tmp_path):
-    from pepper_interface_tests.viewer import Viewer
+    from pepper_interface_tests.media.viewer import Viewer
     viewer = Viewer()            # not created through Viewer.create: no window is opened here
     feed(make_check('frontCamera', tmp_path, record=False, services={'viewer': viewer}), good(5))
     assert viewer.posted == {'frontCamera': 5}

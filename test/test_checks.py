@@ -21,16 +21,19 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
-from pepper_interface_tests import catalog, results, settings
-from pepper_interface_tests.bag import BagSource
-from pepper_interface_tests.outputs import ResultFiles
+from pepper_interface_tests import results
+from pepper_interface_tests.observer import RunObserver
+from pepper_interface_tests.outputs import files
+from pepper_interface_tests.outputs.observers import ResultFiles
+from pepper_interface_tests.outputs.terminal import Terminal
+from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS, SKIPPED, RunResult, SensorResult
 from pepper_interface_tests.runner import Runner, SensorRun, lanes_for, message_class
 from pepper_interface_tests.sensors.base import Acc, RunContext, Tally, fmt
 from pepper_interface_tests.sensors.joint_limits import LIMITS
-from pepper_interface_tests.settings import Options, SensorPlan
+from pepper_interface_tests.sources.bag import BagSource
 from pepper_interface_tests.stats import StreamStats
-from pepper_interface_tests.terminal import Terminal
 
 PKG = settings.package_dir()
 ROBOT = settings.read_expectations(os.path.join(PKG, 'config', 'sensorExpectations.yaml'), 'robot')
@@ -799,7 +802,7 @@ def write_bag(path, topics, seconds=8.0, rate=10.0, begin=R0):
     return str(path)
 
 
-class Interrupter:
+class Interrupter(RunObserver):
     """An observer that presses Ctrl-C after `after` seconds of run time."""
 
     def __init__(self, after):
@@ -815,7 +818,7 @@ class Interrupter:
             raise KeyboardInterrupt
 
 
-class Broken:
+class Broken(RunObserver):
     """An observer that fails: the run must go on."""
 
     def sensor_done(self, result):
@@ -960,7 +963,7 @@ def test_output_file_blocks(tmp_path):
     run = sample_run(tmp_path)
     path = str(tmp_path / results.OUTPUT_FILE)
     for _ in range(2):                     # appended, never truncated
-        f = results.OutputFile(path)
+        f = files.OutputFile(path)
         f.begin(run)
         for s in run.sensors:
             f.sensor(s)
@@ -989,7 +992,7 @@ def test_output_file_blocks(tmp_path):
 def test_output_file_interrupted(tmp_path):
     run = sample_run(tmp_path)
     run.interrupted, run.interrupt_reason = True, 'the ROS master at http://x:1 went away'
-    f = results.OutputFile(str(tmp_path / 'o.dat'))
+    f = files.OutputFile(str(tmp_path / 'o.dat'))
     f.begin(run)
     f.end(run)
     f.close()
@@ -1001,8 +1004,8 @@ def test_output_file_interrupted(tmp_path):
 def test_json_fields(tmp_path):
     run = sample_run(tmp_path)
     path = str(tmp_path / results.JSON_FILE)
-    results.write_json(run, path)
-    data = results.load_json(path)
+    files.write_json(run, path)
+    data = files.load_json(path)
     assert data['schema_version'] == results.SCHEMA_VERSION
     assert (data['platform'], data['mode'], data['exit_code']) == ('robot', 'sequential', 1)
     assert data['summary'] == {PASS: 1, FAIL: 1, SKIPPED: 1, 'INTERRUPTED': 0}
@@ -1036,7 +1039,7 @@ def test_exit_codes():
 def test_junit_xml(tmp_path):
     run = sample_run(tmp_path)
     path = str(tmp_path / results.JUNIT_FILE)
-    results.write_junit(run, path)
+    files.write_junit(run, path)
     root = ET.parse(path).getroot()
     assert root.tag == 'testsuite'
     assert (root.get('tests'), root.get('failures'), root.get('skipped')) == ('3', '1', '1')
@@ -1074,7 +1077,7 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     .dat's [WARNING], the JSON's warnings, JUnit system-out, /diagnostics WARN."""
     from diagnostic_msgs.msg import DiagnosticStatus
 
-    from pepper_interface_tests.diagnostics import result_status
+    from pepper_interface_tests.outputs.diagnostics import result_status
     run = make_run('backSonar', tmp_path)
     msgs = [sonar(i) for i in range(N)]
     t = T0
@@ -1095,16 +1098,16 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     assert rows['backSonar'].split()[1] == 'PASS*' and 'warning: ' in rows['backSonar']
     assert rows['frontSonar'].split()[1] == 'PASS'
     assert 'PASS* = passed with 1 warning to read (not a failure)' in term.getvalue()
-    f = results.OutputFile(str(tmp_path / results.OUTPUT_FILE))
+    f = files.OutputFile(str(tmp_path / results.OUTPUT_FILE))
     f.begin(rr)
     for s in rr.sensors:
         f.sensor(s)
     f.end(rr)
     f.close()
-    results.write_json(rr, str(tmp_path / results.JSON_FILE))
-    results.write_junit(rr, str(tmp_path / results.JUNIT_FILE))
+    files.write_json(rr, str(tmp_path / results.JSON_FILE))
+    files.write_junit(rr, str(tmp_path / results.JUNIT_FILE))
     assert '[WARNING] ' + warned.warnings[0] in open(str(tmp_path / results.OUTPUT_FILE)).read()
-    data = results.load_json(str(tmp_path / results.JSON_FILE))
+    data = files.load_json(str(tmp_path / results.JSON_FILE))
     assert data['sensors'][0]['verdict'] == 'PASS' and data['sensors'][0]['warnings'] == warned.warnings
     case = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')[0]
     assert case.find('failure') is None and 'WARNING: ' + warned.warnings[0] in case.find('system-out').text

@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 
 from media_tools import Publishers, explain, image_msg, make_check, sensor_test, video_info
-from pepper_interface_tests.recording import to_bgr
+from pepper_interface_tests.media.recording import to_bgr
 
 
 def feed(check, frames, rate=10.0):

@@ -2,7 +2,7 @@
 (diagnostics.result_status / waiting_status), without a master."""
 from diagnostic_msgs.msg import DiagnosticStatus
 
-from pepper_interface_tests import diagnostics as D
+from pepper_interface_tests.outputs import diagnostics as D
 from pepper_interface_tests.results import FAIL, INTERRUPTED, PASS, SKIPPED, SensorResult
 
 

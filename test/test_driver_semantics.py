@@ -20,17 +20,17 @@ import rosbag
 import soundfile
 from sensor_msgs.msg import LaserScan
 
-from pepper_interface_tests import catalog, settings
-from pepper_interface_tests.naoqi_msgs import (
+from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan.settings import Options, SensorPlan
+from pepper_interface_tests.results import FAIL, PASS
+from pepper_interface_tests.runner import SensorRun
+from pepper_interface_tests.sensors.base import RunContext
+from pepper_interface_tests.sources.naoqi_msgs import (
     AUDIO_BUFFER_DEFINITION,
     AUDIO_BUFFER_TYPE,
     CHANNEL_NAMES,
     audio_buffer_class,
 )
-from pepper_interface_tests.results import FAIL, PASS
-from pepper_interface_tests.runner import SensorRun
-from pepper_interface_tests.sensors.base import RunContext
-from pepper_interface_tests.settings import Options, SensorPlan
 from rosmaster import kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))

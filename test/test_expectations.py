@@ -13,8 +13,8 @@ import subprocess
 
 import pytest
 
-from pepper_interface_tests import catalog, expectations
-from pepper_interface_tests.settings import ConfigError, Options, load_plan
+from pepper_interface_tests.plan import catalog, expectations
+from pepper_interface_tests.plan.settings import ConfigError, Options, load_plan
 from rosmaster import script
 
 ALL = list(catalog.SENSORS)

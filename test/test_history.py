@@ -171,7 +171,7 @@ def test_no_history_writes_straight_into_the_output_dir(module_master, tmp_path)
 
 
 def test_run_ids_are_unique_within_a_second(tmp_path):
-    from pepper_interface_tests.history import RunFolder, list_runs
+    from pepper_interface_tests.outputs.history import RunFolder, list_runs
     now = time.time()
     folders = [RunFolder.create(str(tmp_path), now=now) for _ in range(11)]
     ids = [f.run_id for f in folders]
@@ -181,7 +181,7 @@ def test_run_ids_are_unique_within_a_second(tmp_path):
 
 
 def test_publishing_removes_only_unchanged_files_of_the_previous_run(tmp_path):
-    from pepper_interface_tests.history import RunFolder, publish_latest
+    from pepper_interface_tests.outputs.history import RunFolder, publish_latest
     a = RunFolder.create(str(tmp_path), now=1.7e9)
     for name in ('sensorTestResults.json', 'frontCameraOutput.mp4', 'bottomCameraOutput.mp4'):
         (tmp_path / 'runs' / a.run_id / name).write_text('run a ' + name)

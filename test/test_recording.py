@@ -11,9 +11,9 @@ import pytest
 import soundfile
 
 from media_tools import Publishers, load_results, pattern, topics_file, video_info
-from pepper_interface_tests import playback, recording
-from pepper_interface_tests.recording import VideoRecorder, WavWriter
-from pepper_interface_tests.viewer import Viewer
+from pepper_interface_tests.media import playback, recording
+from pepper_interface_tests.media.recording import VideoRecorder, WavWriter
+from pepper_interface_tests.media.viewer import Viewer
 from rosmaster import script, spawn
 
 
@@ -225,7 +225,7 @@ def test_viewer_off_prints_one_line_and_returns_none(monkeypatch, capsys):
 
 
 def test_viewer_with_an_unreachable_display_does_not_take_the_process_down(monkeypatch, capsys):
-    from pepper_interface_tests import viewer
+    from pepper_interface_tests.media import viewer
     if viewer.gui_support() is None:
         pytest.skip('headless OpenCV: the display is never tried')
     monkeypatch.setenv('DISPLAY', ':97')          # no X server there
@@ -244,7 +244,7 @@ def test_viewer_keeps_only_the_newest_frame_per_window():
 
 @pytest.mark.skipif(not recording.shutil.which('Xvfb'), reason='Xvfb not installed')
 def test_viewer_shows_windows_on_a_real_display(tmp_path):
-    code = ("import numpy as np; from pepper_interface_tests.viewer import Viewer; v = Viewer.create(True); "
+    code = ("import numpy as np; from pepper_interface_tests.media.viewer import Viewer; v = Viewer.create(True); "
             "assert v is not None; v.post('frontCamera', np.zeros((48, 64, 3), np.uint8)); v.pump(); "
             "v.post('frontCamera', np.ones((48, 64, 3), np.uint8)); v.pump(); v.pump(); "
             "print(v.shown, v.failed); v.close()")

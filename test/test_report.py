@@ -120,7 +120,7 @@ def test_media_sections_play_in_chromium(tmp_path):
     by_name = {r.name: r for r in run.sensors}
     assert by_name['frontCamera'].artifacts.get('video'), by_name['frontCamera'].warnings
     assert by_name['microphone'].artifacts.get('audio')
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     path = report.write_report(run)
     png = str(tmp_path / 'media.png')
     page = render_page(path, png)
@@ -162,7 +162,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
     import cv2
     import numpy as np
 
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
     folder = str(tmp_path)
     video, wav = report_fixtures.handmade_media(folder)
@@ -197,7 +197,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
 def test_report_error_is_one_warning_line(tmp_path):
     import io
 
-    from pepper_interface_tests.report import HtmlReport
+    from pepper_interface_tests.outputs.report import HtmlReport
     from pepper_interface_tests.results import RunResult
     run = RunResult(platform='robot', mode='sequential', start=1.7e9, end=1.7e9 + 1)
     out = io.StringIO()
@@ -207,7 +207,7 @@ def test_report_error_is_one_warning_line(tmp_path):
 
 
 def test_hostile_strings_are_text_and_no_none_reaches_the_page(tmp_path):
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from report_fixtures import run_of, sensor
     folder = str(tmp_path)
     evil = '<script>alert(1)</script>'
@@ -245,7 +245,7 @@ def _rates_pixels(html_text, rgb):
 
 
 def test_rates_lines_are_coloured_by_the_rates_own_verdict(tmp_path):
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from report_fixtures import run_of, sensor
     red, blue = (0xcf, 0x22, 0x2e), (0x09, 0x69, 0xda)
     # fails for NaN ranges, but its rate is in band: blue, no red anywhere in the figure
@@ -260,7 +260,7 @@ def test_rates_lines_are_coloured_by_the_rates_own_verdict(tmp_path):
 
 def test_a_pass_with_warnings_is_marked_at_a_glance(tmp_path):
     """The summary's badge reads PASS* for a PASS that carries warnings (as on the terminal)."""
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from report_fixtures import run_of, sensor
     text = report.render(run_of(str(tmp_path), [
         sensor('frontSonar', 'PASS', warnings=['rate 4.3 Hz within 10 % of the band\'s edge']),
@@ -269,7 +269,7 @@ def test_a_pass_with_warnings_is_marked_at_a_glance(tmp_path):
 
 
 def test_camera_without_video_says_why(tmp_path):
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from report_fixtures import run_of, sensor
     failed = {'file': None, 'codec': None, 'fps': None, 'width': None, 'height': None, 'frames_received': 25,
               'frames_written': 0, 'frames_dropped': 25, 'error': 'cannot open a video writer for /x/front.mp4'}
@@ -291,7 +291,7 @@ def test_silent_channel_has_its_own_marked_level_plot(tmp_path):
     import matplotlib.image
     import numpy as np
 
-    from pepper_interface_tests import report
+    from pepper_interface_tests.outputs import report
     from report_fixtures import run_of, sensor
     chans = {'rearLeft': -20.0, 'rearRight': None, 'frontLeft': -30.0, 'frontRight': -35.0}
     series = {'level_dbfs_' + c: [[0.1 * k, None if v is None else v + k % 3] for k in range(30)]
@@ -315,8 +315,8 @@ def test_silent_channel_has_its_own_marked_level_plot(tmp_path):
 
 
 def test_media_budget_embeds_short_clips_and_links_the_rest(tmp_path):
-    from pepper_interface_tests.report.blocks import Media, Para
-    from pepper_interface_tests.report.files import EMBED_BUDGET_BYTES, MAX_EMBED_BYTES, RunFiles
+    from pepper_interface_tests.outputs.report.blocks import Media, Para
+    from pepper_interface_tests.outputs.report.files import EMBED_BUDGET_BYTES, MAX_EMBED_BYTES, RunFiles
     assert (MAX_EMBED_BYTES, EMBED_BUDGET_BYTES) == (512 * 1024, 1024 * 1024)   # as docs/results.md says
     sizes = {'a.wav': 400000, 'b.wav': 400000, 'c.wav': 400000, 'big.wav': MAX_EMBED_BYTES + 1, 'd.wav': 100000}
     for name, size in sizes.items():

@@ -6,7 +6,8 @@ import xml.etree.ElementTree as ET
 import pytest
 
 from pepper_interface_tests import results as R
-from pepper_interface_tests.atomicfile import write_atomic
+from pepper_interface_tests.outputs import files
+from pepper_interface_tests.outputs.atomicfile import write_atomic
 
 HOSTILE = 'a\x00b\x1b[31mred\x07 ]]> <script>alert(1)</script> & "q" \'s\' \ud800 \ufffe \x85 é 漢'
 
@@ -27,7 +28,7 @@ def run_with(reason, frame=HOSTILE, big=''):
 
 
 def test_junit_parses_and_keeps_hostile_text():
-    root = ET.fromstring(R.junit_text(run_with('bad ' + HOSTILE)).encode('utf-8'))
+    root = ET.fromstring(files.junit_text(run_with('bad ' + HOSTILE)).encode('utf-8'))
     assert root.tag == 'testsuite'
     assert (root.get('tests'), root.get('failures'), root.get('skipped')) == ('4', '1', '2')
     assert root.get('time') == '12.500'
@@ -51,7 +52,7 @@ def test_junit_parses_and_keeps_hostile_text():
 
 def test_junit_200kb_string_parses_and_is_bounded():
     huge = ('<x>]]>&' * 30000)[:200000]
-    text = R.junit_text(run_with(huge, big=huge))
+    text = files.junit_text(run_with(huge, big=huge))
     root = ET.fromstring(text.encode('utf-8'))
     msg = root.find('testcase/failure').get('message')
     assert msg.startswith('<x>]]>&<x>') and '(198000 more characters)' in msg
@@ -60,7 +61,7 @@ def test_junit_200kb_string_parses_and_is_bounded():
 
 def test_junit_file_written_whole(tmp_path):
     path = str(tmp_path / R.JUNIT_FILE)
-    R.write_junit(run_with('x'), path)
+    files.write_junit(run_with('x'), path)
     ET.parse(path)
     assert os.listdir(str(tmp_path)) == [R.JUNIT_FILE]
 

@@ -9,8 +9,9 @@ import os
 import pytest
 import yaml
 
-from pepper_interface_tests import catalog, cli, settings
-from pepper_interface_tests.settings import ConfigError, Options, load_plan
+from pepper_interface_tests import cli
+from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan.settings import ConfigError, Options, load_plan
 
 PKG = settings.package_dir()
 SHIPPED_INPUT = os.path.join(PKG, 'config', 'sensorTestInput.ini')

@@ -213,8 +213,8 @@ def _wait4(pid, timeout):
 
 
 def _recorded(out_dir, sensor):
-    from . import catalog
-    from .recording import ffprobe_frames
+    from .media.recording import ffprobe_frames
+    from .plan import catalog
     if sensor == 'microphone':
         path = os.path.join(out_dir, 'microphoneOutput.wav')
         if not os.path.exists(path):

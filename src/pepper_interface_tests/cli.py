@@ -16,9 +16,10 @@ import sys
 import tempfile
 import time
 
-from . import interrupts, results, settings
+from . import interrupts, results
+from .plan import settings
+from .plan.settings import ConfigError, Options
 from .results import EXIT_CANNOT_START
-from .settings import ConfigError, Options
 
 PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
           'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
@@ -172,7 +173,7 @@ def _debug_line(text):
 def main(argv=None):
     # Ctrl-C, SIGTERM and SIGHUP end the run cleanly, also when started with SIGINT ignored
     # (background jobs of a non-interactive shell inherit that); a broken stdout/stderr is ignored
-    from .terminal import protect_std_streams
+    from .outputs.terminal import protect_std_streams
     protect_std_streams()
     interrupts.POLICY.install()
     if argv is None:
@@ -185,7 +186,7 @@ def main(argv=None):
                          % interrupts.POLICY.reason())
         code = results.EXIT_INTERRUPTED
     if '--end-launch' in argv:     # launch files: see launch_end.py
-        from .launch_end import end_launch
+        from .launch.end import end_launch
         end_launch(code)
     return code
 
@@ -212,7 +213,7 @@ def _main(argv):
 
 
 def run_live(plan, cli, plan_error=None, node_name=None):
-    from . import live
+    from .sources import live
     uri = live.master_uri()
     if plan_error is not None and not live.master_reachable(uri, timeout=1.0):
         raise plan_error    # no master: no private params that could change the files either
@@ -248,7 +249,7 @@ def run_live(plan, cli, plan_error=None, node_name=None):
 
 
 def run_bag(plan, cli):
-    from .bag import BagSource
+    from .sources.bag import BagSource
     source = BagSource(cli.bag)
     # a bag is checked as a whole, every topic at once, from its start to its end
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
@@ -260,7 +261,7 @@ def run_bag(plan, cli):
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
     notes = list(source.notes)    # e.g. records at bogus times left out of the window
     if not cli.topics:            # the wrong platform: suggest the other one when it fits
-        from .bag import platform_hint
+        from .sources.bag import platform_hint
         other = 'simulator' if plan.platform == 'robot' else 'robot'
         try:
             hint = platform_hint(plan, source.types, settings.load_plan(
@@ -283,11 +284,11 @@ def execute(plan, source, clock, source_name, param_sources=None):
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
     interrupts.POLICY.phase = 'defer'
     interrupts.pause('run-folder')
-    from . import outputs
-    from .history import RunFolder
+    from .outputs import observers
+    from .outputs.history import RunFolder
+    from .outputs.terminal import Terminal
     from .runner import Runner
     from .sensors.base import RunContext
-    from .terminal import Terminal
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
         folder = RunFolder.create(plan.output_dir, keep=plan.options.history is not False)
     except OSError as e:
@@ -297,8 +298,8 @@ def execute(plan, source, clock, source_name, param_sources=None):
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
     if plan.options.debug:
         ctx.services['debug'] = _debug_line
-    observers = outputs.observers_for(plan, ctx, source_name, folder)
-    runner = Runner(plan, ctx, source, observers=[Terminal()] + observers, clock=clock,
+    watchers = observers.observers_for(plan, ctx, source_name, folder)
+    runner = Runner(plan, ctx, source, observers=[Terminal()] + watchers, clock=clock,
                     signals=interrupts.POLICY)
     runner.run.run_id = folder.run_id
     runner.run.source = source_name

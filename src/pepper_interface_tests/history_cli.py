@@ -20,9 +20,19 @@ import subprocess
 import sys
 
 from . import results
-from .history import EXIT_OK, EXIT_USAGE, RATE_FLAG, RUNS_DIR, HistoryError, compare, list_runs, not_passed, resolve
-from .history_format import format_compare, format_list, width
-from .history_prune import prune
+from .outputs.history import (
+    EXIT_OK,
+    EXIT_USAGE,
+    RATE_FLAG,
+    RUNS_DIR,
+    HistoryError,
+    compare,
+    list_runs,
+    not_passed,
+    resolve,
+)
+from .outputs.history_format import format_compare, format_list, width
+from .outputs.history_prune import prune
 
 REPORT_FILE = 'sensorTestReport.html'      # = report.REPORT_FILE (not imported: no matplotlib here)
 EXIT_NOTHING = 1
@@ -222,7 +232,7 @@ def main(argv=None, out=None):
     if args.output_dir:
         base = os.path.abspath(os.path.expanduser(args.output_dir))
     else:
-        from .settings import default_output_dir
+        from .plan.settings import default_output_dir
         base = default_output_dir()
     try:
         runs = list_runs(base)

@@ -1,29 +1,36 @@
-"""One verdict model, rendered by every writer.
+"""The verdict model: what a run found, as every output reads it.
 
-SensorResult / RunResult hold what a run found; writers turn them into the spec's output file
-(sensorTestOutput.dat, appended), sensorTestResults.json and sensorTestResults.xml (JUnit).
-JSON and JUnit are written whole by atomicfile.write_atomic (a temporary file, fsync and a
-rename; the temporary file is removed when writing fails, e.g. on a full disk, and the error
-names the file). Strings that came from
-the robot (frame ids, type names, reasons quoting them) are made safe per output: `printable`
-escapes control characters (no raw ANSI escape reaches a terminal or a text file) and bounds the
-length; JUnit gets the same before xml.etree.ElementTree escapes it, so the XML always parses.
+Verdict, SensorResult (one sensor) and RunResult (the run) are produced by the runner and the
+checks and rendered by the writers in outputs/ (outputs/files.py: the spec's .dat, the JSON and
+the JUnit XML; the terminal, the report, /diagnostics, the history). Strings that came from the
+robot (frame ids, type names, reasons quoting them) are made safe per output with `printable`:
+control characters are escaped (no raw ANSI escape reaches a terminal or a text file) and the
+length is bounded.
 """
 import datetime
-import errno
-import fcntl
-import json
-import os
 import re
 from dataclasses import asdict, dataclass, field
+from enum import Enum
 from typing import Dict, List, Optional
-from xml.etree import ElementTree as ET
 
-from .atomicfile import write_atomic
 
-PASS, FAIL, SKIPPED = 'PASS', 'FAIL', 'SKIPPED'
-INTERRUPTED = 'INTERRUPTED'   # the window was cut short by an interrupt: not judged, not a failure
-VERDICTS = (PASS, FAIL, SKIPPED, INTERRUPTED)
+class Verdict(str, Enum):
+    """A sensor's verdict. A str subclass, so JSON, text files and comparisons with the strings
+    read back from an earlier run's JSON see 'PASS', 'FAIL', ..."""
+    PASS = 'PASS'
+    FAIL = 'FAIL'
+    SKIPPED = 'SKIPPED'
+    INTERRUPTED = 'INTERRUPTED'   # the window was cut short by an interrupt: not judged, not a failure
+
+    def __str__(self):
+        return self.value
+
+    def __format__(self, spec):
+        return format(self.value, spec)
+
+
+PASS, FAIL, SKIPPED, INTERRUPTED = Verdict.PASS, Verdict.FAIL, Verdict.SKIPPED, Verdict.INTERRUPTED
+VERDICTS = tuple(Verdict)
 OUTPUT_FILE = 'sensorTestOutput.dat'
 JSON_FILE = 'sensorTestResults.json'
 JUNIT_FILE = 'sensorTestResults.xml'
@@ -65,7 +72,7 @@ class SensorResult:
     title: str
     topic: Optional[str]
     msg_type: str
-    verdict: str
+    verdict: Verdict
     reasons: List[str] = field(default_factory=list)      # why it failed / was skipped
     warnings: List[str] = field(default_factory=list)     # reported, do not fail
     notes: List[str] = field(default_factory=list)        # information
@@ -152,97 +159,15 @@ class RunResult:
         }
 
 
-# ------------------------------------------------------------------ sensorTestOutput.dat
-
-class OutputFile:
-    """The spec's appended text file, written block by block as sensors finish.
-
-    Each block is one write(2) to a file opened O_APPEND, under an exclusive fcntl lock: two runs
-    appending to one file never tear each other's blocks. Write errors (ENOSPC, ...) raise
-    OSError; the caller names the file."""
-
-    def __init__(self, path):
-        self.path = path
-        self._fd: Optional[int] = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
-
-    def _write(self, text):
-        data = text.encode('utf-8', 'backslashreplace')
-        fd = self._fd
-        if fd is None:
-            raise OSError(errno.EBADF, 'written after close', self.path)
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        try:
-            while data:
-                n = os.write(fd, data)
-                data = data[n:]
-        finally:
-            fcntl.flock(fd, fcntl.LOCK_UN)
-
-    def write_text(self, text):
-        """Append `text` (e.g. a whole run's section) in one locked write."""
-        self._write(text)
-
-    def begin(self, run):
-        self._write(dat_begin(run))
-
-    def sensor(self, r):
-        self._write(dat_block(r))
-
-    def end(self, run):
-        self._write(dat_end(run))
-
-    def close(self):
-        if self._fd is not None:
-            os.close(self._fd)
-            self._fd = None
-
-
-def dat_begin(run):
-    return ('[TESTING] ############ SENSORS ############\n\n[START TIME] %s\n'
-            '[RUN] platform %s, mode %s, source %s%s\n'
-            % (timestamp(run.start), run.platform, run.mode, printable(run.source, FILE_LIMIT),
-               (', run id ' + run.run_id) if run.run_id else '')
-            + ''.join('[RUN] ROS param %s\n' % line for line in param_lines(run)) + '\n')
-
-
 def param_lines(run):
     """Where options given as ROS params came from (for the run header)."""
     return ['%s = %s from the %s' % (k, printable(run.options.get(k), 200), printable(v, 200))
             for k, v in sorted(run.param_sources.items())]
 
 
-def dat_block(r):
-    """One sensor's block of sensorTestOutput.dat; robot strings escaped, one per line."""
-    def p(text):
-        return printable(text, FILE_LIMIT)
-    lines = ['[TESTING] ---- %s ----' % r.title]
-    if r.verdict != SKIPPED:
-        lines.append('[TOPIC] %s (%s)' % (r.topic, r.msg_type))
-    if r.fields:
-        lines.append('[MESSAGES] Printing %s data received.' % r.title.lower())
-        lines += ['%s: %s' % (p(k), p(v)) for k, v in r.fields]
-        lines.append('[END MESSAGES] Finished printing.')
-    if r.verdict != SKIPPED:
-        lines.append('[SUMMARY] ' + p(summary_line(r)))
-        lines += ['[SUMMARY] ' + p(n) for n in r.notes]
-        for kind, name in r.artifacts.items():
-            lines.append('[FILE] %s: %s' % (kind, p(name)))
-        lines += ['[WARNING] ' + p(w) for w in r.warnings]
-    lines.append('[RESULT] %s%s' % (r.verdict, (': ' + p('; '.join(r.reasons))) if r.reasons else ''))
-    return '\n'.join(lines) + '\n\n'
-
-
 def count_line(c):
     text = '%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED])
     return text + (', %d interrupted' % c[INTERRUPTED] if c.get(INTERRUPTED) else '')
-
-
-def dat_end(run):
-    text = ''
-    if run.interrupted:
-        text += '[INTERRUPTED] %s\n' % printable(run.interrupt_reason or 'run interrupted', FILE_LIMIT)
-    text += '[SUMMARY] %s\n' % count_line(run.counts())
-    return text + '[END TIME] %s\n\n' % timestamp(run.end)
 
 
 def summary_line(r):
@@ -262,68 +187,43 @@ def summary_line(r):
     return ', '.join(parts)
 
 
-# ------------------------------------------------------------------ JSON and JUnit
+# ------------------------------------------------------------------ a run's JSON read back
 
-def write_json(run, path):
-    write_atomic(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
-
-
-def _xml(text, one_line=True):
-    """A robot string fit for XML 1.0: controls escaped by `printable`, bounded length."""
-    return printable(text, FILE_LIMIT, one_line=one_line)
+PASSING = (PASS, SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
 
 
-def _indent(elem, level=0):
-    """Two-space indentation (ET.indent is Python 3.9+; Noetic's Ubuntu 20.04 has 3.8)."""
-    pad = '\n' + '  ' * level
-    if len(elem):
-        if not (elem.text or '').strip():
-            elem.text = pad + '  '
-        for child in elem:
-            _indent(child, level + 1)
-        if not (child.tail or '').strip():
-            child.tail = pad
-    if level and not (elem.tail or '').strip():
-        elem.tail = pad
+def not_passed(data):
+    """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
+    `sensorTest --rerun-failed`)."""
+    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
 
 
-def junit_text(run):
-    """JUnit XML (built with xml.etree.ElementTree, which escapes &, <, > and quotes).
-    INTERRUPTED sensors are <skipped> (with what was measured in system-out): an interrupted
-    window is no failure of the robot. Robot strings pass through `printable` first, so no
-    character XML 1.0 forbids reaches the file and it always parses."""
-    c = run.counts()
-    total_time = (run.end or run.start) - run.start
-    suite = ET.Element('testsuite', name='sensorTest', tests=str(len(run.sensors)),
-                       failures=str(c[FAIL]), errors='0',
-                       skipped=str(c[SKIPPED] + c[INTERRUPTED]), time='%.3f' % total_time)
-    props = ET.SubElement(suite, 'properties')
-    for k, v in (('platform', run.platform), ('mode', run.mode), ('source', run.source),
-                 ('interrupted', str(run.interrupted).lower())):
-        ET.SubElement(props, 'property', name=k, value=_xml(v))
-    for s in run.sensors:
-        case = ET.SubElement(suite, 'testcase', classname='pepper_interface_tests.sensorTest',
-                             name=_xml(s.name), time='%.3f' % s.window_s)
-        detail = _xml('\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes
-                                 + ['WARNING: ' + w for w in s.warnings]),
-                      one_line=False)
-        if s.verdict == FAIL:
-            ET.SubElement(case, 'failure', message=_xml('; '.join(s.reasons))).text = detail
-        elif s.verdict in (SKIPPED, INTERRUPTED):
-            ET.SubElement(case, 'skipped', message=_xml('; '.join(s.reasons)))
-            if s.verdict == INTERRUPTED:
-                ET.SubElement(case, 'system-out').text = detail
-        else:
-            ET.SubElement(case, 'system-out').text = detail
-    _indent(suite)
-    return ('<?xml version="1.0" encoding="utf-8"?>\n'
-            + ET.tostring(suite, encoding='unicode') + '\n')
+def _is_number(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def write_junit(run, path):
-    write_atomic(path, junit_text(run))
-
-
-def load_json(path):
-    with open(path, encoding='utf-8') as f:
-        return json.load(f)
+def malformed(data):
+    """Why a run's JSON cannot be listed or compared ('' when it can): every field `list` and
+    `compare` read must have the type sensorTest writes (a hand-edited or truncated-and-repaired
+    file, or one from another tool, must not give a traceback)."""
+    if not isinstance(data, dict):
+        return 'not a JSON object'
+    for key in ('start', 'platform', 'mode', 'source'):
+        if data.get(key) is not None and not isinstance(data[key], str):
+            return '"%s" is not a text' % key
+    summary = data.get('summary')
+    if summary is not None and not (isinstance(summary, dict) and all(_is_number(v) for v in summary.values())):
+        return '"summary" is not a table of counts'
+    sensors = data.get('sensors', [])
+    if not isinstance(sensors, list):
+        return '"sensors" is not a list'
+    for i, s in enumerate(sensors, 1):
+        if not isinstance(s, dict) or not isinstance(s.get('name'), str) \
+                or not isinstance(s.get('verdict'), str):
+            return 'sensor %d has no name or verdict' % i
+        if s.get('rate_hz') is not None and not _is_number(s['rate_hz']):
+            return 'sensor %s: rate_hz is not a number' % s['name']
+        reasons = s.get('reasons')
+        if reasons is not None and not (isinstance(reasons, list) and all(isinstance(r, str) for r in reasons)):
+            return 'sensor %s: reasons is not a list of texts' % s['name']
+    return ''

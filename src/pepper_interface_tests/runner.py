@@ -13,15 +13,17 @@ takes a moment), which runs in a thread of its own. The main loop ticks every 50
 ends on time, on --quick once the verdict is settled, when no message came within --wait, or on
 Ctrl-C.
 """
-import sys
 import threading
 import time
 from typing import Callable, List, Optional
 
-from . import catalog, interrupts
+from . import interrupts
+from .observer import Observers
+from .plan import catalog
 from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult
 from .sensors import check_class
 from .sensors.base import Tally, fmt
+from .sources import SourceLost
 from .stats import StreamStats
 
 TICK = 0.05
@@ -44,7 +46,7 @@ def message_class(type_name, definition=None):
         module = __import__(pkg + '.msg', fromlist=[name])
         return getattr(module, name)
     except (ImportError, AttributeError):
-        from . import naoqi_msgs
+        from .sources import naoqi_msgs
         if definition:
             return naoqi_msgs.message_class_from_definition(type_name, definition)
         if type_name == naoqi_msgs.AUDIO_BUFFER_TYPE:
@@ -440,20 +442,6 @@ def lanes_for(plan, live=True):
     return lanes
 
 
-class Observers(list):
-    """Calls a method on every observer that has it; one failing observer does not stop the run."""
-
-    def call(self, method, *args):
-        for o in self:
-            fn = getattr(o, method, None)
-            if fn is not None:
-                try:
-                    fn(*args)
-                except Exception as e:  # Ctrl-C (KeyboardInterrupt) still ends the run
-                    sys.stderr.write('sensorTest: %s.%s failed: %s: %s\n'
-                                     % (type(o).__name__, method, type(e).__name__, e))
-
-
 class Runner:
     """Drives the lanes from the main thread. `source` subscribes (live) or feeds (bag)."""
 
@@ -493,12 +481,12 @@ class Runner:
             self.current[i] = run
             lane.pop(0)
             self.source.attach(run)
-            self.observers.call('sensor_started', run)
+            self.observers.sensor_started(run)
             return
 
     def _done(self, result):
         self.results[result.name] = result
-        self.observers.call('sensor_done', result)
+        self.observers.sensor_done(result)
 
     def _finish(self, i, now, reason):
         """End lane i's window at `now` and close its check in the background (video files
@@ -533,9 +521,9 @@ class Runner:
     def execute(self):
         """Run every lane to its end (or to an interrupt). Returns the RunResult."""
         self.start = self.clock()
-        self.lanes = [list(ln) for ln in lanes_for(self.plan, live=getattr(self.source, 'live', True))]
+        self.lanes = [list(ln) for ln in lanes_for(self.plan, live=self.source.live)]
         self.current = [None] * len(self.lanes)
-        self.observers.call('run_started', self.run, self.plan)
+        self.observers.run_started(self.run, self.plan)
         try:
             # every output exists now: an interrupt remembered during start-up ends the run here
             self.signals.phase = 'run'
@@ -560,7 +548,7 @@ class Runner:
                     self._finish(i, now, '')
                     self._start_next(i, self.clock())
                 self._collect()
-                self.observers.call('tick', [r for r in self.current if r], now)
+                self.observers.tick([r for r in self.current if r], now)
                 # an interrupt whose exception was swallowed (by a C library, a broad except)
                 self.signals.raise_pending()
                 self.source.sleep(TICK)
@@ -579,10 +567,10 @@ class Runner:
         """Live runs: when not one listened-to topic of the plan has a publisher on the master
         (robot off, wrong ROS_MASTER_URI, driver not started), say so once within --wait and fail
         those sensors with that reason, instead of waiting --wait per sensor in turn."""
-        probe = getattr(self.source, 'published_topics', None)
+        probe = self.source.published_topics
         plans = [p for lane in self.lanes for p in lane
                  if p.skip_reason is None and p.sensor.family != 'speech']
-        if probe is None or not plans:
+        if not plans:
             return
         deadline = self.clock() + self.plan.wait
         while True:
@@ -594,8 +582,8 @@ class Runner:
             self.signals.raise_pending()
             self.source.sleep(0.25)
         now = self.clock()
-        self.observers.call('nothing_published', [p.topic for p in plans], self.plan.wait,
-                            getattr(self.source, 'master_uri', None))
+        self.observers.nothing_published([p.topic for p in plans], self.plan.wait,
+                            self.source.master_uri)
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:
                 hint = catalog.NO_PUBLISHER_HINTS.get(p.sensor.name)
@@ -634,14 +622,10 @@ class Runner:
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         self.run.end = self.wall()
         interrupts.pause('final-write')
-        self.observers.call('run_ended', self.run)
+        self.observers.run_ended(self.run)
 
 
 Terminated = interrupts.Terminated   # SIGTERM / SIGHUP: ends the run like Ctrl-C
-
-
-class SourceLost(Exception):
-    """The data source went away (e.g. the ROS master vanished); ends the run like Ctrl-C."""
 
 
 def describe(result):

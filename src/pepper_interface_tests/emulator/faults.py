@@ -13,7 +13,7 @@ fault names are case-insensitive. Every mistake raises FaultError naming the val
 from dataclasses import dataclass
 from typing import Dict, Optional
 
-from .. import catalog
+from ..plan import catalog
 from .profiles import MIC_CHANNELS
 
 # fault name -> (takes a value?, sensor kinds it applies to; None = every kind)

@@ -36,7 +36,7 @@ import rosgraph
 import rospy
 from std_msgs.msg import String
 
-from .. import settings
+from ..plan import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution

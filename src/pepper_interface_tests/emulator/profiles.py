@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Any, Dict, Optional, Tuple
 
-from .. import settings
+from ..plan import settings
 
 PROFILES = ('robot', 'robot-stock', 'simulator')
 AUDIO_MODES = ('bridge', 'direct', 'off')

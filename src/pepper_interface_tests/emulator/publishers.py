@@ -505,11 +505,11 @@ class AudioBufferPublisher(AudioPublisher):
     interleaved; 177-186 one message per NAOqi buffer, data = the buffer as it came)."""
 
     def msg_class(self):
-        from ..naoqi_msgs import audio_buffer_class
+        from ..sources.naoqi_msgs import audio_buffer_class
         return audio_buffer_class()
 
     def build(self, t, frame_id, index):
-        from ..naoqi_msgs import PEPPER_CHANNEL_MAP
+        from ..sources.naoqi_msgs import PEPPER_CHANNEL_MAP
         msg = self.msg_class()()
         msg.frequency = AUDIO_RATE
         # channelMap is uint8[]: genpy serialises it from bytes

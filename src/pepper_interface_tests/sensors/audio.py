@@ -55,8 +55,8 @@ import time
 
 import numpy as np
 
-from ..naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
-from ..recording import WavWriter
+from ..media.recording import WavWriter
+from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from .base import Check, StuckRun, TrailingRun, fmt
 
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
@@ -347,7 +347,7 @@ class AudioCheck(Check):
         main = self.writers.get('microphoneOutput.wav')
         if main is None or not main.written:
             return
-        from ..playback import play_channels
+        from ..media.playback import play_channels
         self.player, line = play_channels(main.path, CHANNELS if main.channels == 4 else None,
                                           delete_after=bool(getattr(self.ctx.options, 'delete_file', None)))
         self.notes.append(line)

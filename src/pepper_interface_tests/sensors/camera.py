@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ..recording import VideoRecorder, save_jpeg, to_bgr
+from ..media.recording import VideoRecorder, save_jpeg, to_bgr
 from .base import Acc, Check, TrailingRun, fmt
 
 # bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from ..recording import to_bgr
+from ..media.recording import to_bgr
 from .base import Acc, StuckRun, TrailingRun, fmt
 from .camera import SERIES_MAX, ImageCheck
 

@@ -8,7 +8,7 @@ here is deleted and nothing else changes.
 import math
 import re
 
-from ..results import printable
+from ...results import printable
 from .values import (
     AudioValues,
     CameraValues,

@@ -11,7 +11,8 @@ import shutil
 import sys
 import textwrap
 
-from .results import FAIL, INTERRUPTED, PASS, SKIPPED, count_line, param_lines, printable
+from ..observer import RunObserver
+from ..results import FAIL, INTERRUPTED, PASS, SKIPPED, count_line, param_lines, printable
 
 COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
@@ -132,7 +133,7 @@ def progress_text(runs, now, failed_done=(), width=79):
     return _fit(text, width)
 
 
-class Terminal:
+class Terminal(RunObserver):
     def __init__(self, stream=None, plain_every=5.0):
         self.out = stream or sys.stdout
         self.tty = (self.out.isatty() and os.environ.get('TERM') != 'dumb'

@@ -33,7 +33,10 @@ import time
 from dataclasses import dataclass
 from typing import List, Optional
 
-from . import results
+from .. import results
+from ..observer import RunObserver
+from ..results import PASSING, malformed, not_passed  # noqa: F401 (sensorTestHistory reads them here)
+from . import files
 from .atomicfile import write_atomic
 
 RUNS_DIR = 'runs'
@@ -102,7 +105,7 @@ def _signature(path):
     return [st.st_size, st.st_mtime_ns]
 
 
-class LatestRun:
+class LatestRun(RunObserver):
     """Runner observer: keeps <output_dir> holding the latest run while each run has its folder.
 
     The output folder's sensorTestOutput.dat receives this run's whole section in one locked
@@ -125,19 +128,19 @@ class LatestRun:
         s.flush()
 
     def run_started(self, run, plan):
-        self.dat = [results.dat_begin(run)]
+        self.dat = [files.dat_begin(run)]
 
     def sensor_done(self, result):
         if self.dat is not None:
-            self.dat.append(results.dat_block(result))
+            self.dat.append(files.dat_block(result))
 
     def run_ended(self, run):
-        from .outputs import write_error
+        from .observers import write_error
         path = os.path.join(self.folder.base, results.OUTPUT_FILE)
         try:
-            shared = results.OutputFile(path)
+            shared = files.OutputFile(path)
             try:
-                shared.write_text(''.join(self.dat or [results.dat_begin(run)]) + results.dat_end(run))
+                shared.write_text(''.join(self.dat or [files.dat_begin(run)]) + files.dat_end(run))
             finally:
                 shared.close()
         except OSError as e:
@@ -228,7 +231,7 @@ def list_runs(output_dir):
             problem = 'no %s (the run is still going, or was killed)' % results.JSON_FILE
         else:
             try:
-                data = results.load_json(json_path)
+                data = files.load_json(json_path)
             except (OSError, ValueError, RecursionError) as e:
                 problem = 'cannot read %s: %s' % (json_path, e)
             else:
@@ -239,35 +242,8 @@ def list_runs(output_dir):
     return out
 
 
-def _is_number(v):
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def malformed(data):
-    """Why a run's JSON cannot be listed or compared ('' when it can): every field `list` and
-    `compare` read must have the type sensorTest writes (a hand-edited or truncated-and-repaired
-    file, or one from another tool, must not give a traceback)."""
-    if not isinstance(data, dict):
-        return 'not a JSON object'
-    for key in ('start', 'platform', 'mode', 'source'):
-        if data.get(key) is not None and not isinstance(data[key], str):
-            return '"%s" is not a text' % key
-    summary = data.get('summary')
-    if summary is not None and not (isinstance(summary, dict) and all(_is_number(v) for v in summary.values())):
-        return '"summary" is not a table of counts'
-    sensors = data.get('sensors', [])
-    if not isinstance(sensors, list):
-        return '"sensors" is not a list'
-    for i, s in enumerate(sensors, 1):
-        if not isinstance(s, dict) or not isinstance(s.get('name'), str) \
-                or not isinstance(s.get('verdict'), str):
-            return 'sensor %d has no name or verdict' % i
-        if s.get('rate_hz') is not None and not _is_number(s['rate_hz']):
-            return 'sensor %s: rate_hz is not a number' % s['name']
-        reasons = s.get('reasons')
-        if reasons is not None and not (isinstance(reasons, list) and all(isinstance(r, str) for r in reasons)):
-            return 'sensor %s: reasons is not a list of texts' % s['name']
-    return ''
 
 
 def resolve(runs, ref):
@@ -317,18 +293,3 @@ def compare(a, b, threshold=RATE_FLAG):
             row['rate_flag'] = True       # it had a rate, now nothing arrives
         rows.append(row)
     return rows
-
-
-PASSING = (results.PASS, results.SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
-
-
-def not_passed(data):
-    """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
-    `sensorTest --rerun-failed`)."""
-    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
-
-
-def main(argv=None, out=None):
-    """sensorTestHistory; its commands live in history_cli.py."""
-    from .history_cli import main as cli_main
-    return cli_main(argv, out)

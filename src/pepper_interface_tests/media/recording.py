@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from .stats import _rate
+from ..stats import _rate
 
 QUEUE_BYTES = 32 * 1024 * 1024
 RATE_SPAN = 1.0          # seconds of frames buffered to measure the rate

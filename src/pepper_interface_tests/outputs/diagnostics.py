@@ -34,7 +34,8 @@ import time
 from dataclasses import dataclass
 from typing import Any, Dict, List, Optional, Tuple
 
-from .results import FAIL, INTERRUPTED, SKIPPED
+from ..observer import RunObserver
+from ..results import FAIL, INTERRUPTED, SKIPPED
 
 PERIOD = 1.0
 TOPIC = '/diagnostics'      # where diagnostic_updater.Updater publishes
@@ -163,7 +164,7 @@ def make_updater(prefix: str) -> Any:
     return updater
 
 
-class LiveDiagnostics:
+class LiveDiagnostics(RunObserver):
     """Runner observer publishing the run's per-sensor statuses on /diagnostics at 1 Hz."""
 
     def __init__(self, plan, prefix=None, period=PERIOD, out=None):

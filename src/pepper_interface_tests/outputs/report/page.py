@@ -10,8 +10,8 @@ from collections import Counter
 from dataclasses import dataclass
 from typing import List, Optional, Tuple
 
-from .. import catalog
-from ..results import FAIL, PASS, SKIPPED, summary_line, timestamp
+from ...plan import catalog
+from ...results import FAIL, PASS, SKIPPED, summary_line, timestamp
 from . import plots, views
 from .adapters import adapt, clean
 from .blocks import KV, Span

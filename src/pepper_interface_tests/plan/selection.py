@@ -92,29 +92,31 @@ def rerun_failed(output_dir, platform, options):
     """--rerun-failed: the sensors that did not pass in the latest run of `output_dir` (its
     sensorTestResults.json, the spec's path) -> (sensor names, notes). Same names and rule as
     `sensorTestHistory failed`."""
+    import json
     import os
 
-    from . import history, results
+    from .. import results
     path = os.path.join(output_dir, results.JSON_FILE)
     fix = 'run sensorTest once without --rerun-failed, or point --output-dir at the folder of that run'
     if options.sensors:
         raise ConfigError('--rerun-failed and --sensors both choose the sensors',
                           fix='give one of them (sensorTestHistory failed prints the --sensors of the last run)')
     try:
-        data = results.load_json(path)
+        with open(path, encoding='utf-8') as f:
+            data = json.load(f)
     except FileNotFoundError:
         raise ConfigError('--rerun-failed: no previous run in %s (no %s)' % (output_dir, results.JSON_FILE),
                           fix=fix) from None
     except (OSError, ValueError) as e:
         raise ConfigError('--rerun-failed: cannot read %s: %s' % (path, e), fix=fix) from None
-    why = history.malformed(data)
+    why = results.malformed(data)
     if why:
         raise ConfigError('--rerun-failed: %s is not a sensorTest result (%s)' % (path, why), fix=fix)
     run_id = data.get('run_id') or '?'
     if data.get('platform') not in (None, platform):
         raise ConfigError('--rerun-failed: run %s was on the %s platform, this run is on the %s'
                           % (run_id, data['platform'], platform), fix='add --platform %s' % data['platform'])
-    failed = history.not_passed(data)
+    failed = results.not_passed(data)
     if not failed:
         raise ConfigError('--rerun-failed: nothing to re-run: no sensor failed in run %s (%s)' % (run_id, path),
                           fix='run sensorTest without --rerun-failed to test every sensor')

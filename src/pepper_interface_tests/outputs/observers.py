@@ -13,7 +13,9 @@ import sys
 import textwrap
 from typing import List
 
-from . import results
+from .. import results
+from ..observer import RunObserver
+from . import files
 from .terminal import columns
 
 
@@ -27,7 +29,7 @@ def write_error(run, path, error):
         sys.stderr.flush()
 
 
-class ResultFiles:
+class ResultFiles(RunObserver):
     def __init__(self, output_dir, out=None):
         self.dir = output_dir
         self.dat = None
@@ -48,7 +50,7 @@ class ResultFiles:
         self.run = run
         path = os.path.join(self.dir, results.OUTPUT_FILE)
         try:
-            self.dat = results.OutputFile(path)
+            self.dat = files.OutputFile(path)
         except OSError as e:
             write_error(run, path, e)
             return
@@ -61,8 +63,8 @@ class ResultFiles:
         self.run = run
         self._dat('end', run)
         self._dat('close')
-        for name, write in ((results.JUNIT_FILE, results.write_junit),
-                            (results.JSON_FILE, results.write_json)):
+        for name, write in ((results.JUNIT_FILE, files.write_junit),
+                            (results.JSON_FILE, files.write_json)):
             path = os.path.join(self.dir, name)
             try:
                 write(run, path)
@@ -76,7 +78,7 @@ class ResultFiles:
         stream.flush()
 
 
-class SpeechHearing:
+class SpeechHearing(RunObserver):
     """Starts a microphone level monitor for the speech check when the microphone is in the run."""
 
     def __init__(self, plan, ctx):
@@ -89,7 +91,7 @@ class SpeechHearing:
         if run.sensor.family != 'speech' or not self.mic_topic:
             return
         try:
-            from .sensors.audio import LevelMonitor
+            from ..sensors.audio import LevelMonitor
         except ImportError:
             return
         self.monitor = LevelMonitor(self.mic_topic)
@@ -107,7 +109,7 @@ class SpeechHearing:
             self.monitor.stop()
 
 
-class LiveView:
+class LiveView(RunObserver):
     """One window per camera, drawn from the main thread (the runner's tick), when a display
     and OpenCV GUI support exist; otherwise one line says why and the run goes on."""
 
@@ -116,7 +118,7 @@ class LiveView:
         self.viewer = None
 
     def run_started(self, run, plan):
-        from .viewer import Viewer
+        from ..media.viewer import Viewer
         self.viewer = Viewer.create(enabled=plan.options.show is not False)
         if self.viewer is not None:
             self.ctx.services['viewer'] = self.viewer

@@ -16,7 +16,7 @@ such records are left out and `notes` says which and when.
 """
 import os
 
-from .settings import ConfigError
+from ..plan.textfile import ConfigError
 
 # No sensor of Pepper publishes less than once a second (reference/pepper-sensors.md) and a
 # sensor test records seconds to minutes: when no topic at all has a record for 5 minutes, the
@@ -132,6 +132,11 @@ class BagSource:
 
     def poll(self, run, now):
         pass
+
+    def published_topics(self):
+        return None     # a bag has no publishers to ask about; the check on each topic says enough
+
+    master_uri = None
 
     def lookup(self, topic):
         t = self.types.get(topic)

@@ -3,7 +3,7 @@ width, else $COLUMNS, else 80 columns), free-text cells wrapped inside their col
 import os
 import textwrap
 
-from . import results
+from .. import results
 from .history import PASSING, RATE_FLAG, RUNS_DIR
 from .terminal import columns
 

@@ -22,7 +22,7 @@ from urllib.parse import urlparse
 import rosgraph
 import rospy
 
-from .runner import SourceLost
+from . import SourceLost
 
 MASTER_TIMEOUT = 2.0
 # a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
@@ -124,6 +124,7 @@ class MasterWatch:
 
 
 class LiveSource:
+    live = True
     """Subscribes a SensorRun to its topic for the length of its window."""
 
     def __init__(self, caller_id='/sensorTest'):

@@ -15,7 +15,7 @@ import subprocess
 import sys
 import tempfile
 
-from .launch_end import EXIT_FILE_ENV
+from .end import EXIT_FILE_ENV
 
 EXIT_CANNOT_START, EXIT_INTERRUPTED = 2, 130
 
@@ -23,7 +23,7 @@ EXIT_CANNOT_START, EXIT_INTERRUPTED = 2, 130
 def resolve(launch):
     if os.path.isfile(launch):
         return os.path.abspath(launch)
-    from .settings import package_dir
+    from ..plan.settings import package_dir
     path = os.path.join(package_dir(), 'launch', launch)
     return path if os.path.isfile(path) else None
 

@@ -23,13 +23,14 @@ import sys
 import threading
 import time
 
+from ...observer import RunObserver
 from ..atomicfile import write_atomic
 from .files import MAX_EMBED_BYTES, video_codec  # noqa: F401  (public, as before)
 
 REPORT_FILE = 'sensorTestReport.html'
 
 
-class HtmlReport:
+class HtmlReport(RunObserver):
     """Runner observer: writes sensorTestReport.html into `folder` when the run ends."""
 
     def __init__(self, folder, out=None, max_embed=MAX_EMBED_BYTES):

@@ -1,0 +1,79 @@
+"""The seam between the runner and everything that shows or keeps its results.
+
+The runner calls these methods, in this order, on every observer it was given (outputs/:
+the terminal, the results files, the history, /diagnostics, the report, the live view):
+
+    run_started(run, plan)      once, before the first window; every output exists after it
+    sensor_started(sensor_run)  a sensor's window opens
+    tick(sensor_runs, now)      every 50 ms while windows are open
+    nothing_published(...)      once, when no listened-to topic has any publisher
+    sensor_done(result)         a sensor's verdict, as soon as it is known
+    run_ended(run)              once, with every verdict (also after an interrupt)
+
+An observer subclasses RunObserver and overrides what it needs; the others do nothing.
+`Observers` calls one method on each in turn: an observer that raises is named on stderr and
+the others still run (Ctrl-C, a KeyboardInterrupt, still ends the run).
+"""
+import sys
+from typing import TYPE_CHECKING, Callable, List, Optional
+
+from .results import RunResult, SensorResult
+
+if TYPE_CHECKING:
+    from .plan.settings import TestPlan
+    from .runner import SensorRun
+
+
+class RunObserver:
+    """No-op base: override the events an output needs."""
+
+    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
+        pass
+
+    def sensor_started(self, sensor_run: 'SensorRun') -> None:
+        pass
+
+    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
+        pass
+
+    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
+        pass
+
+    def sensor_done(self, result: SensorResult) -> None:
+        pass
+
+    def run_ended(self, run: RunResult) -> None:
+        pass
+
+
+class Observers(RunObserver):
+    """Every observer of a run, called in the order given."""
+
+    def __init__(self, observers=()):
+        self.members: List[RunObserver] = list(observers)
+
+    def _each(self, event: str, call: Callable[[RunObserver], None]) -> None:
+        for o in self.members:
+            try:
+                call(o)
+            except Exception as e:
+                sys.stderr.write('sensorTest: %s.%s failed: %s: %s\n'
+                                 % (type(o).__name__, event, type(e).__name__, e))
+
+    def run_started(self, run, plan):
+        self._each('run_started', lambda o: o.run_started(run, plan))
+
+    def sensor_started(self, sensor_run):
+        self._each('sensor_started', lambda o: o.sensor_started(sensor_run))
+
+    def tick(self, sensor_runs, now):
+        self._each('tick', lambda o: o.tick(sensor_runs, now))
+
+    def nothing_published(self, topics, waited, uri):
+        self._each('nothing_published', lambda o: o.nothing_published(topics, waited, uri))
+
+    def sensor_done(self, result):
+        self._each('sensor_done', lambda o: o.sensor_done(result))
+
+    def run_ended(self, run):
+        self._each('run_ended', lambda o: o.run_ended(run))
