@@ -17,16 +17,9 @@ import tempfile
 import time
 
 from . import interrupts, results
-from .plan import settings
-from .plan.settings import ConfigError, Options
+from .plan import options, settings
+from .plan.settings import ConfigError
 from .results import EXIT_CANNOT_START
-
-PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
-          'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
-          'play_audio', 'delete_file', 'mic_mode', 'require_heard', 'history', 'diagnostics',
-          'report', 'debug', 'rerun_failed')
-BOOL_PARAMS = ('quick', 'record', 'show', 'play_audio', 'delete_file', 'require_heard',
-               'history', 'diagnostics', 'report', 'debug', 'rerun_failed')
 
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
@@ -49,105 +42,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser():
     p = _Parser(prog='sensorTest', description='Check every sensor of a Pepper robot and report '
                 'a verdict per sensor.', epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    f = p.add_argument_group('files')
-    f.add_argument('--config', metavar='FILE', help='configuration file (default config/sensorTestConfiguration.ini)')
-    f.add_argument('--input', metavar='FILE', help='input file: which sensors run (default config/sensorTestInput.ini)')
-    f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
-    f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is '
-                                                       'looked up (default data/)')
-    f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
-    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when '
-                                                       'writable, else $ROS_HOME/pepper_interface_tests, '
-                                                       '$ROS_HOME being ~/.ros unless set)')
-    r = p.add_argument_group('run')
-    r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
-    r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
-    r.add_argument('--duration', metavar='S', help='seconds each sensor is listened to (default 10)')
-    r.add_argument('--wait', metavar='S', help='seconds allowed for the first message (default 5)')
-    r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores '
-                                                        'the input file)')
-    r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did '
-                                                                            'not pass in the latest run of '
-                                                                            'the output folder (its '
-                                                                            'sensorTestResults.json)')
-    r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or '
-                                                      'both, whatever the input file says (default: the '
-                                                      'input file decides)')
-    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as '
-                                                                     'its verdict is settled '
-                                                                     '(quick_messages, default 10, spanning '
-                                                                     'at least 0.8 s, and the sensor\'s own checks)')
-    r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
-    r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
-    r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '
-                   'the exit code to $PEPPER_SENSORTEST_EXIT_FILE and end the roslaunch that started '
-                   'this node (no "REQUIRED process has died" banner; see sensorTestLaunch)')
-    r.add_argument('--node-name', metavar='NAME',
-                   help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
-                        'which also reads params set under /sensorTest/)')
-    m = p.add_argument_group('media')
-    m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write '
-                                                                                         'videos and WAV files')
-    m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras '
-                                                                                 '(default: when a display exists)')
-    m.add_argument('--no-show', dest='show', action='store_const', const=False, help='no live view')
-    m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True,
-                   help='play the recorded microphones afterwards (spec behaviour)')
-    m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the '
-                                                                                               'WAV after playing it')
-    m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential '
-                                                      '(each microphone in turn, as the spec)')
-    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the '
-                                                                             'microphones hear it (needs '
-                                                                             'the microphone in the run)')
-    o = p.add_argument_group('results')
-    o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep '
-                                                                                           'this run in the '
-                                                                                           'run history')
-    o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not '
-                                                                                                   'publish '
-                                                                                                   '/diagnostics')
-    o.add_argument('--no-report', dest='report', action='store_const', const=False, help='do not write the HTML report')
+    options.add_arguments(p)
     return p
-
-
-def options_from_args(ns):
-    values = {}
-    for name in PARAMS:
-        v = getattr(ns, name, None)
-        if v is not None:
-            values[name] = v
-    if 'sensors' in values:
-        values['sensors'] = tuple(x for x in values['sensors'].replace(' ', ',').split(',') if x)
-        if not values['sensors']:
-            raise ConfigError('--sensors "%s" names no sensor' % ns.sensors,
-                              fix='give sensor names, e.g. --sensors laser,imu, or leave --sensors '
-                                  'out to run the sensors the input file enables')
-    for key in ('duration', 'wait'):
-        if key in values:
-            values[key] = settings.positive_seconds(values[key], '--' + key)
-    if ns.bag:
-        values['bag'] = ns.bag
-    return Options(**values)
-
-
-def options_from_params(get_param):
-    """Private ROS params (~mode, ~duration, ...) -> Options."""
-    values = {}
-    for name in PARAMS:
-        v = get_param('~' + name, None)
-        if v is None or v == '':
-            continue
-        if name in BOOL_PARAMS:
-            v = settings.parse_bool(v, key='~' + name)
-        elif name in ('duration', 'wait'):
-            v = settings.positive_seconds(v, '~' + name)
-        elif name == 'sensors':
-            v = tuple(x for x in (v if isinstance(v, (list, tuple)) else str(v).replace(' ', ',').split(',')) if x)
-        else:
-            v = str(v)
-        values[name] = v
-    return Options(**values)
 
 
 def check_output_dir(path):
@@ -194,7 +90,7 @@ def main(argv=None):
 def _main(argv):
     try:
         ns = build_parser().parse_args(argv)
-        cli = options_from_args(ns)
+        cli = options.from_args(ns)
     except ConfigError as e:
         return _fatal(str(e))
     try:
@@ -228,7 +124,7 @@ def run_live(plan, cli, plan_error=None, node_name=None):
     from . import node
     rospy.init_node(node_name or 'sensorTest', anonymous=not node_name, disable_signals=True)
     try:
-        params, from_server = node.read_params(options_from_params)
+        params, from_server = node.read_params(options.from_params)
         if any(v is not None for v in params.__dict__.values()):
             plan = settings.load_plan(params.merged(cli))
         elif plan_error is not None:

@@ -1,6 +1,6 @@
 """Configuration, input, topics and expectations files -> one immutable TestPlan.
 
-Data flow: Options (command line, then private ROS params) name the files and override values;
+Data flow: Options (options.py: command line, then private ROS params) name the files and override values;
 the configuration file gives platform, mode and the topics file; the input file says which
 sensors run, in which order; the topics file maps sensors to topics; the expectations file gives
 what each sensor should deliver. Every problem raises ConfigError naming the file, the line,
@@ -13,15 +13,14 @@ from types import MappingProxyType
 from typing import Dict, List, Optional, Tuple
 
 from . import catalog, expectations, selection
-from .textfile import ConfigError, read_text  # noqa: F401  (ConfigError is imported from here)
+from .options import Options
+from .textfile import ConfigError, choice, parse_bool, positive_seconds, read_text  # noqa: F401  (imported from here)
 
 PLATFORMS = ('robot', 'simulator')
 MODES = ('sequential', 'parallel')
 CAMERA_CHOICES = ('pepper', 'realsense', 'both')
 MIC_MODES = ('together', 'sequential')
 CONFIG_KEYS = ('platform', 'robottopics', 'simulatortopics', 'mode')
-TRUE_WORDS = ('true', 'yes', 'on', '1')
-FALSE_WORDS = ('false', 'no', 'off', '0')
 
 
 def package_dir():
@@ -41,44 +40,6 @@ def default_output_dir():
         return data
     ros_home = os.environ.get('ROS_HOME', os.path.join(os.path.expanduser('~'), '.ros'))
     return os.path.join(ros_home, 'pepper_interface_tests')
-
-
-@dataclass(frozen=True)
-class Options:
-    """Everything a user can set from the command line or as a private ROS param.
-
-    None means "not given": the file value or the default applies.
-    """
-    config: Optional[str] = None
-    input: Optional[str] = None
-    topics: Optional[str] = None
-    topics_dir: Optional[str] = None
-    expectations: Optional[str] = None
-    platform: Optional[str] = None
-    mode: Optional[str] = None
-    duration: Optional[float] = None
-    wait: Optional[float] = None
-    output_dir: Optional[str] = None
-    sensors: Optional[Tuple[str, ...]] = None
-    cameras: Optional[str] = None
-    quick: Optional[bool] = None
-    bag: Optional[str] = None
-    record: Optional[bool] = None
-    show: Optional[bool] = None
-    play_audio: Optional[bool] = None
-    delete_file: Optional[bool] = None
-    mic_mode: Optional[str] = None
-    require_heard: Optional[bool] = None
-    history: Optional[bool] = None
-    diagnostics: Optional[bool] = None
-    report: Optional[bool] = None
-    debug: Optional[bool] = None
-    rerun_failed: Optional[bool] = None
-
-    def merged(self, other):
-        """Values of `other` where given, else ours."""
-        given = {k: v for k, v in other.__dict__.items() if v is not None}
-        return replace(self, **given)
 
 
 @dataclass(frozen=True)
@@ -135,35 +96,6 @@ def read_pairs(path, what):
                               fix='write "key value" on one line, separated by spaces')
         pairs.append((number, parts[0], parts[1].strip()))
     return pairs
-
-
-def parse_bool(value, path=None, line=None, key=None):
-    word = str(value).strip().lower()
-    if word in TRUE_WORDS:
-        return True
-    if word in FALSE_WORDS:
-        return False
-    raise ConfigError('%s"%s" is not true or false' % ('%s: ' % key if key else '', value),
-                      path, line, fix='write true or false')
-
-
-def choice(value, choices, what, path=None, line=None):
-    word = str(value).strip().lower()
-    if word not in choices:
-        raise ConfigError('%s "%s" is not valid' % (what, value), path, line,
-                          fix='use one of: ' + ', '.join(choices))
-    return word
-
-
-def positive_seconds(value, what, path=None, line=None):
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = -1.0
-    if not number > 0 or number != number or number == float('inf'):
-        raise ConfigError('%s "%s" is not a positive number of seconds' % (what, value), path, line,
-                          fix='give a number of seconds greater than 0, e.g. 10')
-    return number
 
 
 def _valid_names():
@@ -244,8 +176,9 @@ def _resolve(path, base):
     return path if os.path.isabs(path) else os.path.join(base, path)
 
 
-def load_plan(options=Options()):
+def load_plan(options: Optional[Options] = None) -> TestPlan:
     """Read every file named by `options` (or the package defaults) into a TestPlan."""
+    options = Options() if options is None else options
     pkg = package_dir()
     config_path = os.path.abspath(options.config or os.path.join(pkg, 'config', 'sensorTestConfiguration.ini'))
     input_path = os.path.abspath(options.input or os.path.join(pkg, 'config', 'sensorTestInput.ini'))
