@@ -23,7 +23,7 @@ MIC_MODES = ('together', 'sequential')
 CONFIG_KEYS = ('platform', 'robottopics', 'simulatortopics', 'mode')
 
 
-def package_dir():
+def package_dir() -> str:
     """The package's own directory (source checkout or installed share directory)."""
     here = os.path.dirname(os.path.realpath(__file__))
     candidate = os.path.normpath(os.path.join(here, '..', '..'))
@@ -33,7 +33,7 @@ def package_dir():
     return rospkg.RosPack().get_path('pepper_interface_tests')
 
 
-def default_output_dir():
+def default_output_dir() -> str:
     """data/ of the package when writable (a source checkout), else $ROS_HOME/pepper_interface_tests."""
     data = os.path.join(package_dir(), 'data')
     if os.access(data, os.W_OK):
@@ -51,7 +51,7 @@ class SensorPlan:
     skip_reason: Optional[str] = None
 
     @property
-    def name(self):
+    def name(self) -> str:
         return self.sensor.name
 
 
@@ -70,11 +70,11 @@ class TestPlan:
     selection_notes: Tuple[str, ...] = ()   # what is left out and why (selection.py)
 
     @property
-    def active(self):
+    def active(self) -> Tuple[SensorPlan, ...]:
         return tuple(s for s in self.sensors if s.skip_reason is None)
 
     @property
-    def notes(self):
+    def notes(self) -> Tuple[str, ...]:
         """Lines for the run header: what is tested, what is left out and why, and every
         sensor whose window is not `duration` (computed now: cli.run_bag changes duration)."""
         return tuple(self.selection_notes) + tuple(selection.window_notes(self))
@@ -82,7 +82,7 @@ class TestPlan:
 
 # ---------------------------------------------------------------- low-level file reading
 
-def read_pairs(path, what):
+def read_pairs(path: str, what: str) -> List[Tuple[int, str, str]]:
     """`key value` lines of a file -> [(line number, key, value)]; '#' comments, blanks skipped."""
     lines = read_text(path, what).splitlines()
     pairs = []
@@ -104,7 +104,7 @@ def _valid_names():
 
 # ---------------------------------------------------------------- the three files
 
-def read_configuration(path):
+def read_configuration(path: str) -> Dict[str, str]:
     """sensorTestConfiguration.ini -> dict with platform, mode, robottopics, simulatortopics."""
     values: Dict[str, str] = {}
     where: Dict[str, int] = {}
@@ -124,7 +124,7 @@ def read_configuration(path):
     return values
 
 
-def read_input(path):
+def read_input(path: str) -> List[Tuple[str, bool]]:
     """sensorTestInput.ini -> ordered [(canonical name, enabled)] in file order."""
     seen: Dict[str, int] = {}
     order: List[Tuple[str, bool]] = []
@@ -141,7 +141,7 @@ def read_input(path):
     return order
 
 
-def read_topics(path):
+def read_topics(path: str) -> Dict[str, str]:
     """Topics file -> {canonical name: topic}; actuator keys are ignored."""
     topics: Dict[str, str] = {}
     where: Dict[str, int] = {}
@@ -164,7 +164,7 @@ def read_topics(path):
     return topics
 
 
-def read_expectations(path, platform):
+def read_expectations(path: str, platform: str) -> Dict[str, expectations.Expect]:
     """Expectations file -> {sensor name: frozen, typed expectations} for one platform."""
     return expectations.load(path, platform)
 
@@ -208,7 +208,7 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
 
     output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
         else default_output_dir()
-    rerun_notes = []
+    rerun_notes: List[str] = []
     if options.rerun_failed:
         sensors, rerun_notes = selection.rerun_failed(output_dir, platform, options)
         options = replace(options, sensors=sensors)
