@@ -101,6 +101,13 @@ class SensorRun:
             raise RuntimeError('the window of %s has not begun: call begin() first' % self.sensor.name)
         return self.t0
 
+    @property
+    def topic(self) -> str:
+        """The topic this window listens to (every sensor that is run has one: settings.load_plan)."""
+        if self.plan.topic is None:
+            raise ValueError('%s has no topic to listen to' % self.sensor.name)
+        return self.plan.topic
+
     # ---------------------------------------------------------------- feeding
     def begin(self, now: float) -> None:
         self.t0 = self.stats.start = now
