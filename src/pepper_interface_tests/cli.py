@@ -15,11 +15,14 @@ import os
 import sys
 import tempfile
 import time
+from typing import Callable, Dict, List, Optional
 
 from . import interrupts, results
 from .plan import options, settings
-from .plan.settings import ConfigError
+from .plan.options import Options
+from .plan.settings import ConfigError, TestPlan
 from .results import EXIT_CANNOT_START
+from .sources import Source
 
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
@@ -39,14 +42,14 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_CANNOT_START)
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog='sensorTest', description='Check every sensor of a Pepper robot and report '
                 'a verdict per sensor.', epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     options.add_arguments(p)
     return p
 
 
-def check_output_dir(path):
+def check_output_dir(path: str) -> None:
     try:
         os.makedirs(path, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix='.write-test-', dir=path)
@@ -66,7 +69,7 @@ def _debug_line(text):
     sys.stderr.write('[debug] %s\n' % text)
 
 
-def main(argv=None):
+def main(argv: Optional[List[str]] = None) -> int:
     # Ctrl-C, SIGTERM and SIGHUP end the run cleanly, also when started with SIGINT ignored
     # (background jobs of a non-interactive shell inherit that); a broken stdout/stderr is ignored
     from .outputs.terminal import protect_std_streams
@@ -93,22 +96,26 @@ def _main(argv):
         cli = options.from_args(ns)
     except ConfigError as e:
         return _fatal(str(e))
+    plan: Optional[TestPlan] = None
+    plan_error: Optional[ConfigError] = None
     try:
-        plan, plan_error = settings.load_plan(cli), None
+        plan = settings.load_plan(cli)
     except ConfigError as e:
         if cli.bag:
             return _fatal(str(e))
-        plan, plan_error = None, e   # private ROS params may still set it right: see run_live
+        plan_error = e   # private ROS params may still set it right: see run_live
     interrupts.pause('start-up')
     try:
         if cli.bag:
-            return run_bag(plan, cli)
+            assert plan is not None     # a bag's plan error ended the run above
+            return run_bag(plan, cli.bag, cli)
         return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))
 
 
-def run_live(plan, cli, plan_error=None, node_name=None):
+def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[ConfigError] = None,
+             node_name: Optional[str] = None) -> int:
     from .sources import live
     uri = live.master_uri()
     if plan_error is not None and not live.master_reachable(uri, timeout=1.0):
@@ -129,6 +136,7 @@ def run_live(plan, cli, plan_error=None, node_name=None):
             plan = settings.load_plan(params.merged(cli))
         elif plan_error is not None:
             raise plan_error
+        assert plan is not None     # loaded by _main or just now, else its error was raised
         check_output_dir(plan.output_dir)
         source = live.LiveSource(rospy.get_name())
         from_server = {k: v for k, v in from_server.items() if getattr(cli, k, None) is None}
@@ -144,9 +152,10 @@ def run_live(plan, cli, plan_error=None, node_name=None):
         done.join(0.25)
 
 
-def run_bag(plan, cli):
+def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
+    """Check the recorded bag `bag` (the --bag of `cli`) against the plan."""
     from .sources.bag import BagSource
-    source = BagSource(cli.bag)
+    source = BagSource(bag)
     # a bag is checked as a whole, every topic at once, from its start to its end
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
     active = []
@@ -166,15 +175,16 @@ def run_bag(plan, cli):
             hint = None
         notes += [hint] if hint else []
     for note in notes:
-        print('sensorTest: note: %s: %s' % (cli.bag, note), flush=True)
+        print('sensorTest: note: %s: %s' % (bag, note), flush=True)
     try:
         check_output_dir(plan.output_dir)
-        return execute(plan, source, source.clock, os.path.abspath(cli.bag))
+        return execute(plan, source, source.clock, os.path.abspath(bag))
     finally:
         source.close()
 
 
-def execute(plan, source, clock, source_name, param_sources=None):
+def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_name: str,
+            param_sources: Optional[Dict[str, str]] = None) -> int:
     """Run the plan against a source and write every output; returns the exit code.
     From here on interrupts are deferred until every output exists (interrupts.py)."""
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
