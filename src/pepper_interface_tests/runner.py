@@ -606,7 +606,7 @@ class Runner:
             self.signals.raise_pending()
             self.source.sleep(0.25)
         now = self.clock()
-        self.observers.nothing_published([p.topic for p in plans], self.plan.wait,
+        self.observers.nothing_published([p.topic for p in plans if p.topic is not None], self.plan.wait,
                             self.source.master_uri)
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:

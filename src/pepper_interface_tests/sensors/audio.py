@@ -61,6 +61,8 @@ from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from .base import Check, StuckRun, TrailingRun, fmt
 
 if TYPE_CHECKING:
+    import subprocess
+
     import genpy
 
     from ..plan.expectations import AudioExpect
@@ -136,7 +138,7 @@ class AudioCheck(Check):
         self.lengths: collections.Counter = collections.Counter()
         self.gaps: List[Tuple[float, float]] = []   # (t, pause)
         self.writers: Dict[str, WavWriter] = {}
-        self.player = None
+        self.player: Optional[subprocess.Popen] = None   # playing the recording (--play-audio)
         for name in CHANNELS:
             self.series['level_dbfs_' + name] = []
         self.stuck = StuckRun(self.expect.stuck_buffers)
