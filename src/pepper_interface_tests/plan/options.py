@@ -147,7 +147,7 @@ BOOL_PARAMS: Tuple[str, ...] = tuple(name for name in PARAMS if KINDS[name] == O
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Every OPTIONS row as an argument of `parser`, in --help sections named by `group`."""
-    groups: Dict[str, Any] = {}
+    groups: Dict[str, Any] = {}     # name -> argparse's (private) _ArgumentGroup
     for o in OPTIONS:
         if o.group not in groups:
             groups[o.group] = parser.add_argument_group(o.group)
