@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from pepper_interface_tests import cli
-from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan import catalog, options, settings
 from pepper_interface_tests.plan.settings import ConfigError, Options, load_plan
 
 PKG = settings.package_dir()
@@ -332,7 +332,7 @@ def test_bad_duration_in_options_and_on_the_command_line(files):
     e = error_of(files.options(duration=0))
     assert 'duration' in e.message
     with pytest.raises(ConfigError) as info:
-        cli.options_from_args(cli.build_parser().parse_args(['--duration', 'ten']))
+        options.from_args(cli.build_parser().parse_args(['--duration', 'ten']))
     assert '--duration' in info.value.message and '"ten"' in info.value.message
     assert load_plan(files.options(duration=2.5, wait=1)).duration == 2.5
 
@@ -579,7 +579,7 @@ def test_options_from_command_line():
     ns = cli.build_parser().parse_args(['--mode', 'parallel', '--sensors', 'laser,BackSonar imu',
                                         '--duration', '2', '--wait', '1.5', '--quick',
                                         '--output-dir', '/tmp/x', '--no-history', '--cameras', 'pepper'])
-    o = cli.options_from_args(ns)
+    o = options.from_args(ns)
     assert o.sensors == ('laser', 'BackSonar', 'imu')
     assert (o.mode, o.duration, o.wait, o.quick, o.history) == ('parallel', 2.0, 1.5, True, False)
     assert (o.output_dir, o.cameras, o.platform) == ('/tmp/x', 'pepper', None)
@@ -589,11 +589,11 @@ def test_options_from_private_params():
     params = {'~mode': 'parallel', '~duration': 2, '~wait': '1.5', '~quick': 'true',
               '~record': False, '~sensors': ['laser', 'imu'], '~output_dir': '/tmp/y',
               '~platform': ''}
-    o = cli.options_from_params(lambda name, default=None: params.get(name, default))
+    o = options.from_params(lambda name, default=None: params.get(name, default))
     assert (o.mode, o.duration, o.wait, o.quick, o.record) == ('parallel', 2.0, 1.5, True, False)
     assert o.sensors == ('laser', 'imu') and o.output_dir == '/tmp/y' and o.platform is None
     params['~sensors'] = 'laser, imu'
-    o = cli.options_from_params(lambda name, default=None: params.get(name, default))
+    o = options.from_params(lambda name, default=None: params.get(name, default))
     assert o.sensors == ('laser', 'imu')
 
 
@@ -601,7 +601,7 @@ def test_options_from_private_params():
                                                 ('~duration', 'long', 'greater than 0')])
 def test_bad_private_params(name, value, words):
     with pytest.raises(ConfigError) as info:
-        cli.options_from_params(lambda n, default=None: value if n == name else default)
+        options.from_params(lambda n, default=None: value if n == name else default)
     assert name in info.value.message and words in info.value.fix
 
 

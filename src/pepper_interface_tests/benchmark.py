@@ -222,7 +222,10 @@ def _recorded(out_dir, sensor):
         import soundfile
         info = soundfile.info(path)
         return info.frames, '%d ch %d Hz %s' % (info.channels, info.samplerate, info.subtype)
-    path = os.path.join(out_dir, catalog.SENSORS[sensor].video)
+    video = catalog.SENSORS[sensor].video
+    if video is None:       # a sensor that records no video
+        return None, None
+    path = os.path.join(out_dir, video)
     if not os.path.exists(path):
         return None, None
     return ffprobe_frames(path), None

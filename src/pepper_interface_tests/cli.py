@@ -15,18 +15,14 @@ import os
 import sys
 import tempfile
 import time
+from typing import Callable, Dict, List, Optional
 
 from . import interrupts, results
-from .plan import settings
-from .plan.settings import ConfigError, Options
+from .plan import options, settings
+from .plan.options import Options
+from .plan.settings import ConfigError, TestPlan
 from .results import EXIT_CANNOT_START
-
-PARAMS = ('config', 'input', 'topics', 'topics_dir', 'expectations', 'platform', 'mode',
-          'duration', 'wait', 'output_dir', 'sensors', 'cameras', 'quick', 'record', 'show',
-          'play_audio', 'delete_file', 'mic_mode', 'require_heard', 'history', 'diagnostics',
-          'report', 'debug', 'rerun_failed')
-BOOL_PARAMS = ('quick', 'record', 'show', 'play_audio', 'delete_file', 'require_heard',
-               'history', 'diagnostics', 'report', 'debug', 'rerun_failed')
+from .sources import Source
 
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
@@ -46,111 +42,14 @@ class _Parser(argparse.ArgumentParser):
         sys.exit(EXIT_CANNOT_START)
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog='sensorTest', description='Check every sensor of a Pepper robot and report '
                 'a verdict per sensor.', epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
-    f = p.add_argument_group('files')
-    f.add_argument('--config', metavar='FILE', help='configuration file (default config/sensorTestConfiguration.ini)')
-    f.add_argument('--input', metavar='FILE', help='input file: which sensors run (default config/sensorTestInput.ini)')
-    f.add_argument('--topics', metavar='FILE', help='topics file (default: the one the configuration names, in data/)')
-    f.add_argument('--topics-dir', metavar='DIR', help='folder where the configuration\'s topics file is '
-                                                       'looked up (default data/)')
-    f.add_argument('--expectations', metavar='FILE', help='expectations file (default config/sensorExpectations.yaml)')
-    f.add_argument('--output-dir', metavar='DIR', help='where results go (default data/ of the package when '
-                                                       'writable, else $ROS_HOME/pepper_interface_tests, '
-                                                       '$ROS_HOME being ~/.ros unless set)')
-    r = p.add_argument_group('run')
-    r.add_argument('--platform', help='robot or simulator (overrides the configuration file)')
-    r.add_argument('--mode', help='sequential or parallel (overrides the configuration file)')
-    r.add_argument('--duration', metavar='S', help='seconds each sensor is listened to (default 10)')
-    r.add_argument('--wait', metavar='S', help='seconds allowed for the first message (default 5)')
-    r.add_argument('--sensors', metavar='A,B,...', help='run exactly these sensors, in this order (ignores '
-                                                        'the input file)')
-    r.add_argument('--rerun-failed', action='store_const', const=True, help='run only the sensors that did '
-                                                                            'not pass in the latest run of '
-                                                                            'the output folder (its '
-                                                                            'sensorTestResults.json)')
-    r.add_argument('--cameras', metavar='WHICH', help='test exactly these cameras: pepper, realsense or '
-                                                      'both, whatever the input file says (default: the '
-                                                      'input file decides)')
-    r.add_argument('--quick', action='store_const', const=True, help='end each sensor\'s window as soon as '
-                                                                     'its verdict is settled '
-                                                                     '(quick_messages, default 10, spanning '
-                                                                     'at least 0.8 s, and the sensor\'s own checks)')
-    r.add_argument('--bag', metavar='FILE', help='check a recorded bag instead of live topics (no master needed)')
-    r.add_argument('--debug', action='store_const', const=True, help='print one line per received message (stderr)')
-    r.add_argument('--end-launch', action='store_true', help='for launch files: at the end, write '
-                   'the exit code to $PEPPER_SENSORTEST_EXIT_FILE and end the roslaunch that started '
-                   'this node (no "REQUIRED process has died" banner; see sensorTestLaunch)')
-    r.add_argument('--node-name', metavar='NAME',
-                   help='fixed ROS node name (default: sensorTest_<pid>_<ms>, unique per run, '
-                        'which also reads params set under /sensorTest/)')
-    m = p.add_argument_group('media')
-    m.add_argument('--no-record', dest='record', action='store_const', const=False, help='do not write '
-                                                                                         'videos and WAV files')
-    m.add_argument('--show', dest='show', action='store_const', const=True, help='live view of the cameras '
-                                                                                 '(default: when a display exists)')
-    m.add_argument('--no-show', dest='show', action='store_const', const=False, help='no live view')
-    m.add_argument('--play-audio', dest='play_audio', action='store_const', const=True,
-                   help='play the recorded microphones afterwards (spec behaviour)')
-    m.add_argument('--delete-file', dest='delete_file', action='store_const', const=True, help='delete the '
-                                                                                               'WAV after playing it')
-    m.add_argument('--mic-mode', metavar='MODE', help='together (4-channel WAV, default) or sequential '
-                                                      '(each microphone in turn, as the spec)')
-    m.add_argument('--require-heard', action='store_const', const=True, help='speech fails unless the '
-                                                                             'microphones hear it (needs '
-                                                                             'the microphone in the run)')
-    o = p.add_argument_group('results')
-    o.add_argument('--no-history', dest='history', action='store_const', const=False, help='do not keep '
-                                                                                           'this run in the '
-                                                                                           'run history')
-    o.add_argument('--no-diagnostics', dest='diagnostics', action='store_const', const=False, help='do not '
-                                                                                                   'publish '
-                                                                                                   '/diagnostics')
-    o.add_argument('--no-report', dest='report', action='store_const', const=False, help='do not write the HTML report')
+    options.add_arguments(p)
     return p
 
 
-def options_from_args(ns):
-    values = {}
-    for name in PARAMS:
-        v = getattr(ns, name, None)
-        if v is not None:
-            values[name] = v
-    if 'sensors' in values:
-        values['sensors'] = tuple(x for x in values['sensors'].replace(' ', ',').split(',') if x)
-        if not values['sensors']:
-            raise ConfigError('--sensors "%s" names no sensor' % ns.sensors,
-                              fix='give sensor names, e.g. --sensors laser,imu, or leave --sensors '
-                                  'out to run the sensors the input file enables')
-    for key in ('duration', 'wait'):
-        if key in values:
-            values[key] = settings.positive_seconds(values[key], '--' + key)
-    if ns.bag:
-        values['bag'] = ns.bag
-    return Options(**values)
-
-
-def options_from_params(get_param):
-    """Private ROS params (~mode, ~duration, ...) -> Options."""
-    values = {}
-    for name in PARAMS:
-        v = get_param('~' + name, None)
-        if v is None or v == '':
-            continue
-        if name in BOOL_PARAMS:
-            v = settings.parse_bool(v, key='~' + name)
-        elif name in ('duration', 'wait'):
-            v = settings.positive_seconds(v, '~' + name)
-        elif name == 'sensors':
-            v = tuple(x for x in (v if isinstance(v, (list, tuple)) else str(v).replace(' ', ',').split(',')) if x)
-        else:
-            v = str(v)
-        values[name] = v
-    return Options(**values)
-
-
-def check_output_dir(path):
+def check_output_dir(path: str) -> None:
     try:
         os.makedirs(path, exist_ok=True)
         fd, probe = tempfile.mkstemp(prefix='.write-test-', dir=path)
@@ -170,7 +69,7 @@ def _debug_line(text):
     sys.stderr.write('[debug] %s\n' % text)
 
 
-def main(argv=None):
+def main(argv: Optional[List[str]] = None) -> int:
     # Ctrl-C, SIGTERM and SIGHUP end the run cleanly, also when started with SIGINT ignored
     # (background jobs of a non-interactive shell inherit that); a broken stdout/stderr is ignored
     from .outputs.terminal import protect_std_streams
@@ -194,25 +93,29 @@ def main(argv=None):
 def _main(argv):
     try:
         ns = build_parser().parse_args(argv)
-        cli = options_from_args(ns)
+        cli = options.from_args(ns)
     except ConfigError as e:
         return _fatal(str(e))
+    plan: Optional[TestPlan] = None
+    plan_error: Optional[ConfigError] = None
     try:
-        plan, plan_error = settings.load_plan(cli), None
+        plan = settings.load_plan(cli)
     except ConfigError as e:
         if cli.bag:
             return _fatal(str(e))
-        plan, plan_error = None, e   # private ROS params may still set it right: see run_live
+        plan_error = e   # private ROS params may still set it right: see run_live
     interrupts.pause('start-up')
     try:
         if cli.bag:
-            return run_bag(plan, cli)
+            assert plan is not None     # a bag's plan error ended the run above
+            return run_bag(plan, cli.bag, cli)
         return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))
 
 
-def run_live(plan, cli, plan_error=None, node_name=None):
+def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[ConfigError] = None,
+             node_name: Optional[str] = None) -> int:
     from .sources import live
     uri = live.master_uri()
     if plan_error is not None and not live.master_reachable(uri, timeout=1.0):
@@ -228,11 +131,12 @@ def run_live(plan, cli, plan_error=None, node_name=None):
     from . import node
     rospy.init_node(node_name or 'sensorTest', anonymous=not node_name, disable_signals=True)
     try:
-        params, from_server = node.read_params(options_from_params)
+        params, from_server = node.read_params(options.from_params)
         if any(v is not None for v in params.__dict__.values()):
             plan = settings.load_plan(params.merged(cli))
         elif plan_error is not None:
             raise plan_error
+        assert plan is not None     # loaded by _main or just now, else its error was raised
         check_output_dir(plan.output_dir)
         source = live.LiveSource(rospy.get_name())
         from_server = {k: v for k, v in from_server.items() if getattr(cli, k, None) is None}
@@ -248,9 +152,10 @@ def run_live(plan, cli, plan_error=None, node_name=None):
         done.join(0.25)
 
 
-def run_bag(plan, cli):
+def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
+    """Check the recorded bag `bag` (the --bag of `cli`) against the plan."""
     from .sources.bag import BagSource
-    source = BagSource(cli.bag)
+    source = BagSource(bag)
     # a bag is checked as a whole, every topic at once, from its start to its end
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
     active = []
@@ -270,15 +175,16 @@ def run_bag(plan, cli):
             hint = None
         notes += [hint] if hint else []
     for note in notes:
-        print('sensorTest: note: %s: %s' % (cli.bag, note), flush=True)
+        print('sensorTest: note: %s: %s' % (bag, note), flush=True)
     try:
         check_output_dir(plan.output_dir)
-        return execute(plan, source, source.clock, os.path.abspath(cli.bag))
+        return execute(plan, source, source.clock, os.path.abspath(bag))
     finally:
         source.close()
 
 
-def execute(plan, source, clock, source_name, param_sources=None):
+def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_name: str,
+            param_sources: Optional[Dict[str, str]] = None) -> int:
     """Run the plan against a source and write every output; returns the exit code.
     From here on interrupts are deferred until every output exists (interrupts.py)."""
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet

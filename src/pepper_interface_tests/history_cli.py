@@ -18,6 +18,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+from typing import List, Optional, Sequence, TextIO
 
 from . import results
 from .outputs.history import (
@@ -26,6 +27,7 @@ from .outputs.history import (
     RATE_FLAG,
     RUNS_DIR,
     HistoryError,
+    RunInfo,
     compare,
     list_runs,
     not_passed,
@@ -52,7 +54,7 @@ def _note_skipped(runs, since):
             _note('skipping run %s: %s' % (r.run_id, r.problem))
 
 
-def cmd_compare(args, runs, base, out):
+def cmd_compare(args: argparse.Namespace, runs: List[RunInfo], base: str, out: TextIO) -> int:
     # runs not named explicitly are the latest complete ones; incomplete runs (still going,
     # killed, malformed JSON) are skipped with a note
     complete = [r for r in runs if r.complete]
@@ -102,7 +104,7 @@ def _run_or_latest(runs, ref, usable, what):
     raise HistoryError('no run has %s' % what)
 
 
-def cmd_open(args, runs, out):
+def cmd_open(args: argparse.Namespace, runs: List[RunInfo], out: TextIO) -> int:
     def has_report(run):
         return '' if os.path.isfile(os.path.join(run.path, REPORT_FILE)) else \
             'has no %s (run with --no-report, still going, or killed)' % REPORT_FILE
@@ -126,17 +128,18 @@ def cmd_open(args, runs, out):
     return EXIT_OK
 
 
-def cmd_failed(args, runs, out):
+def cmd_failed(args: argparse.Namespace, runs: List[RunInfo], out: TextIO) -> int:
     run = _run_or_latest(runs, args.run, lambda r: '' if r.complete else 'cannot be read: ' + r.problem,
                          'a readable %s' % results.JSON_FILE)
-    failed = not_passed(run.data)
+    data = run.data or {}     # a complete run: its JSON was read
+    failed = not_passed(data)
     if not failed:
         _note('no sensor failed in run %s: nothing to re-run' % run.run_id)
         return EXIT_NOTHING
     words = []
-    if run.data.get('platform') == 'simulator':
+    if data.get('platform') == 'simulator':
         words += ['--platform', 'simulator']
-    source = run.data.get('source')
+    source = data.get('source')
     if source and source != 'live':
         words += ['--bag', source]
     words += ['--sensors', ','.join(failed)]
@@ -175,7 +178,7 @@ def _positive_days(text):
     return d
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     # --output-dir is accepted before and after the command: the copy in each command does not
     # overwrite the first one's value unless it is given (default SUPPRESS)
     where = _Parser(add_help=False)
@@ -222,7 +225,7 @@ def build_parser():
     return p
 
 
-def main(argv=None, out=None):
+def main(argv: Optional[Sequence[str]] = None, out: Optional[TextIO] = None) -> int:
     out = out or sys.stdout
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -34,7 +34,7 @@ class Terminated(KeyboardInterrupt):
 
 
 class Policy:
-    def __init__(self):
+    def __init__(self) -> None:
         self._reset()
 
     def _reset(self):
@@ -43,19 +43,19 @@ class Policy:
         self.first: Optional[int] = None    # the first signal's number
 
     @property
-    def pending(self):
+    def pending(self) -> bool:
         return self.first is not None
 
-    def reason(self):
+    def reason(self) -> str:
         return NAMES.get(self.first, 'interrupted') if self.first is not None else 'interrupted'
 
-    def install(self):
+    def install(self) -> None:
         """Handle SIGINT, SIGTERM and SIGHUP from now on, starting afresh (phase 'start')."""
         self._reset()
         for sig in SIGNALS:
             signal.signal(sig, self._handle)
 
-    def raise_pending(self):
+    def raise_pending(self) -> None:
         """Raise the remembered interrupt (for code that polls)."""
         if self.first is not None:
             raise (KeyboardInterrupt if self.first == signal.SIGINT else Terminated)()
@@ -86,7 +86,7 @@ def _say(text):
 POLICY = Policy()
 
 
-def pause(point):
+def pause(point: str) -> None:
     """Test hook: see the module docstring. Does nothing unless SENSORTEST_TEST_PAUSE names `point`."""
     spec = os.environ.get('SENSORTEST_TEST_PAUSE', '')
     parts = spec.split(':')

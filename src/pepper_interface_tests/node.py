@@ -11,26 +11,30 @@ when the run ends (params set by a launch file or by rosparam are left alone).
 """
 import sys
 import threading
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import rospy
+
+from .plan.options import Options
 
 DEFAULT_NAMESPACE = '/sensorTest'
 
 
-def command_line_params(argv=None):
+def command_line_params(argv: Optional[Sequence[str]] = None) -> List[str]:
     """Names given as `_name:=value` on the command line."""
     argv = sys.argv if argv is None else argv
     return [a.split(':=', 1)[0][1:] for a in argv[1:]
             if ':=' in a and a.startswith('_') and not a.startswith('__')]
 
 
-def read_params(options_from_params):
-    """(Options, {name: origin}) from the parameter server."""
+def read_params(options_from_params: Callable[[Callable[..., Any]], Options]) -> Tuple[Options, Dict[str, str]]:
+    """(Options, {name: origin}) from the parameter server: `options_from_params(get)` reads
+    each param with `get(key, default)`, as rospy.get_param."""
     own = set(command_line_params())
     fallback = rospy.get_name() != DEFAULT_NAMESPACE and not _fixed_name()
-    origins = {}
+    origins: Dict[str, str] = {}
 
-    def get(key, default=None):
+    def get(key: str, default: Any = None) -> Any:
         name = key.lstrip('~')
         value = rospy.get_param(key, None)
         if value is not None and value != '':
@@ -52,7 +56,7 @@ def _fixed_name():
     return any(a.startswith('__name:=') or a.startswith('--node-name') for a in sys.argv)
 
 
-def forget_own_params(timeout=1.0):
+def forget_own_params(timeout: float = 1.0) -> None:
     """Delete the `_name:=value` params of this run from the server (never waits more than
     `timeout` s: a stalled or vanished master must not hold the exit)."""
     names = command_line_params()

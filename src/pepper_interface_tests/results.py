@@ -11,7 +11,7 @@ import datetime
 import re
 from dataclasses import asdict, dataclass, field
 from enum import Enum
-from typing import Dict, List, Optional
+from typing import Any, Dict, List, Optional
 
 
 class Verdict(str, Enum):
@@ -44,7 +44,7 @@ _CONTROL = re.compile('[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\uff
 _NEWLINE = re.compile('[\t\n]')
 
 
-def printable(text, limit=None, one_line=True):
+def printable(text: object, limit: Optional[int] = None, one_line: bool = True) -> str:
     """`text` with control characters written as \\xNN (so an ANSI escape is shown, not obeyed,
     and XML stays well-formed), newlines as \\n when `one_line`, cut to `limit` characters."""
     text = str(text)
@@ -60,7 +60,7 @@ def printable(text, limit=None, one_line=True):
 FILE_LIMIT = 2000       # characters of one robot string in the .dat and JUnit files
 
 
-def timestamp(t=None):
+def timestamp(t: Optional[float] = None) -> str:
     """The spec's time format: YYYY-MM-DD.HH:MM:SS (local time)."""
     dt = datetime.datetime.fromtimestamp(t) if t is not None else datetime.datetime.now()
     return dt.strftime('%Y-%m-%d.%H:%M:%S')
@@ -93,7 +93,7 @@ class SensorResult:
     artifacts: Dict = field(default_factory=dict)
 
     @property
-    def ok(self):
+    def ok(self) -> bool:
         return self.verdict != FAIL
 
 
@@ -115,20 +115,20 @@ class RunResult:
     param_sources: Dict = field(default_factory=dict)        # option -> where its ROS param came from
 
     @property
-    def exit_code(self):
+    def exit_code(self) -> int:
         if self.write_errors:
             return EXIT_NOT_WRITTEN
         if self.interrupted:
             return EXIT_INTERRUPTED
         return EXIT_PASS if all(s.ok for s in self.sensors) else EXIT_FAIL
 
-    def counts(self):
+    def counts(self) -> Dict[Verdict, int]:
         out = {PASS: 0, FAIL: 0, SKIPPED: 0, INTERRUPTED: 0}
         for s in self.sensors:
             out[s.verdict] += 1
         return out
 
-    def to_dict(self, with_series=False):
+    def to_dict(self, with_series: bool = False) -> Dict[str, Any]:
         sensors = []
         for s in self.sensors:
             d = asdict(s)
@@ -159,18 +159,18 @@ class RunResult:
         }
 
 
-def param_lines(run):
+def param_lines(run: RunResult) -> List[str]:
     """Where options given as ROS params came from (for the run header)."""
     return ['%s = %s from the %s' % (k, printable(run.options.get(k), 200), printable(v, 200))
             for k, v in sorted(run.param_sources.items())]
 
 
-def count_line(c):
+def count_line(c: Dict[Verdict, int]) -> str:
     text = '%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED])
     return text + (', %d interrupted' % c[INTERRUPTED] if c.get(INTERRUPTED) else '')
 
 
-def summary_line(r):
+def summary_line(r: SensorResult) -> str:
     parts = ['%d messages in %.1f s' % (r.messages, r.window_s)]
     if r.rate_hz is not None:
         rate = 'rate %.2f Hz' % r.rate_hz
@@ -192,7 +192,7 @@ def summary_line(r):
 PASSING = (PASS, SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
 
 
-def not_passed(data):
+def not_passed(data: Dict[str, Any]) -> List[str]:
     """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
     `sensorTest --rerun-failed`)."""
     return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
@@ -202,7 +202,7 @@ def _is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def malformed(data):
+def malformed(data: Any) -> str:
     """Why a run's JSON cannot be listed or compared ('' when it can): every field `list` and
     `compare` read must have the type sensorTest writes (a hand-edited or truncated-and-repaired
     file, or one from another tool, must not give a traceback)."""

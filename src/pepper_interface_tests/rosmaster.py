@@ -20,13 +20,13 @@ import subprocess
 import tempfile
 import time
 import xmlrpc.client
-from typing import Any, List, Optional, Set
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Set, Tuple, Union
 
 PICK_LOW = 20000   # below: well-known and registered service ports (11311, 9090, 9559 ...)
 _handed_out: Set[int] = set()
 
 
-def ephemeral_range():
+def ephemeral_range() -> Tuple[int, int]:
     """(low, high) of the kernel's range for port-0 binds; Linux's default if unreadable."""
     try:
         with open('/proc/sys/net/ipv4/ip_local_port_range') as f:
@@ -45,7 +45,7 @@ def _candidates():
     return range(1024, 65536)  # an unusual kernel set-up: any port, collisions still detected
 
 
-def free_ports(n, host='127.0.0.1'):
+def free_ports(n: int, host: str = '127.0.0.1') -> List[int]:
     """`n` distinct TCP ports on `host`, each free right now, outside the ephemeral range and
     never returned before by this process. The probe sockets are held until all are chosen."""
     held: List[socket.socket] = []
@@ -75,12 +75,13 @@ def free_ports(n, host='127.0.0.1'):
     return ports
 
 
-def free_port():
+def free_port() -> int:
     """One TCP port on 127.0.0.1 that is free right now (see free_ports)."""
     return free_ports(1)[0]
 
 
-def stop_group(proc, sig=signal.SIGINT, timeout=20.0):
+def stop_group(proc: Optional[subprocess.Popen], sig: int = signal.SIGINT,
+               timeout: float = 20.0) -> Optional[int]:
     """Send `sig` to the process group of `proc` (started with start_new_session=True), then
     SIGKILL if it has not ended after `timeout` s, together with the children it had (roslaunch
     starts each node in a session of its own, so they are not in its group). Returns the exit
@@ -123,18 +124,18 @@ PORT_TAKEN = ('is already in use', 'another roscore/master is already running')
 class PrivateMaster:
     """A real roscore on a free port; use as a context manager (or start()/stop())."""
 
-    def __init__(self, caller='/private_master', ros_home=None):
+    def __init__(self, caller: str = '/private_master', ros_home: Optional[str] = None) -> None:
         self.caller = caller
         self.ros_home = ros_home
         self.proc: Optional[subprocess.Popen] = None
-        self.attempts = []  # one line per failed attempt: port and roscore's reason
+        self.attempts: List[str] = []  # one line per failed attempt: port and roscore's reason
         self._use_port(free_port())
 
     def _use_port(self, port):
         self.port = port
         self.uri = 'http://127.0.0.1:%d' % port
 
-    def env(self, **extra):
+    def env(self, **extra: Any) -> Dict[str, str]:
         """This process's environment pointed at this master (plus `extra`)."""
         env = dict(os.environ)
         env.update(ROS_MASTER_URI=self.uri, ROS_IP='127.0.0.1', PYTHONUNBUFFERED='1')
@@ -144,7 +145,7 @@ class PrivateMaster:
         env.update({k: str(v) for k, v in extra.items()})
         return env
 
-    def start(self, timeout=30.0, attempts=4):
+    def start(self, timeout: float = 30.0, attempts: int = 4) -> 'PrivateMaster':
         """Start roscore and wait until /rosout is up on a master of its own; when its port
         turns out to be taken, start again on another one. MasterError (with roscore's own
         words) otherwise."""
@@ -198,7 +199,7 @@ class PrivateMaster:
             return False
         return self.proc is not None and code == 1 and _descends(pid, self.proc.pid)
 
-    def stop(self):
+    def stop(self) -> None:
         stop_group(self.proc, timeout=10.0)
 
     def __enter__(self):
@@ -251,13 +252,13 @@ _CAUSE_WORDS = ('already in use', 'another roscore', 'cannot listen', 'error:', 
                 'RLException', 'Error', 'cannot', 'not found')
 
 
-def launch_failure(text):
+def launch_failure(text: str) -> List[str]:
     """Why a roslaunch (its combined output `text`) failed, in its own words: a list of up to
     3 lines (the first process that died, and the first line naming an error), or []."""
     lines = [line.replace('\x1b[31m', '').replace('\x1b[0m', '').replace('\x1b[1m', '').strip()
              for line in text.splitlines()]
     died = [line for line in lines if 'process has died' in line]
-    causes = []
+    causes: List[str] = []
     for words in _CAUSE_WORDS:
         causes = [line for line in lines if words in line and 'process has died' not in line]
         if causes:
@@ -266,7 +267,7 @@ def launch_failure(text):
     return [line[:300] for line in out]
 
 
-def port_taken(lines):
+def port_taken(lines: Iterable[str]) -> bool:
     """Whether a failure (launch_failure's lines) is a port somebody else holds: retry then."""
     return any(w in line for line in lines for w in PORT_TAKEN + (
         'Address already in use', 'address in use', 'held by another program'))
@@ -291,7 +292,8 @@ def _master_pid(uri, timeout=2.0):
         return 'silent'
 
 
-def wait_for_launch(launcher, log_path, master_uri, topics, timeout=60.0, grace=8.0):
+def wait_for_launch(launcher: Union[subprocess.Popen, int], log_path: str, master_uri: str,
+                    topics: Sequence[str], timeout: float = 60.0, grace: float = 8.0) -> Tuple[str, List[str]]:
     """Watch a roslaunch we started (Popen-like `launcher` or a pid) until `topics` are all
     published on its own master: ('up', []), or ('failed', reason lines) as soon as one of its
     processes dies, roslaunch ends, or the master port is held by another program (a master

@@ -15,16 +15,20 @@ Ctrl-C.
 """
 import threading
 import time
-from typing import Callable, List, Optional
+from typing import TYPE_CHECKING, Any, Callable, Dict, Iterable, List, Optional, Tuple, Type
 
 from . import interrupts
-from .observer import Observers
+from .observer import Observers, RunObserver
 from .plan import catalog
+from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult
 from .sensors import check_class
-from .sensors.base import Tally, fmt
-from .sources import SourceLost
+from .sensors.base import Check, RunContext, Tally, fmt
+from .sources import Source, SourceLost, TopicInfo
 from .stats import StreamStats
+
+if TYPE_CHECKING:
+    import genpy
 
 TICK = 0.05
 # Under /use_sim_time a window lasts `window` seconds of simulation time, so a simulator slower
@@ -33,7 +37,7 @@ TICK = 0.05
 MIN_RTF = 0.25
 
 
-def message_class(type_name, definition=None):
+def message_class(type_name: str, definition: Optional[str] = None) -> Type['genpy.Message']:
     """The Python class of a ROS message type, e.g. 'sensor_msgs/Range'.
 
     A type whose package is not installed (naoqi_bridge_msgs/AudioBuffer from stock
@@ -57,11 +61,12 @@ def message_class(type_name, definition=None):
 class SensorRun:
     """One sensor's listening window: raw messages in, one SensorResult out."""
 
-    def __init__(self, plan, ctx, run_start, quick=False, wait=5.0, duration=10.0):
+    def __init__(self, plan: SensorPlan, ctx: RunContext, run_start: float, quick: bool = False,
+                 wait: float = 5.0, duration: float = 10.0) -> None:
         self.plan = plan
         self.sensor = plan.sensor
         self.expect = plan.expect
-        self.check = check_class(self.sensor.family)(plan, ctx)
+        self.check: Check = check_class(self.sensor.family)(plan, ctx)
         self.ctx = ctx
         self.run_start = run_start
         self.quick = quick
@@ -71,7 +76,7 @@ class SensorRun:
         self.cls = message_class(self.sensor.msg_type)
         self.classes = {self.sensor.msg_type: self.cls}   # type name -> class (audio: several)
         self.publishers: List[str] = []   # caller ids of the nodes whose messages arrived, in order
-        self.received_type = None
+        self.received_type: Optional[str] = None
         self.sim_clock: Optional[Callable[[], float]] = None   # simulation time (s) under /use_sim_time
         self.sim_t0: Optional[float] = None                    # simulation time when listening began
         self.sim_stopped_at: Optional[float] = None
@@ -79,22 +84,36 @@ class SensorRun:
         self.decode = getattr(self.check, 'decode', None)
         self.stats = StreamStats()   # its start is set by begin()
         self.t0: Optional[float] = None
-        self.stopped_at = None       # end of the window (set by stop(); no feeding after it)
+        self.stopped_at: Optional[float] = None   # end of the window (set by stop(); no feeding after it)
         self.closed = False
-        self.result = None
+        self.result: Optional[SensorResult] = None
         self.header_issues = Tally()
-        self.wrong_types = {}        # type name -> count
+        self.wrong_types: Dict[str, int] = {}   # type name -> count
         self.bad_messages = 0
         self.connections_seen = 0
-        self.publisher_lost_at = None
+        self.publisher_lost_at: Optional[float] = None
         self.end_reason = ''
 
+    @property
+    def began(self) -> float:
+        """When listening began (set by begin(), on the runner's clock)."""
+        if self.t0 is None:
+            raise RuntimeError('the window of %s has not begun: call begin() first' % self.sensor.name)
+        return self.t0
+
+    @property
+    def topic(self) -> str:
+        """The topic this window listens to (every sensor that is run has one: settings.load_plan)."""
+        if self.plan.topic is None:
+            raise ValueError('%s has no topic to listen to' % self.sensor.name)
+        return self.plan.topic
+
     # ---------------------------------------------------------------- feeding
-    def begin(self, now):
+    def begin(self, now: float) -> None:
         self.t0 = self.stats.start = now
         self.check.start()
 
-    def use_sim_clock(self, sim_clock):
+    def use_sim_clock(self, sim_clock: Callable[[], float]) -> None:
         """The source runs on simulation time (/use_sim_time): windows and rates on `sim_clock`
         (a callable returning the simulation time in seconds). Call before the first message."""
         with self.lock:
@@ -126,7 +145,8 @@ class SensorRun:
                 type_name, (conn or {}).get('message_definition'))
         return cls
 
-    def feed_raw(self, type_name, buff, t_recv, ros_now, conn=None):
+    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+                 conn: Optional[Dict[str, Any]] = None) -> None:
         """One message as it came off the wire (or out of a bag); `conn` is its connection
         header (type, message_definition, callerid) where known."""
         with self.lock:
@@ -166,7 +186,7 @@ class SensorRun:
                     ' stamp %.3f frame "%s"' % (stamp or 0.0, header.frame_id) if header is not None else ''))
 
     # ---------------------------------------------------------------- deciding when to stop
-    def due(self, now):
+    def due(self, now: float) -> str:
         """Why the window should end now, or '' to keep listening."""
         elapsed = self._elapsed(now)
         if self.check.active:
@@ -175,11 +195,11 @@ class SensorRun:
             return 'window ended' if elapsed >= max(self.window, self.wait) + 5.0 else ''
         count = self.stats.count
         if count == 0:   # --wait is wall time, also on sim time: a paused simulator sends nothing
-            return 'no message within %.1f s' % self.wait if now - self.t0 >= self.wait else ''
+            return 'no message within %.1f s' % self.wait if now - self.began >= self.wait else ''
         if self.sim_clock is not None and self.sim_t0 is not None:
             first = self.stats.clock_recv[0] - self.sim_t0
         else:
-            first = self.stats.recv[0] - self.t0
+            first = self.stats.recv[0] - self.began
         end = self.window if first <= self.window else first + min(self.window, 2.0)
         if elapsed >= end:
             return 'window ended'
@@ -192,18 +212,18 @@ class SensorRun:
         return self.stats.count >= n and (self.stats.recv[-1] - self.stats.recv[0]) >= 0.8 \
             and self.check.settled()
 
-    def poll(self, now):
+    def poll(self, now: float) -> None:
         if self.check.active:
-            self.check.poll(now - self.t0)
+            self.check.poll(now - self.began)
 
-    def observe_connections(self, n, now):
+    def observe_connections(self, n: int, now: float) -> None:
         if n > 0:
             self.connections_seen = max(self.connections_seen, n)
         elif self.connections_seen and self.publisher_lost_at is None:
-            self.publisher_lost_at = now - self.t0
+            self.publisher_lost_at = now - self.began
 
     # ---------------------------------------------------------------- closing
-    def stop(self, now, reason):
+    def stop(self, now: float, reason: str) -> None:
         """End the window at `now`: nothing is fed after this. Cheap; close() does the rest."""
         with self.lock:
             if self.stopped_at is None:
@@ -211,9 +231,11 @@ class SensorRun:
                 if self.sim_clock is not None:
                     self.sim_stopped_at = self.sim_clock()
 
-    def close(self, now, reason, lookup=None):
+    def close(self, now: float, reason: str,
+              lookup: Optional[Callable[[str], Optional[TopicInfo]]] = None) -> Optional[SensorResult]:
         """End the window (if stop() has not), close the check, build the result.
-        `lookup(topic)` asks the master about a silent topic. Closing twice returns the same result."""
+        `lookup(topic)` asks the master about a silent topic. Closing twice returns the same result
+        (None while another thread is still closing it)."""
         self.stop(now, reason)
         with self.lock:
             if self.closed:
@@ -269,7 +291,7 @@ class SensorRun:
             nominal_rate_hz=e.nominal,
             received_type=next(iter(self.wrong_types), None) or (self.received_type if s.count else None),
             window_s=round(elapsed, 3), stopped_because=reason,
-            started_at=round(self.t0 - self.run_start, 3), ended_at=round(now - self.run_start, 3),
+            started_at=round(self.began - self.run_start, 3), ended_at=round(now - self.run_start, 3),
             fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
             stats=summary, values=dict(check.values),
             series=dict(check.series, rate_hz=s.rate_series(end=clock_end)),
@@ -393,7 +415,7 @@ class SensorRun:
 OFFSET_SPREAD = 1.0
 
 
-def clock_offset(delay, max_delay, max_future):
+def clock_offset(delay: Optional[Dict[str, float]], max_delay: float, max_future: float) -> str:
     """The reason for header stamps a constant offset away from this computer's clock (the
     robot's clock not synchronised, e.g. an hour off after a time-zone mistake), or ''."""
     if not delay or delay['max'] - delay['min'] > OFFSET_SPREAD:
@@ -416,21 +438,22 @@ NO_CLOCK = ('/use_sim_time is true but nothing publishes /clock, so ROS time sta
             'or clear a leftover setting with "rosparam set /use_sim_time false" and start again')
 
 
-def skipped_result(plan, run_start, now):
+def skipped_result(plan: SensorPlan, run_start: float, now: float) -> SensorResult:
     return SensorResult(name=plan.sensor.name, title=plan.sensor.title, topic=plan.topic,
-                        msg_type=plan.sensor.msg_type, verdict=SKIPPED, reasons=[plan.skip_reason],
+                        msg_type=plan.sensor.msg_type, verdict=SKIPPED,
+                        reasons=[plan.skip_reason] if plan.skip_reason else [],
                         started_at=round(now - run_start, 3), ended_at=round(now - run_start, 3))
 
 
-def lanes_for(plan, live=True):
+def lanes_for(plan: TestPlan, live: bool = True) -> List[List[SensorPlan]]:
     """Which sensors run one after another: a list of lanes, each a list of SensorPlans.
 
     Gazebo fails when several cameras stream at once, so live simulator cameras share one lane
     even in parallel mode; a bag replay has no such limit."""
     if plan.mode == 'sequential':
         return [list(plan.sensors)]
-    lanes: List[list] = []
-    cameras: list = []
+    lanes: List[List[SensorPlan]] = []
+    cameras: List[SensorPlan] = []
     serial_cameras = live and plan.platform == 'simulator'
     for s in plan.sensors:
         if serial_cameras and s.sensor.family in ('camera', 'depth') and s.skip_reason is None:
@@ -445,8 +468,9 @@ def lanes_for(plan, live=True):
 class Runner:
     """Drives the lanes from the main thread. `source` subscribes (live) or feeds (bag)."""
 
-    def __init__(self, plan, ctx, source, observers=(), clock=time.monotonic, wall=time.time,
-                 signals=None):
+    def __init__(self, plan: TestPlan, ctx: RunContext, source: Source, observers: Iterable[RunObserver] = (),
+                 clock: Callable[[], float] = time.monotonic, wall: Callable[[], float] = time.time,
+                 signals: Optional[interrupts.Policy] = None) -> None:
         self.plan = plan
         self.signals = signals if signals is not None else interrupts.Policy()
         self.ctx = ctx
@@ -456,11 +480,11 @@ class Runner:
         self.run = RunResult(platform=plan.platform, mode=plan.mode, start=wall(),
                              output_dir=plan.output_dir, files=dict(plan.files))
         self.wall = wall
-        self.start = None
-        self.lanes = []
-        self.current = []      # per lane: the running SensorRun or None
-        self.results = {}      # sensor name -> SensorResult
-        self.closing = []      # [(SensorRun, Thread)]: windows ended, writers still closing
+        self.start = 0.0       # clock() when execute() began
+        self.lanes: List[List[SensorPlan]] = []
+        self.current: List[Optional[SensorRun]] = []   # per lane: the running SensorRun or None
+        self.results: Dict[str, SensorResult] = {}     # sensor name -> SensorResult
+        self.closing: List[Tuple[SensorRun, threading.Thread]] = []   # windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
 
     def _start_next(self, i, now):
@@ -518,7 +542,7 @@ class Runner:
                 self.closing.remove((run, thread))
                 self._done(run.result)
 
-    def execute(self):
+    def execute(self) -> RunResult:
         """Run every lane to its end (or to an interrupt). Returns the RunResult."""
         self.start = self.clock()
         self.lanes = [list(ln) for ln in lanes_for(self.plan, live=self.source.live)]
@@ -582,7 +606,7 @@ class Runner:
             self.signals.raise_pending()
             self.source.sleep(0.25)
         now = self.clock()
-        self.observers.nothing_published([p.topic for p in plans], self.plan.wait,
+        self.observers.nothing_published([p.topic for p in plans if p.topic is not None], self.plan.wait,
                             self.source.master_uri)
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:
@@ -596,7 +620,7 @@ class Runner:
                     started_at=round(now - self.start, 3), ended_at=round(now - self.start, 3)))
                 lane.remove(p)
 
-    def interrupt(self, why):
+    def interrupt(self, why: str) -> None:
         self.signals.phase = 'closing'
         self.run.interrupted = True
         self.run.interrupt_reason = why
@@ -628,7 +652,7 @@ class Runner:
 Terminated = interrupts.Terminated   # SIGTERM / SIGHUP: ends the run like Ctrl-C
 
 
-def describe(result):
+def describe(result: SensorResult) -> str:
     """One line for the terminal."""
     text = '%-22s %-7s %5d msgs' % (result.name, result.verdict, result.messages)
     if result.rate_hz is not None:

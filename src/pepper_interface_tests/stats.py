@@ -12,6 +12,7 @@ wall time but is 5 Hz on the clock its driver runs on.
 ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
 """
 import math
+from typing import Any, Dict, List, Optional, Tuple
 
 
 def _rate(times):
@@ -32,21 +33,24 @@ def _std(values):
 
 
 class StreamStats:
-    def __init__(self, start=None, clock='wall', clock_start=None):
+    def __init__(self, start: Optional[float] = None, clock: str = 'wall',
+                 clock_start: Optional[float] = None) -> None:
         self.start = start          # when listening began (same clock as receive times)
         self.clock = clock          # 'wall' or 'sim': the clock rates are measured on
         self.clock_start = clock_start   # sim time when listening began (clock 'sim')
-        self.recv = []              # receive times
-        self.clock_recv = []        # sim time at reception (clock 'sim')
-        self.stamps = []            # header stamps (s), 0.0 kept to count zero stamps
-        self.delays = []            # ROS now - stamp at reception (s)
+        self.recv: List[float] = []          # receive times
+        self.clock_recv: List[float] = []    # sim time at reception (clock 'sim')
+        self.stamps: List[float] = []        # header stamps (s), 0.0 kept to count zero stamps
+        self.delays: List[float] = []        # ROS now - stamp at reception (s)
         self.zero_stamps = 0
         self.backwards = 0          # stamp older than the previous one
         self.repeated = 0           # stamp equal to the previous one
 
-    def add(self, t_recv, stamp=None, ros_now=None, t_clock=None):
+    def add(self, t_recv: float, stamp: Optional[float] = None, ros_now: Optional[float] = None,
+            t_clock: Optional[float] = None) -> None:
         self.recv.append(t_recv)
         if self.clock == 'sim':
+            assert t_clock is not None, 'clock "sim" measures on t_clock: give it'
             self.clock_recv.append(t_clock)
         if stamp is None:
             return
@@ -63,44 +67,44 @@ class StreamStats:
             self.delays.append(ros_now - stamp)
 
     @property
-    def count(self):
+    def count(self) -> int:
         return len(self.recv)
 
     @property
-    def times(self):
+    def times(self) -> List[float]:
         """Receive times on the measuring clock."""
         return self.clock_recv if self.clock == 'sim' else self.recv
 
     @property
-    def rate(self):
+    def rate(self) -> Optional[float]:
         """Rate from receive times (Hz) over the span of the messages, on the measuring clock."""
         return _rate(self.times)
 
     @property
-    def stamp_rate(self):
+    def stamp_rate(self) -> Optional[float]:
         """Rate from header stamps (Hz); None without headers or with bad stamps."""
         ordered = self.stamps
         if len(ordered) < 2 or self.backwards:
             return None
         return _rate(ordered)
 
-    def intervals(self):
+    def intervals(self) -> List[float]:
         t = self.times
         return [b - a for a, b in zip(t, t[1:])]
 
     @property
-    def jitter(self):
+    def jitter(self) -> Optional[float]:
         """Standard deviation of the receive intervals (s)."""
         return _std(self.intervals())
 
     @property
-    def first_latency(self):
+    def first_latency(self) -> Optional[float]:
         """Seconds from the start of listening to the first message."""
         if not self.recv or self.start is None:
             return None
         return self.recv[0] - self.start
 
-    def gaps(self, threshold):
+    def gaps(self, threshold: float) -> List[Tuple[float, float]]:
         """Pauses longer than `threshold` seconds: [(offset from first message, length)]."""
         t = self.times
         if not t:
@@ -109,16 +113,16 @@ class StreamStats:
         return [(a - t0, b - a) for a, b in zip(t, t[1:]) if b - a > threshold]
 
     @property
-    def max_interval(self):
+    def max_interval(self) -> Optional[float]:
         iv = self.intervals()
         return max(iv) if iv else None
 
-    def delay_summary(self):
+    def delay_summary(self) -> Optional[Dict[str, float]]:
         if not self.delays:
             return None
         return {'min': min(self.delays), 'mean': _mean(self.delays), 'max': max(self.delays)}
 
-    def rate_series(self, end=None, bin_s=1.0):
+    def rate_series(self, end: Optional[float] = None, bin_s: float = 1.0) -> List[Tuple[float, float]]:
         """Messages per second in consecutive bins since the start: [(t, Hz)] for plots
         (`end` and the bins on the measuring clock)."""
         start = self.clock_start if self.clock == 'sim' else self.start
@@ -146,9 +150,10 @@ class StreamStats:
             start += width
         return out
 
-    def summary(self):
-        def r(x, nd=3):
+    def summary(self) -> Dict[str, Any]:
+        def r(x: Optional[float], nd: int = 3) -> Optional[float]:
             return None if x is None else round(x, nd)
+        delay = self.delay_summary()
         return {
             'messages': self.count,
             'clock': self.clock,
@@ -160,5 +165,5 @@ class StreamStats:
             'zero_stamps': self.zero_stamps,
             'backwards_stamps': self.backwards,
             'repeated_stamps': self.repeated,
-            'delay_s': {k: r(v, 4) for k, v in self.delay_summary().items()} if self.delays else None,
+            'delay_s': {k: r(v, 4) for k, v in delay.items()} if delay else None,
         }

@@ -29,7 +29,7 @@ def _is_roslaunch(pid):
     return any(os.path.basename(a.decode('utf-8', 'replace')) == 'roslaunch' for a in argv[:2])
 
 
-def end_launch(code, announce=True):
+def end_launch(code: int, announce: bool = True) -> bool:
     """Report `code` to a waiting wrapper and end the roslaunch that started this process."""
     path = os.environ.get(EXIT_FILE_ENV)
     if path:

@@ -14,13 +14,14 @@ import signal
 import subprocess
 import sys
 import tempfile
+from typing import List, Optional, Sequence
 
 from .end import EXIT_FILE_ENV
 
 EXIT_CANNOT_START, EXIT_INTERRUPTED = 2, 130
 
 
-def resolve(launch):
+def resolve(launch: str) -> Optional[str]:
     if os.path.isfile(launch):
         return os.path.abspath(launch)
     from ..plan.settings import package_dir
@@ -28,7 +29,7 @@ def resolve(launch):
     return path if os.path.isfile(path) else None
 
 
-def parse(argv):
+def parse(argv: Sequence[str]) -> argparse.Namespace:
     p = argparse.ArgumentParser(prog='sensorTestLaunch', description=__doc__.split('\n')[0],
                                 epilog='example: sensorTestLaunch pepperEmulator.launch duration:=3 '
                                        '--wait; echo "exit $?"')
@@ -40,7 +41,7 @@ def parse(argv):
     return p.parse_args(argv)
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     ns = parse(sys.argv[1:] if argv is None else argv)
     path = resolve(ns.launch)
     if path is None:
@@ -55,7 +56,8 @@ def main(argv=None):
     os.close(fd)
     env = dict(os.environ, **{EXIT_FILE_ENV: exit_file})
     proc = subprocess.Popen(['roslaunch', path] + args, env=env)
-    interrupted, timed_out, limit = [], False, ns.timeout
+    interrupted: List[int] = []
+    timed_out, limit = False, ns.timeout
 
     def forward(signum, frame):     # Ctrl-C reaches roslaunch through the terminal as well
         interrupted.append(signum)

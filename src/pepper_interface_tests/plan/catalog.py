@@ -5,20 +5,22 @@ every spelling the original configuration files use, the ROS message type, the c
 that validates them, and where they exist. Behaviour is driven by this table, not by one copy
 of the code per sensor.
 """
-from collections import OrderedDict, namedtuple
+from collections import OrderedDict
+from typing import Dict, NamedTuple, Optional, Tuple
 
-Sensor = namedtuple('Sensor', [
-    'name',        # canonical name, as in sensorTestInput.ini
-    'title',       # heading in sensorTestOutput.dat ("BACK SONAR")
-    'aliases',     # other spellings found in the original files (matched case-insensitively)
-    'msg_type',    # ROS message type, "pkg/Type"
-    'family',      # check family: range, laser, camera, depth, audio, joints, odometry, imu, speech
-    'camera',      # camera group for --cameras: 'pepper', 'realsense' or None
-    'simulator',   # True when the Gazebo simulator provides this sensor
-    'video',       # file name of the recording, or None
-])
 
-SENSORS = OrderedDict((s.name, s) for s in [
+class Sensor(NamedTuple):
+    name: str                  # canonical name, as in sensorTestInput.ini
+    title: str                 # heading in sensorTestOutput.dat ("BACK SONAR")
+    aliases: Tuple[str, ...]   # other spellings found in the original files (matched case-insensitively)
+    msg_type: str              # ROS message type, "pkg/Type"
+    family: str                # check family: range, laser, camera, depth, audio, joints, odometry, imu, speech
+    camera: Optional[str]      # camera group for --cameras: 'pepper', 'realsense' or None
+    simulator: bool            # True when the Gazebo simulator provides this sensor
+    video: Optional[str]       # file name of the recording, or None
+
+
+SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     Sensor('backSonar', 'BACK SONAR', ('BackSonar', 'sonarBack'), 'sensor_msgs/Range',
            'range', None, True, None),
     Sensor('frontSonar', 'FRONT SONAR', ('FrontSonar', 'sonarFront'), 'sensor_msgs/Range',
@@ -70,29 +72,29 @@ NO_PUBLISHER_HINTS = {
                     'stereoCamera false in the input file',
 }
 
-_LOOKUP = {}
+_LOOKUP: Dict[str, str] = {}
 for _s in SENSORS.values():
     for _spelling in (_s.name,) + _s.aliases:
         _LOOKUP[_spelling.lower()] = _s.name
 
 
-def canonical(spelling):
+def canonical(spelling: str) -> Optional[str]:
     """Canonical sensor name for any known spelling (case-insensitive), or None."""
     return _LOOKUP.get(spelling.strip().lower())
 
 
-def is_actuator_key(key):
+def is_actuator_key(key: str) -> bool:
     return key.strip().lower() in ACTUATOR_KEYS
 
 
-def expected_types(sensor):
+def expected_types(sensor: Sensor) -> str:
     """The accepted type names of a sensor, as text for reasons ("a or b")."""
     if sensor.family == 'audio':
         return ' or '.join(AUDIO_TYPES)
     return sensor.msg_type
 
 
-def accepts_type(sensor, type_name):
+def accepts_type(sensor: Sensor, type_name: str) -> bool:
     """True when a topic of ROS type `type_name` is what `sensor` expects."""
     if sensor.family == 'audio':
         return type_name in AUDIO_TYPES

@@ -20,7 +20,7 @@ import dataclasses
 import difflib
 import math
 from dataclasses import dataclass, field, fields
-from typing import Dict, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple, Type
 
 import yaml
 
@@ -35,7 +35,7 @@ SECTIONS = ('defaults', 'robot', 'simulator')
 # Kept as small functions so that a new key is one line of a dataclass.
 
 class Bad(Exception):
-    def __init__(self, problem, fix):
+    def __init__(self, problem: str, fix: str) -> None:
         super().__init__(problem)
         self.problem, self.fix = problem, fix
 
@@ -44,9 +44,14 @@ def _is_number(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
-def number(lo=None, hi=None, lo_open=False, hi_open=False, example='1.0'):
+# a value kind: (key, value as parsed) -> the value normalised; raises Bad
+Kind = Callable[[str, Any], Any]
+
+
+def number(lo: Optional[float] = None, hi: Optional[float] = None, lo_open: bool = False,
+           hi_open: bool = False, example: str = '1.0') -> Kind:
     """A finite number within [lo, hi] (an open end excludes the bound)."""
-    def check(key, v):
+    def check(key: str, v: Any) -> float:
         if not _is_number(v):
             raise Bad('is %r, not a number' % (v,), '"%s: %s"' % (key, example))
         if math.isnan(v) or math.isinf(v):
@@ -61,9 +66,9 @@ def number(lo=None, hi=None, lo_open=False, hi_open=False, example='1.0'):
     return check
 
 
-def whole(lo, example):
+def whole(lo: int, example: str) -> Kind:
     """A whole number (an integral float such as 10.0 is accepted) of at least `lo`."""
-    def check(key, v):
+    def check(key: str, v: Any) -> int:
         if not _is_number(v) or math.isnan(v) or math.isinf(v) or v != int(v):
             raise Bad('is %r, not a whole number' % (v,), '"%s: %s"' % (key, example))
         if v < lo:
@@ -72,9 +77,9 @@ def whole(lo, example):
     return check
 
 
-def band(lo=0.0, strict=False, example='[4.0, 16.0]'):
+def band(lo: float = 0.0, strict: bool = False, example: str = '[4.0, 16.0]') -> Kind:
     """A [min, max] pair of finite numbers, lo <= min <= max (min < max when strict)."""
-    def check(key, v):
+    def check(key: str, v: Any) -> Tuple[float, float]:
         fix = '"%s: %s"' % (key, example)
         if not (isinstance(v, list) and len(v) == 2 and all(_is_number(b) for b in v)):
             raise Bad('is %r, not a [min, max] pair of numbers' % (v,), fix)
@@ -90,23 +95,23 @@ def band(lo=0.0, strict=False, example='[4.0, 16.0]'):
     return check
 
 
-def text(example):
-    def check(key, v):
+def text(example: str) -> Kind:
+    def check(key: str, v: Any) -> str:
         if not isinstance(v, str) or not v.strip():
             raise Bad('is %r, not a text' % (v,), '%s: "%s" (quote it)' % (key, example))
         return v
     return check
 
 
-def flag(key, v):
+def flag(key: str, v: Any) -> bool:
     if not isinstance(v, bool):
         raise Bad('is %r, not true or false' % (v,), '"%s: true"' % key)
     return v
 
 
-def slot_ranges(example):
+def slot_ranges(example: str) -> Kind:
     """A list of [first, last] index pairs (inclusive), first <= last, none negative."""
-    def check(key, v):
+    def check(key: str, v: Any) -> Tuple[Tuple[int, int], ...]:
         fix = '"%s: %s"' % (key, example)
         ok = isinstance(v, list) and v and all(
             isinstance(p, list) and len(p) == 2 and all(isinstance(i, int) and not isinstance(i, bool)
@@ -120,8 +125,8 @@ def slot_ranges(example):
     return check
 
 
-def names(example):
-    def check(key, v):
+def names(example: str) -> Kind:
+    def check(key: str, v: Any) -> Tuple[str, ...]:
         if not isinstance(v, list) or not all(isinstance(n, str) and n.strip() for n in v):
             raise Bad('is %r, not a list of names' % (v,), '"%s: [%s]"' % (key, example))
         return tuple(v)
@@ -147,10 +152,10 @@ class Expect:
     max_gap_factor: float = _field(number(0, lo_open=True, example='3.0'), 3.0)
 
     @classmethod
-    def field_names(cls):
+    def field_names(cls) -> Tuple[str, ...]:
         return tuple(f.name for f in fields(cls))
 
-    def but(self, **changes):
+    def but(self, **changes: Any) -> 'Expect':
         """A copy with some values changed (tests, variants); an unknown name raises TypeError."""
         return dataclasses.replace(self, **changes)
 
@@ -260,25 +265,25 @@ class SpeechExpect(Expect):
     listen_after: float = _field(number(0, example='4.0'), 4.0)
 
 
-FAMILIES = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
+FAMILIES: Dict[str, Type[Expect]] = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
             'depth': DepthExpect, 'audio': AudioExpect, 'joints': JointsExpect,
             'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect}
 
 
-def family_of(name):
+def family_of(name: str) -> Type[Expect]:
     return FAMILIES[catalog.SENSORS[name].family]
 
 
-def all_keys():
-    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})   # type: ignore[attr-defined]
+def all_keys() -> List[str]:
+    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})
 
 
-def default_for(name):
+def default_for(name: str) -> Expect:
     """The expectations of sensor `name` when the file says nothing about it."""
     return build(name, {})
 
 
-def build(name, values):
+def build(name: str, values: Dict[str, Any]) -> Expect:
     """A frozen expectations object from already validated values (see `load`)."""
     cls = family_of(name)
     values = dict(values)
@@ -291,15 +296,15 @@ def build(name, values):
 
 class Mapping(dict):
     """A YAML mapping that remembers the line of each key (1-based) and its own line."""
-    line = None
+    line: Optional[int] = None
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__()
-        self.lines = {}
+        self.lines: Dict[Any, int] = {}
 
 
 class _Loader(yaml.SafeLoader):
-    path = None
+    path: Optional[str] = None
 
 
 def _construct_mapping(loader, node):
@@ -330,7 +335,7 @@ def _construct_mapping(loader, node):
 _Loader.add_constructor('tag:yaml.org,2002:map', _construct_mapping)
 
 
-def parse_yaml(path):
+def parse_yaml(path: str) -> Any:
     """The file's YAML as Mapping/list/scalars; ConfigError with the line on any problem."""
     content = read_text(path, 'expectations file',
                         fix_missing='give --expectations an existing file '
@@ -383,7 +388,7 @@ def _lines(mapping) -> dict:
     return getattr(mapping, 'lines', {})
 
 
-def load(path, platform):
+def load(path: str, platform: str) -> Dict[str, Expect]:
     """Expectations file -> {canonical sensor name: frozen expectations} for `platform`."""
     data = parse_yaml(path)
     if data is None:

@@ -13,22 +13,32 @@ The rules (README "Options", `--cameras`, `--require-heard`, `--mic-mode`):
   effect and the header says so.
 Every choice that leaves something out is said in `notes` (printed under the run header).
 """
+from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple
+
 from . import catalog
 from .textfile import ConfigError
 
-CAMERA_GROUPS = {'pepper': ('pepper',), 'realsense': ('realsense',), 'both': ('pepper', 'realsense')}
+if TYPE_CHECKING:   # settings imports this module
+    from .options import Options
+    from .settings import SensorPlan, TestPlan
+
+CAMERA_GROUPS: Dict[str, Tuple[str, ...]] = {'pepper': ('pepper',), 'realsense': ('realsense',),
+                                              'both': ('pepper', 'realsense')}
 
 
 def _names(names):
     return ', '.join(names)
 
 
-def select(file_order, cameras, input_name, platform='robot'):
+def select(file_order: Sequence[Tuple[str, bool]], cameras: Optional[str], input_name: str,
+           platform: str = 'robot') -> Tuple[List[str], List[str]]:
     """Input-file order [(name, enabled)] and a --cameras choice (or None) -> (the run's
     sensor names in order, notes). Sensors the file enables but --cameras excludes stay in
     the order (they are SKIPPED with a reason); group cameras missing from the file are
     appended in the catalog's order."""
-    notes = []
+    notes: List[str] = []
+    order: List[str]
+    off: List[str]
     if cameras is None:
         order = [n for n, on in file_order if on]
         off = [n for n, on in file_order if not on]
@@ -68,16 +78,16 @@ def select(file_order, cameras, input_name, platform='robot'):
     return order, notes
 
 
-def excluded_by_cameras(sensor, cameras):
+def excluded_by_cameras(sensor: catalog.Sensor, cameras: Optional[str]) -> Optional[str]:
     """The skip reason of a camera that --cameras leaves out, or None."""
     if cameras is None or not sensor.camera or sensor.camera in CAMERA_GROUPS[cameras]:
         return None
     return 'left out by --cameras %s' % cameras
 
 
-def sensors_option_notes(order, cameras):
+def sensors_option_notes(order: Sequence[str], cameras: Optional[str]) -> List[str]:
     """Notes for a --sensors run (the user named every sensor): what --cameras does then."""
-    notes = []
+    notes: List[str] = []
     named = set(order)
     if cameras is not None:
         group = CAMERA_GROUPS[cameras]
@@ -88,7 +98,7 @@ def sensors_option_notes(order, cameras):
     return notes
 
 
-def rerun_failed(output_dir, platform, options):
+def rerun_failed(output_dir: str, platform: str, options: 'Options') -> Tuple[Tuple[str, ...], List[str]]:
     """--rerun-failed: the sensors that did not pass in the latest run of `output_dir` (its
     sensorTestResults.json, the spec's path) -> (sensor names, notes). Same names and rule as
     `sensorTestHistory failed`."""
@@ -123,7 +133,7 @@ def rerun_failed(output_dir, platform, options):
     return tuple(failed), ['re-running what did not pass in run %s: %s' % (run_id, _names(failed))]
 
 
-def require_heard_notes(plans, options, input_path):
+def require_heard_notes(plans: Sequence['SensorPlan'], options: 'Options', input_path: str) -> List[str]:
     """--require-heard: refuse a live run with speech but no microphone; a note when it has no
     effect. `plans` are the run's SensorPlans."""
     if not options.require_heard:
@@ -144,11 +154,11 @@ def require_heard_notes(plans, options, input_path):
     return ['speech passes only when the microphones hear the sentence (--require-heard)']
 
 
-def window_notes(plan):
+def window_notes(plan: 'TestPlan') -> List[str]:
     """How long each sensor listens, where that is not `duration`: the microphone in
     --mic-mode sequential (4 x duration: each microphone in turn, as the spec says), and speech
     (not a listening window: one sentence, then the microphones listen for it)."""
-    notes = []
+    notes: List[str] = []
     names = {p.name: p for p in plan.active}
     mode = plan.options.mic_mode or 'together'
     if 'microphone' in names and mode.lower() == 'sequential':

@@ -1,6 +1,6 @@
 """Configuration, input, topics and expectations files -> one immutable TestPlan.
 
-Data flow: Options (command line, then private ROS params) name the files and override values;
+Data flow: Options (options.py: command line, then private ROS params) name the files and override values;
 the configuration file gives platform, mode and the topics file; the input file says which
 sensors run, in which order; the topics file maps sensors to topics; the expectations file gives
 what each sensor should deliver. Every problem raises ConfigError naming the file, the line,
@@ -13,18 +13,17 @@ from types import MappingProxyType
 from typing import Dict, List, Optional, Tuple
 
 from . import catalog, expectations, selection
-from .textfile import ConfigError, read_text  # noqa: F401  (ConfigError is imported from here)
+from .options import Options
+from .textfile import ConfigError, choice, parse_bool, positive_seconds, read_text  # noqa: F401  (imported from here)
 
 PLATFORMS = ('robot', 'simulator')
 MODES = ('sequential', 'parallel')
 CAMERA_CHOICES = ('pepper', 'realsense', 'both')
 MIC_MODES = ('together', 'sequential')
 CONFIG_KEYS = ('platform', 'robottopics', 'simulatortopics', 'mode')
-TRUE_WORDS = ('true', 'yes', 'on', '1')
-FALSE_WORDS = ('false', 'no', 'off', '0')
 
 
-def package_dir():
+def package_dir() -> str:
     """The package's own directory (source checkout or installed share directory)."""
     here = os.path.dirname(os.path.realpath(__file__))
     candidate = os.path.normpath(os.path.join(here, '..', '..'))
@@ -34,51 +33,13 @@ def package_dir():
     return rospkg.RosPack().get_path('pepper_interface_tests')
 
 
-def default_output_dir():
+def default_output_dir() -> str:
     """data/ of the package when writable (a source checkout), else $ROS_HOME/pepper_interface_tests."""
     data = os.path.join(package_dir(), 'data')
     if os.access(data, os.W_OK):
         return data
     ros_home = os.environ.get('ROS_HOME', os.path.join(os.path.expanduser('~'), '.ros'))
     return os.path.join(ros_home, 'pepper_interface_tests')
-
-
-@dataclass(frozen=True)
-class Options:
-    """Everything a user can set from the command line or as a private ROS param.
-
-    None means "not given": the file value or the default applies.
-    """
-    config: Optional[str] = None
-    input: Optional[str] = None
-    topics: Optional[str] = None
-    topics_dir: Optional[str] = None
-    expectations: Optional[str] = None
-    platform: Optional[str] = None
-    mode: Optional[str] = None
-    duration: Optional[float] = None
-    wait: Optional[float] = None
-    output_dir: Optional[str] = None
-    sensors: Optional[Tuple[str, ...]] = None
-    cameras: Optional[str] = None
-    quick: Optional[bool] = None
-    bag: Optional[str] = None
-    record: Optional[bool] = None
-    show: Optional[bool] = None
-    play_audio: Optional[bool] = None
-    delete_file: Optional[bool] = None
-    mic_mode: Optional[str] = None
-    require_heard: Optional[bool] = None
-    history: Optional[bool] = None
-    diagnostics: Optional[bool] = None
-    report: Optional[bool] = None
-    debug: Optional[bool] = None
-    rerun_failed: Optional[bool] = None
-
-    def merged(self, other):
-        """Values of `other` where given, else ours."""
-        given = {k: v for k, v in other.__dict__.items() if v is not None}
-        return replace(self, **given)
 
 
 @dataclass(frozen=True)
@@ -90,7 +51,7 @@ class SensorPlan:
     skip_reason: Optional[str] = None
 
     @property
-    def name(self):
+    def name(self) -> str:
         return self.sensor.name
 
 
@@ -109,11 +70,11 @@ class TestPlan:
     selection_notes: Tuple[str, ...] = ()   # what is left out and why (selection.py)
 
     @property
-    def active(self):
+    def active(self) -> Tuple[SensorPlan, ...]:
         return tuple(s for s in self.sensors if s.skip_reason is None)
 
     @property
-    def notes(self):
+    def notes(self) -> Tuple[str, ...]:
         """Lines for the run header: what is tested, what is left out and why, and every
         sensor whose window is not `duration` (computed now: cli.run_bag changes duration)."""
         return tuple(self.selection_notes) + tuple(selection.window_notes(self))
@@ -121,7 +82,7 @@ class TestPlan:
 
 # ---------------------------------------------------------------- low-level file reading
 
-def read_pairs(path, what):
+def read_pairs(path: str, what: str) -> List[Tuple[int, str, str]]:
     """`key value` lines of a file -> [(line number, key, value)]; '#' comments, blanks skipped."""
     lines = read_text(path, what).splitlines()
     pairs = []
@@ -137,42 +98,13 @@ def read_pairs(path, what):
     return pairs
 
 
-def parse_bool(value, path=None, line=None, key=None):
-    word = str(value).strip().lower()
-    if word in TRUE_WORDS:
-        return True
-    if word in FALSE_WORDS:
-        return False
-    raise ConfigError('%s"%s" is not true or false' % ('%s: ' % key if key else '', value),
-                      path, line, fix='write true or false')
-
-
-def choice(value, choices, what, path=None, line=None):
-    word = str(value).strip().lower()
-    if word not in choices:
-        raise ConfigError('%s "%s" is not valid' % (what, value), path, line,
-                          fix='use one of: ' + ', '.join(choices))
-    return word
-
-
-def positive_seconds(value, what, path=None, line=None):
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        number = -1.0
-    if not number > 0 or number != number or number == float('inf'):
-        raise ConfigError('%s "%s" is not a positive number of seconds' % (what, value), path, line,
-                          fix='give a number of seconds greater than 0, e.g. 10')
-    return number
-
-
 def _valid_names():
     return ', '.join(catalog.SENSORS)
 
 
 # ---------------------------------------------------------------- the three files
 
-def read_configuration(path):
+def read_configuration(path: str) -> Dict[str, str]:
     """sensorTestConfiguration.ini -> dict with platform, mode, robottopics, simulatortopics."""
     values: Dict[str, str] = {}
     where: Dict[str, int] = {}
@@ -192,7 +124,7 @@ def read_configuration(path):
     return values
 
 
-def read_input(path):
+def read_input(path: str) -> List[Tuple[str, bool]]:
     """sensorTestInput.ini -> ordered [(canonical name, enabled)] in file order."""
     seen: Dict[str, int] = {}
     order: List[Tuple[str, bool]] = []
@@ -209,7 +141,7 @@ def read_input(path):
     return order
 
 
-def read_topics(path):
+def read_topics(path: str) -> Dict[str, str]:
     """Topics file -> {canonical name: topic}; actuator keys are ignored."""
     topics: Dict[str, str] = {}
     where: Dict[str, int] = {}
@@ -232,7 +164,7 @@ def read_topics(path):
     return topics
 
 
-def read_expectations(path, platform):
+def read_expectations(path: str, platform: str) -> Dict[str, expectations.Expect]:
     """Expectations file -> {sensor name: frozen, typed expectations} for one platform."""
     return expectations.load(path, platform)
 
@@ -244,8 +176,9 @@ def _resolve(path, base):
     return path if os.path.isabs(path) else os.path.join(base, path)
 
 
-def load_plan(options=Options()):
+def load_plan(options: Optional[Options] = None) -> TestPlan:
     """Read every file named by `options` (or the package defaults) into a TestPlan."""
+    options = Options() if options is None else options
     pkg = package_dir()
     config_path = os.path.abspath(options.config or os.path.join(pkg, 'config', 'sensorTestConfiguration.ini'))
     input_path = os.path.abspath(options.input or os.path.join(pkg, 'config', 'sensorTestInput.ini'))
@@ -275,7 +208,7 @@ def load_plan(options=Options()):
 
     output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
         else default_output_dir()
-    rerun_notes = []
+    rerun_notes: List[str] = []
     if options.rerun_failed:
         sensors, rerun_notes = selection.rerun_failed(output_dir, platform, options)
         options = replace(options, sensors=sensors)

@@ -1,5 +1,9 @@
 """One module per sensor family; `check_class(family)` picks the Check for a sensor."""
 import importlib
+from typing import TYPE_CHECKING, Type
+
+if TYPE_CHECKING:
+    from .base import Check
 
 _FAMILIES = {
     'range': ('range', 'RangeCheck'),
@@ -14,6 +18,6 @@ _FAMILIES = {
 }
 
 
-def check_class(family):
+def check_class(family: str) -> Type['Check']:
     module, name = _FAMILIES[family]
     return getattr(importlib.import_module('.' + module, __name__), name)

@@ -52,6 +52,7 @@ import math
 import os
 import threading
 import time
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -59,12 +60,21 @@ from ..media.recording import WavWriter
 from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from .base import Check, StuckRun, TrailingRun, fmt
 
+if TYPE_CHECKING:
+    import subprocess
+
+    import genpy
+
+    from ..plan.expectations import AudioExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
+
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 FULL_SCALE = 32768.0
 SERIES_MAX = 2000
 
 
-def dbfs(rms):
+def dbfs(rms: float) -> float:
     return 20.0 * math.log10(rms / FULL_SCALE) if rms > 0 else float('-inf')
 
 
@@ -81,7 +91,7 @@ def _channel_map(msg):
     return list(bytearray(cmap)) if isinstance(cmap, (bytes, bytearray)) else [int(c) for c in cmap]
 
 
-def channels_of(msg):
+def channels_of(msg: 'genpy.Message') -> List[np.ndarray]:
     """The four channel arrays of a message as int16 numpy arrays, in NAOqi order.
     AudioCustomMsg: its four fields. AudioBuffer: `data` de-interleaved, columns named by
     `channelMap` (raises LayoutError when that is impossible)."""
@@ -102,9 +112,10 @@ def channels_of(msg):
 
 class AudioCheck(Check):
     family = 'audio'
+    expect: 'AudioExpect'
     queue_size = 200
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.rate = self.expect.sample_rate
         self.tolerance = self.expect.sample_rate_tolerance
@@ -119,15 +130,15 @@ class AudioCheck(Check):
         self.clipped = np.zeros(4, dtype=np.int64)
         self.nonzero = np.zeros(4, dtype=np.int64)
         self.samples = 0            # per channel, all buffers
-        self.first_len = None
-        self.first_t = None
-        self.last_t = None
-        self.buffer_rates = []     # samples / time since the previous buffer, per buffer
-        self.prev_t = None
+        self.first_len: Optional[int] = None
+        self.first_t: Optional[float] = None
+        self.last_t: Optional[float] = None
+        self.buffer_rates: List[float] = []     # samples / time since the previous buffer, per buffer
+        self.prev_t: Optional[float] = None
         self.lengths: collections.Counter = collections.Counter()
-        self.gaps = []              # (t, pause)
-        self.writers = {}
-        self.player = None
+        self.gaps: List[Tuple[float, float]] = []   # (t, pause)
+        self.writers: Dict[str, WavWriter] = {}
+        self.player: Optional[subprocess.Popen] = None   # playing the recording (--play-audio)
         for name in CHANNELS:
             self.series['level_dbfs_' + name] = []
         self.stuck = StuckRun(self.expect.stuck_buffers)
@@ -135,11 +146,11 @@ class AudioCheck(Check):
         self.dying = [TrailingRun() for _ in CHANNELS]
 
     # ---- set-up -------------------------------------------------------------------------
-    def window(self, duration):
+    def window(self, duration: float) -> float:
         self.slot = float(duration)
         return 4 * duration if self.mode == 'sequential' else duration
 
-    def start(self):
+    def start(self) -> None:
         for stale in self._file_names():
             path = os.path.join(self.ctx.output_dir, stale)
             if os.path.exists(path):
@@ -154,7 +165,7 @@ class AudioCheck(Check):
             w = self.writers[name] = WavWriter(os.path.join(self.ctx.output_dir, name), self.rate, channels)
         return w
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         if not hasattr(msg, 'channelMap'):
             return [('Samples per channel', len(msg.rearLeft)),
                     ('Channels', '4 (%s)' % ', '.join(CHANNELS))]
@@ -163,7 +174,7 @@ class AudioCheck(Check):
                 ('Channel map', '%s (%s)' % (cmap, ', '.join(CHANNEL_NAMES.get(c, '?') for c in cmap))),
                 ('Samples per channel', len(msg.data) // max(1, len(cmap)))]
 
-    def rate_band(self):
+    def rate_band(self) -> Optional[List[float]]:
         band = self.expect.rate
         if band:
             return list(band)
@@ -173,11 +184,11 @@ class AudioCheck(Check):
         tol = float(self.buffer_tolerance)
         return [round(nominal * (1 - tol), 2), round(nominal * (1 + tol), 2)]
 
-    def settled(self):
+    def settled(self) -> bool:
         return self.count >= 12
 
     # ---- per message --------------------------------------------------------------------
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         try:
             chans = channels_of(msg)
         except LayoutError as e:
@@ -241,7 +252,7 @@ class AudioCheck(Check):
             self._writer('microphoneOutput.wav', 4).write(block)
 
     # ---- end ----------------------------------------------------------------------------
-    def measured_rate(self):
+    def measured_rate(self) -> Optional[float]:
         """Samples per second per channel: the median over buffers of (samples / time since
         the previous buffer). A median, not total samples over the whole span, because a bridge
         that starts with the test delivers the buffers NAOqi captured while its websocket was
@@ -254,7 +265,7 @@ class AudioCheck(Check):
             return (self.samples - (self.first_len or 0)) / (self.last_t - self.first_t)
         return float(np.median(self.buffer_rates))
 
-    def finish(self):
+    def finish(self) -> None:
         for w in self.writers.values():
             w.close()
         self._report_files()
@@ -363,21 +374,21 @@ class LevelMonitor:
     of `rise_db` (default 6 dB) or more counts as heard.
     """
 
-    def __init__(self, topic, history=120.0, baseline=3.0, rise_db=6.0):
+    def __init__(self, topic: str, history: float = 120.0, baseline: float = 3.0, rise_db: float = 6.0) -> None:
         self.topic = topic
         self.history = float(history)
         self.baseline = float(baseline)
         self.rise_db = float(rise_db)
         self._levels: collections.deque = collections.deque()
         self._lock = threading.Lock()
-        self._sub = None
+        self._sub: Any = None   # the rospy.Subscriber while started
 
-    def start(self):
+    def start(self) -> 'LevelMonitor':
         import rospy
         self._sub = rospy.Subscriber(self.topic, rospy.AnyMsg, self._callback, queue_size=50)
         return self
 
-    def stop(self):
+    def stop(self) -> None:
         if self._sub is not None:
             self._sub.unregister()
             self._sub = None
@@ -391,7 +402,7 @@ class LevelMonitor:
             return
         self.add(chans, time.monotonic())
 
-    def add(self, chans, now):
+    def add(self, chans: List[np.ndarray], now: float) -> None:
         """One buffer (list of channel arrays) received at monotonic time `now`."""
         total, n = 0.0, 0
         for c in chans:
@@ -411,11 +422,11 @@ class LevelMonitor:
         with self._lock:
             return [lv for t, lv in self._levels if a <= t <= b]
 
-    def has_baseline(self, now=None):
+    def has_baseline(self, now: Optional[float] = None) -> bool:
         now = time.monotonic() if now is None else now
         return len(self._between(now - self.baseline, now)) >= 5
 
-    def heard(self, t0, t1):
+    def heard(self, t0: float, t1: float) -> Dict[str, Any]:
         before = self._between(t0 - self.baseline, t0)
         during = self._between(t0, t1)
         if not during:

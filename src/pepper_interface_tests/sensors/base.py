@@ -7,10 +7,16 @@ window has closed). Subclasses override `fields`, `on_message`, and optionally `
 """
 import math
 from collections import OrderedDict
-from typing import Optional
+from typing import TYPE_CHECKING, Any, Dict, Hashable, List, Optional, Tuple
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.options import Options
+    from ..plan.settings import SensorPlan
 
 
-def fmt(value, nd=4):
+def fmt(value: Any, nd: int = 4) -> str:
     """Short, readable text for numbers, sequences and the rest; "-" for a missing value (no
     Python None in any output)."""
     if value is None:
@@ -29,10 +35,12 @@ class Acc:
 
     __slots__ = ('n', 'total', 'lo', 'hi', 'nonfinite')
 
-    def __init__(self):
-        self.n, self.total, self.lo, self.hi, self.nonfinite = 0, 0.0, None, None, 0
+    def __init__(self) -> None:
+        self.n, self.total, self.nonfinite = 0, 0.0, 0
+        self.lo: Optional[float] = None
+        self.hi: Optional[float] = None
 
-    def add(self, v):
+    def add(self, v: float) -> None:
         v = float(v)
         if not math.isfinite(v):
             self.nonfinite += 1
@@ -42,13 +50,13 @@ class Acc:
         self.lo = v if self.lo is None or v < self.lo else self.lo
         self.hi = v if self.hi is None or v > self.hi else self.hi
 
-    def as_dict(self, nd=4):
+    def as_dict(self, nd: int = 4) -> Dict[str, Optional[float]]:
         if not self.n:
             return {'min': None, 'mean': None, 'max': None}
         lo, hi = float(self.lo or 0.0), float(self.hi or 0.0)    # set once n > 0
         return {'min': round(lo, nd), 'mean': round(self.total / self.n, nd), 'max': round(hi, nd)}
 
-    def text(self, unit=''):
+    def text(self, unit: str = '') -> str:
         if not self.n:
             return 'no finite values'
         d = self.as_dict()
@@ -59,10 +67,10 @@ class Acc:
 class Tally:
     """Problems counted per kind: 'range outside [0.25, 2.55] m in 12 of 100 messages (e.g. 3.1)'."""
 
-    def __init__(self):
-        self._items = OrderedDict()   # key -> [text, count, example]
+    def __init__(self) -> None:
+        self._items: Dict[str, List[Any]] = OrderedDict()   # key -> [text, count, example]
 
-    def add(self, key, text, example=None):
+    def add(self, key: str, text: str, example: Any = None) -> None:
         item = self._items.get(key)
         if item is None:
             self._items[key] = [text, 1, example]
@@ -72,10 +80,10 @@ class Tally:
     def __bool__(self):
         return bool(self._items)
 
-    def keys(self):
+    def keys(self) -> List[str]:
         return list(self._items)
 
-    def reasons(self, total):
+    def reasons(self, total: int) -> List[str]:
         out = []
         for text, count, example in self._items.values():
             line = text
@@ -94,7 +102,8 @@ class RunContext:
     the microphone level monitor used by the speech check); a check must cope with a missing one.
     """
 
-    def __init__(self, output_dir, platform, options, services=None):
+    def __init__(self, output_dir: str, platform: str, options: 'Options',
+                 services: Optional[Dict[str, Any]] = None) -> None:
         self.output_dir = output_dir
         self.platform = platform
         self.options = options
@@ -103,101 +112,105 @@ class RunContext:
 
 class Check:
     family: Optional[str] = None
+    expect: Any             # the family's own Expect (plan/expectations.py); a subclass names it
     active = False          # True: the check drives itself (speech) instead of listening
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: RunContext) -> None:
         self.plan = plan
         self.expect = plan.expect
         self.ctx = ctx
         self.count = 0
         self.failures = Tally()     # each kind is a FAIL reason
         self.warnings = Tally()     # reported, do not fail
-        self.notes = []             # plain information lines
-        self.values = OrderedDict()  # measured values (JSON, report, output file summary)
-        self.series = OrderedDict()  # name -> [(t, value)] for plots
-        self.artifacts = OrderedDict()  # kind -> file name in the output folder
-        self.first_fields = None    # [(label, text)] of the first message, the spec's fields
-        self._extra_fail = []       # reasons found at the end (finish)
-        self._end_warnings = []     # warnings found at the end
+        self.notes: List[str] = []              # plain information lines
+        # measured values (JSON, report, output file summary)
+        self.values: Dict[str, Any] = OrderedDict()
+        # name -> [(t, value)] for plots (the laser adds its last scan as a dict)
+        self.series: Dict[str, Any] = OrderedDict()
+        self.artifacts: Dict[str, str] = OrderedDict()   # kind -> file name in the output folder
+        # [(label, value)] of the first message, the spec's fields
+        self.first_fields: Optional[List[Tuple[str, Any]]] = None
+        self._extra_fail: List[str] = []        # reasons found at the end (finish)
+        self._end_warnings: List[str] = []      # warnings found at the end
         self._finished = False
 
     # --- called by the runner -----------------------------------------------------------
-    def feed(self, msg, t):
+    def feed(self, msg: 'genpy.Message', t: float) -> None:
         """One valid message; t = seconds since listening began."""
         self.count += 1
         if self.first_fields is None:
             self.first_fields = self.fields(msg)
         self.on_message(msg, t)
 
-    def window(self, duration):
+    def window(self, duration: float) -> float:
         """Seconds this sensor listens for, given the run's --duration."""
         return duration
 
-    def start(self):
+    def start(self) -> None:
         """Before listening begins."""
 
-    def poll(self, elapsed):
+    def poll(self, elapsed: float) -> None:
         """Called about every 50 ms from the runner's thread while the window is open."""
 
-    def done(self):
+    def done(self) -> bool:
         """True when an active check has finished by itself."""
         return False
 
-    def settled(self):
+    def settled(self) -> bool:
         """With --quick: True when this check has seen enough to give its verdict."""
         return True
 
-    def close(self):
+    def close(self) -> None:
         """Finish once: summaries, closing writers. Safe to call twice."""
         if not self._finished:
             self._finished = True
             self.finish()
 
     # --- for subclasses ------------------------------------------------------------------
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return []
 
-    def rate_band(self):
+    def rate_band(self) -> Optional[List[float]]:
         """Accepted message rate [lo, hi] Hz or None: the expectations' `rate`; a family may
         derive it from the data (the microphone, from its buffer size). Asked after close()."""
         band = self.expect.rate
         return list(band) if band else None
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         pass
 
-    def finish(self):
+    def finish(self) -> None:
         pass
 
-    def fail(self, text):
+    def fail(self, text: str) -> None:
         """A failure found once, at the end (not counted per message)."""
         self._extra_fail.append(text)
 
-    def warn(self, text):
+    def warn(self, text: str) -> None:
         """A warning found once, at the end (not counted per message)."""
         self._end_warnings.append(text)
 
     # --- results ---------------------------------------------------------------------------
-    def failure_reasons(self):
+    def failure_reasons(self) -> List[str]:
         return self.failures.reasons(self.count) + self._extra_fail
 
-    def warning_reasons(self):
+    def warning_reasons(self) -> List[str]:
         return self.warnings.reasons(self.count) + self._end_warnings
 
 
-def header_fields(header):
+def header_fields(header: Any) -> List[Tuple[str, Any]]:
     return [('Header frame id', header.frame_id),
             ('Header stamp', '%d.%09d' % (header.stamp.secs, header.stamp.nsecs)),
             ('Header seq', header.seq)]
 
 
-def quaternion_norm(q):
+def quaternion_norm(q: Any) -> float:
     return math.sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w)
 
 
-def finite(values):
+def finite(values: Any) -> bool:
     return all(math.isfinite(v) for v in values)
 
 
@@ -214,15 +227,17 @@ class StuckRun:
     __slots__ = ('limit', 'last', 'run', 'start', 'longest', 'longest_from', 'longest_to',
                  'last_t')
 
-    def __init__(self, limit):
+    def __init__(self, limit: Optional[int]) -> None:
         self.limit = limit
-        self.last = None
+        self.last: Hashable = None
         self.run = 0
-        self.start = self.last_t = None
+        self.start: Optional[float] = None
+        self.last_t: Optional[float] = None
         self.longest = 0
-        self.longest_from = self.longest_to = None
+        self.longest_from: Optional[float] = None
+        self.longest_to: Optional[float] = None
 
-    def add(self, key, t):
+    def add(self, key: Hashable, t: float) -> None:
         if self.run and key == self.last:
             self.run += 1
         else:
@@ -231,11 +246,11 @@ class StuckRun:
         if self.run > self.longest:
             self.longest, self.longest_from, self.longest_to = self.run, self.start, t
 
-    def to_end(self):
+    def to_end(self) -> bool:
         """True when the longest run lasts until the last reading."""
         return self.longest_to == self.last_t and self.run == self.longest
 
-    def finding(self, what, key_name):
+    def finding(self, what: str, key_name: str) -> Optional[str]:
         """'N identical <what> in a row from t = A s to the end of the window (<key_name> L)'."""
         if not self.limit or self.longest < self.limit:
             return None
@@ -252,10 +267,12 @@ class TrailingRun:
 
     __slots__ = ('start', 'n', 'last_t')
 
-    def __init__(self):
-        self.start, self.n, self.last_t = None, 0, None
+    def __init__(self) -> None:
+        self.start: Optional[float] = None
+        self.n = 0
+        self.last_t: Optional[float] = None
 
-    def add(self, bad, t):
+    def add(self, bad: bool, t: float) -> None:
         if bad:
             if not self.n:
                 self.start = t
@@ -264,7 +281,7 @@ class TrailingRun:
             self.start, self.n = None, 0
         self.last_t = t
 
-    def since(self):
+    def since(self) -> Optional[Tuple[Optional[float], int, float]]:
         """(start t, readings, seconds) of a run lasting to the last reading, or None."""
         if not self.n:
             return None

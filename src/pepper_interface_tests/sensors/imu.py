@@ -21,8 +21,16 @@ Data that cannot be real:
     (same page), the sensor cannot report it.
 """
 import math
+from typing import TYPE_CHECKING, Any, List, Tuple
 
 from .base import Acc, Check, StuckRun, finite, fmt, quaternion_norm
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import ImuExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
 
 
 def _v3(v):
@@ -31,15 +39,16 @@ def _v3(v):
 
 class ImuCheck(Check):
     family = 'imu'
+    expect: 'ImuExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.acc_norm, self.gyro_norm = Acc(), Acc()
         self.series['acceleration_m_s2'], self.series['angular_velocity_rad_s'] = [], []
         self.stuck = StuckRun(self.expect.stuck_messages)
-        self.acc_values = []
+        self.acc_values: List[float] = []
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         q = msg.orientation
         return [('Header', 'frame id %s, stamp %d.%09d, seq %d' % (
                     msg.header.frame_id, msg.header.stamp.secs, msg.header.stamp.nsecs, msg.header.seq)),
@@ -47,7 +56,7 @@ class ImuCheck(Check):
                 ('Angular velocity', _v3(msg.angular_velocity)),
                 ('Linear acceleration', _v3(msg.linear_acceleration))]
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         for label, cov in (('orientation', msg.orientation_covariance),
                            ('angular velocity', msg.angular_velocity_covariance),
                            ('linear acceleration', msg.linear_acceleration_covariance)):
@@ -88,7 +97,7 @@ class ImuCheck(Check):
             self.series['acceleration_m_s2'].append((round(t, 3), an))
             self.series['angular_velocity_rad_s'].append((round(t, 3), wn))
 
-    def finish(self):
+    def finish(self) -> None:
         stuck = self.stuck.finding('readings (angular velocity and linear acceleration)',
                                    'stuck_messages')
         if stuck:

@@ -15,26 +15,35 @@ Impossible values (joint_limits.py: Pepper's URDF limits, cited there):
 No stuck rule: a robot at rest publishes the same angles message after message.
 """
 import math
+from typing import TYPE_CHECKING, Any, Dict, List, Tuple
 
 from .base import Acc, Check, fmt
 from .joint_limits import LIMITS
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import JointsExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
 
 BASELINE = 0.1     # s between the two positions a speed is computed from
 
 
 class JointsCheck(Check):
     family = 'joints'
+    expect: 'JointsExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
-        self.joints = {}     # name -> {'position': Acc, 'velocity': Acc, 'effort': Acc}
-        self.names_seen = []
+        self.joints: Dict[str, Dict[str, Acc]] = {}     # name -> {'position': Acc, 'velocity': Acc, 'effort': Acc}
+        self.names_seen: List[str] = []
         self.margin = self.expect.position_margin
         self.factor = self.expect.velocity_factor
-        self.anchor = {}     # name -> (time, position) a speed is measured from
-        self.fast = {}       # name -> (implied speed, t) the fastest impossible speed
+        self.anchor: Dict[str, Tuple[float, float]] = {}     # name -> (time, position) a speed is measured from
+        self.fast: Dict[str, Tuple[float, float]] = {}       # name -> (implied speed, t) the fastest impossible speed
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         out = [('Header frame id', msg.header.frame_id), ('Number of joints', len(msg.name))]
         for i, name in enumerate(msg.name):
             def at(seq, i=i):
@@ -43,7 +52,7 @@ class JointsCheck(Check):
                         % (name, at(msg.position), at(msg.velocity), at(msg.effort))))
         return out
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         names = list(msg.name)
         n = len(names)
         if len(set(names)) != n:
@@ -78,7 +87,7 @@ class JointsCheck(Check):
         if limits is None or not math.isfinite(p):
             return
         lower, upper, velocity, line = limits
-        if self.margin is not None and lower is not None and \
+        if self.margin is not None and lower is not None and upper is not None and \
                 not (lower - self.margin <= p <= upper + self.margin):
             self.failures.add('limit_' + name, 'position of %s outside Pepper\'s joint limits '
                               '[%s, %s] rad (pepper.urdf:%d) by more than position_margin %s'
@@ -104,7 +113,7 @@ class JointsCheck(Check):
                               % (name, fmt(velocity * self.factor, 2), fmt(velocity), fmt(self.factor),
                                  line), '%s rad/s, first at t = %s s' % (fmt(speed, 2), fmt(t, 2)))
 
-    def finish(self):
+    def finish(self) -> None:
         self.values['joints'] = {name: {k: a.as_dict() for k, a in acc.items()}
                                  for name, acc in self.joints.items()}
         self.values['joint_count'] = len(self.joints)

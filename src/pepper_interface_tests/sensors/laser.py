@@ -31,12 +31,19 @@ distances, which carry measurement noise, is a driver republishing a cached scan
 """
 import math
 from array import array
-from typing import Set
+from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
 from .base import Acc, Check, StuckRun, fmt
 
+if TYPE_CHECKING:
+    import genpy
 
-def blind_indices(slots):
+    from ..plan.expectations import LaserExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
+
+
+def blind_indices(slots: Optional[Tuple[Tuple[int, int], ...]]) -> Set[int]:
     out: Set[int] = set()
     for first, last in slots or ():
         out.update(range(int(first), int(last) + 1))
@@ -45,8 +52,9 @@ def blind_indices(slots):
 
 class LaserCheck(Check):
     family = 'laser'
+    expect: 'LaserExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.valid = Acc()
         self.beams = 0
@@ -57,10 +65,11 @@ class LaserCheck(Check):
         self.slots = self.expect.blind_slots
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
-        self.last_scan = None
+        # (angle_min, angle_increment, ranges, range_min, range_max, blind value) of the last scan
+        self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
         self.stuck = StuckRun(self.expect.stuck_scans)
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
                 ('Start angle of the scan', fmt(msg.angle_min)),
                 ('End angle of the scan', fmt(msg.angle_max)),
@@ -71,7 +80,7 @@ class LaserCheck(Check):
                 ('Maximum range value', fmt(msg.range_max)),
                 ('Range data size', len(msg.ranges))]
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         n = len(msg.ranges)
         if msg.angle_increment == 0 or not math.isfinite(msg.angle_increment):
             self.failures.add('inc', 'angle increment is zero or not finite', msg.angle_increment)
@@ -131,7 +140,7 @@ class LaserCheck(Check):
                               'NaN or invalid)')
         return returns
 
-    def finish(self):
+    def finish(self) -> None:
         counted = max(1, self.beams - self.blind - self.no_return)
         share = self.invalid / counted if self.beams else 0.0
         self.values['beams'] = self.beams

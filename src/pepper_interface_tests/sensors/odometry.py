@@ -12,8 +12,16 @@ getRobotVelocity (src/converters/odom.cpp:56, 59, 82-93), so both describe one m
 No stuck rule: a robot standing still publishes the same pose and a zero twist every time.
 """
 import math
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 from .base import Acc, Check, finite, fmt, quaternion_norm
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import OdometryExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
 
 
 def _pose_text(p):
@@ -33,25 +41,27 @@ BASELINE = 0.5      # s between the two poses a speed is computed from
 
 class OdometryCheck(Check):
     family = 'odometry'
+    expect: 'OdometryExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.x, self.y, self.speed = Acc(), Acc(), Acc()
         self.series['x_m'], self.series['y_m'] = [], []
-        self.anchor = None        # (time, x, y, |twist|) the next pose pair starts from
+        # (time, x, y, |twist|) the next pose pair starts from
+        self.anchor: Optional[Tuple[float, float, float, float]] = None
         self.pairs = 0
         self.mismatch = 0
-        self.mismatch_example = None
+        self.mismatch_example: Optional[Tuple[float, float, float]] = None
         self.implied = Acc()
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Header', 'frame id %s, stamp %d.%09d, seq %d' % (
                     msg.header.frame_id, msg.header.stamp.secs, msg.header.stamp.nsecs, msg.header.seq)),
                 ('Child frame id', msg.child_frame_id),
                 ('Pose', _pose_text(msg.pose.pose)),
                 ('Twist', _twist_text(msg.twist.twist))]
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         pose, twist = msg.pose.pose, msg.twist.twist
         if not msg.header.frame_id:
             self.failures.add('frame', 'header.frame_id is empty')
@@ -106,7 +116,7 @@ class OdometryCheck(Check):
             if self.mismatch_example is None:
                 self.mismatch_example = (twist, implied, t)
 
-    def finish(self):
+    def finish(self) -> None:
         self.values['pose_implied_speed_m_s'] = self.implied.as_dict()
         tol = self.expect.twist_tolerance
         if tol is not None and self.pairs and self.mismatch > self.pairs / 2.0:

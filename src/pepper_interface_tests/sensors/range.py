@@ -14,14 +14,23 @@ measures 0..5 m, reference/pepper-sensors.md). Without `physical_range` the adve
 are the only limits known, and a reading outside them fails.
 """
 import math
+from typing import TYPE_CHECKING, Any, List, Tuple
 
 from .base import Acc, Check, fmt
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import RangeExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
 
 
 class RangeCheck(Check):
     family = 'range'
+    expect: 'RangeExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.range = Acc()
         self.fov = Acc()
@@ -30,14 +39,14 @@ class RangeCheck(Check):
         self.beyond_example = None
         self.series['range_m'] = []
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
                 ('Field of view', fmt(msg.field_of_view)),
                 ('Minimum range value', fmt(msg.min_range)),
                 ('Maximum range value', fmt(msg.max_range)),
                 ('Range value', fmt(msg.range))]
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         lo, hi, r = msg.min_range, msg.max_range, msg.range
         self.range.add(r)
         self.fov.add(msg.field_of_view)
@@ -76,7 +85,7 @@ class RangeCheck(Check):
         elif r < lo:
             self.below += 1
 
-    def finish(self):
+    def finish(self) -> None:
         self.values['range_m'] = self.range.as_dict()
         self.values['infinite_ranges'] = self.range.nonfinite
         self.values['field_of_view_rad'] = self.fov.as_dict()

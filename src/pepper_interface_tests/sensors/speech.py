@@ -7,40 +7,49 @@ microphones are in the same run, the runner puts a level monitor in ctx.services
 with the level before and reports whether the sentence was heard (required with require_heard).
 """
 import time
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 import rospy
 from std_msgs.msg import String
 
 from .base import Check
 
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import SpeechExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
+
 
 class SpeechCheck(Check):
     family = 'speech'
+    expect: 'SpeechExpect'
     active = True
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.text = self.expect.text
         self.subscriber_wait = self.expect.subscriber_wait
         self.listen_after = self.expect.listen_after
         self.pub = None
-        self.sent_at = None
-        self.sent_elapsed = None
-        self.started = None
+        self.sent_at: Optional[float] = None
+        self.sent_elapsed: Optional[float] = None
+        self.started: Optional[float] = None
         self._done = False
-        self.subscribers = []
+        self.subscribers: List[str] = []
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Text', msg.data)]
 
-    def start(self):
+    def start(self) -> None:
         self.started = time.monotonic()
         self.pub = rospy.Publisher(self.plan.topic, String, queue_size=1, latch=False)
 
     def _monitor(self):
         return self.ctx.services.get('microphone_levels')
 
-    def poll(self, elapsed):
+    def poll(self, elapsed: float) -> None:
         if self._done or self.pub is None:
             return
         if self.sent_at is None:
@@ -67,10 +76,10 @@ class SpeechCheck(Check):
                 monitor.heard(self.sent_at, time.monotonic()).get('heard'):
             self._done = True                  # --quick: heard is settled, no need to listen on
 
-    def done(self):
+    def done(self) -> bool:
         return self._done
 
-    def finish(self):
+    def finish(self) -> None:
         if self.pub is not None:
             if self.sent_at is not None and self.sent_elapsed is not None:
                 time.sleep(max(0.0, 0.2 - (time.monotonic() - self.sent_at)))

@@ -6,6 +6,10 @@ if TYPE_CHECKING:   # the runner's per-sensor object; only named here for the ty
     from ..runner import SensorRun
 
 
+# (advertised type or None, publisher node names or None when the topic is unknown to the source)
+TopicInfo = Tuple[Optional[str], Optional[List[str]]]
+
+
 class SourceLost(Exception):
     """The data source went away (e.g. the ROS master vanished); ends the run like Ctrl-C."""
 
@@ -25,7 +29,7 @@ class Source(Protocol):
         """Called every tick while `run` listens (connection counts, the master's health, bag
         playback); raises SourceLost when the source is gone."""
 
-    def lookup(self, topic: str) -> Optional[Tuple[Optional[str], Optional[List[str]]]]:
+    def lookup(self, topic: str) -> Optional[TopicInfo]:
         """(advertised type or None, publisher node names) of a topic; None when unknown."""
 
     def published_topics(self) -> Optional[Set[str]]:

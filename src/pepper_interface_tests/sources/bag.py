@@ -15,8 +15,17 @@ bag recorded at 1.7e9 s, a clock that jumped) would otherwise stretch the window
 such records are left out and `notes` says which and when.
 """
 import os
+from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.textfile import ConfigError
+from . import TopicInfo
+
+if TYPE_CHECKING:   # the runner's types: named for the type checker only (no upward import)
+    from ..plan.settings import TestPlan
+    from ..runner import SensorRun
+
+# a record as the runner is fed it: (record time, topic, type name, bytes, connection header)
+Record = Tuple[float, str, str, bytes, Dict[str, Any]]
 
 # No sensor of Pepper publishes less than once a second (reference/pepper-sensors.md) and a
 # sensor test records seconds to minutes: when no topic at all has a record for 5 minutes, the
@@ -24,7 +33,7 @@ from ..plan.textfile import ConfigError
 MAX_SILENCE = 300.0
 
 
-def dense_span(times, max_silence=MAX_SILENCE):
+def dense_span(times: Sequence[float], max_silence: float = MAX_SILENCE) -> Tuple[float, float, int, int]:
     """(begin, end, left out before, left out after) of the largest group of `times` (sorted)
     with no gap above `max_silence`; the first such group when two have the same size."""
     if not times:
@@ -49,7 +58,7 @@ def _when(t):
 class BagSource:
     live = False
 
-    def __init__(self, path):
+    def __init__(self, path: str) -> None:
         import rosbag
         if not os.path.exists(path):
             raise ConfigError('bag file not found', path, fix='give --bag an existing .bag file')
@@ -63,7 +72,7 @@ class BagSource:
         self.types = {t: v.msg_type for t, v in info.topics.items()}
         times = sorted(self._record_times())
         self.begin, self.end, before, after = dense_span(times)
-        self.notes = []
+        self.notes: List[str] = []
         if before or after:
             odd = [t for t in times if t < self.begin or t > self.end]
             self.notes.append(
@@ -74,10 +83,10 @@ class BagSource:
                    _when(self.begin), _when(self.end), self.end - self.begin))
         self.path = path
         self.now = self.begin
-        self.runs = {}
-        self._reader = None       # the read_messages generator, opened at the first tick
-        self._pending = None      # the next record, read but not yet due
-        self._conns = {}          # (type, md5sum) -> connection header fields
+        self.runs: Dict[str, List[SensorRun]] = {}     # topic -> the windows listening to it
+        self._reader: Optional[Iterator[Record]] = None   # read_messages, opened at the first tick
+        self._pending: Optional[Record] = None            # the next record, read but not yet due
+        self._conns: Dict[Tuple[str, str], Dict[str, Any]] = {}   # (type, md5sum) -> connection header fields
 
     def _record_times(self):
         """Record times of every message, from the bag's index (already in memory: no data is read)."""
@@ -85,7 +94,7 @@ class BagSource:
             for entry in entries:
                 yield entry.time.to_sec()
 
-    def _records(self, after=None):
+    def _records(self, after: Optional[float] = None) -> Iterator[Record]:
         """(t, topic, type name, serialized bytes) in record-time order, within the dense span,
         for the topics of the windows attached so far (only records later than `after`)."""
         import genpy
@@ -111,38 +120,38 @@ class BagSource:
         return conn
 
     @property
-    def length(self):
+    def length(self) -> float:
         return self.end - self.begin
 
-    def clock(self):
+    def clock(self) -> float:
         return self.now
 
-    def attach(self, run):
+    def attach(self, run: 'SensorRun') -> None:
         run.stats.clock = 'record'    # rates on the bag's record times (stats.py)
-        if self._reader is not None and run.plan.topic not in self.runs:
+        if self._reader is not None and run.topic not in self.runs:
             # a topic nobody listened to so far: read again from now, with it included
             self._reader = self._records(after=self.now)
             self._pending = None
-        self.runs.setdefault(run.plan.topic, []).append(run)
+        self.runs.setdefault(run.topic, []).append(run)
 
-    def detach(self, run):
-        runs = self.runs.get(run.plan.topic, [])
+    def detach(self, run: 'SensorRun') -> None:
+        runs = self.runs.get(run.topic, [])
         if run in runs:
             runs.remove(run)
 
-    def poll(self, run, now):
+    def poll(self, run: 'SensorRun', now: float) -> None:
         pass
 
-    def published_topics(self):
+    def published_topics(self) -> None:
         return None     # a bag has no publishers to ask about; the check on each topic says enough
 
-    master_uri = None
+    master_uri: Optional[str] = None
 
-    def lookup(self, topic):
+    def lookup(self, topic: str) -> TopicInfo:
         t = self.types.get(topic)
         return (t, ['the bag']) if t else (None, None)
 
-    def sleep(self, dt):
+    def sleep(self, dt: float) -> None:
         self.now += dt
         if self._reader is None:
             self._reader = self._records()
@@ -158,18 +167,18 @@ class BagSource:
             for run in self.runs.get(topic, ()):
                 run.feed_raw(type_name, data, t, t, conn)
 
-    def close(self):
+    def close(self) -> None:
         self.bag.close()
 
 
-def platform_hint(plan, bag_types, other_plan):
+def platform_hint(plan: 'TestPlan', bag_types: Mapping[str, str], other_plan: 'TestPlan') -> Optional[str]:
     """A bag checked with the wrong platform fails nearly every sensor as "not in the bag". When
     topics of `plan` are missing from the bag and `other_plan` (the same files, the other
     platform) finds more of its topics there, the note that says so and names the option (a
     topic both share, /joint_states, does not decide); else None."""
     mine = {s.topic for s in plan.sensors if s.skip_reason is None and s.sensor.family != 'speech'}
     found = {t for t in mine if t in bag_types}
-    theirs = sorted({s.topic for s in other_plan.sensors if s.topic in bag_types})
+    theirs = sorted({s.topic for s in other_plan.sensors if s.topic is not None and s.topic in bag_types})
     if not mine or found == mine or len(theirs) <= len(found):
         return None
     return ('%d of the %d %s topics are in the bag, but %d of the %s topics are (%s%s): check it '

@@ -17,12 +17,16 @@ import socket
 import threading
 import time
 import xmlrpc.client
+from typing import TYPE_CHECKING, Any, Dict, Optional, Set
 from urllib.parse import urlparse
 
 import rosgraph
 import rospy
 
-from . import SourceLost
+from . import SourceLost, TopicInfo
+
+if TYPE_CHECKING:   # the runner's per-sensor object: named for the type checker only
+    from ..runner import SensorRun
 
 MASTER_TIMEOUT = 2.0
 # a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
@@ -33,16 +37,16 @@ MASTER_SILENCE = 10.0
 MASTER_REFUSED = 1.5
 
 
-def master_uri():
+def master_uri() -> str:
     return rosgraph.get_master_uri()
 
 
-def master_reachable(uri=None, timeout=MASTER_TIMEOUT):
+def master_reachable(uri: Optional[str] = None, timeout: float = MASTER_TIMEOUT) -> bool:
     """True when the ROS master answers getPid within `timeout` seconds."""
     return master_state(uri, timeout) == 'ok'
 
 
-def master_state(uri=None, timeout=MASTER_TIMEOUT):
+def master_state(uri: Optional[str] = None, timeout: float = MASTER_TIMEOUT) -> str:
     """'ok', 'refused' (nothing listens on the master's port) or 'silent' (no answer)."""
     uri = uri or master_uri()
     parsed = urlparse(uri)
@@ -74,7 +78,8 @@ class MasterWatch:
     """Probes the master every `every` s in a thread of its own; `lost()` says why it counts as
     gone ('' while it answers or has been silent or refusing for less than the limits)."""
 
-    def __init__(self, uri=None, every=0.5, timeout=1.0, silence=None, refused=None):
+    def __init__(self, uri: Optional[str] = None, every: float = 0.5, timeout: float = 1.0,
+                 silence: Optional[float] = None, refused: Optional[float] = None) -> None:
         self.uri = uri or master_uri()
         self.every, self.timeout = every, timeout
         self.silence = MASTER_SILENCE if silence is None else silence
@@ -82,7 +87,7 @@ class MasterWatch:
         now = time.monotonic()
         self.last_ok = now
         self.state = 'ok'
-        self.bad_since = None       # when the current run of 'refused' answers began
+        self.bad_since: Optional[float] = None   # when the current run of 'refused' answers began
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._loop, daemon=True, name='master-watch')
         self._thread.start()
@@ -101,10 +106,10 @@ class MasterWatch:
             self._stop.wait(self.every)
 
     @property
-    def answering(self):
+    def answering(self) -> bool:
         return self.state == 'ok'
 
-    def lost(self):
+    def lost(self) -> str:
         now = time.monotonic()
         if self.state == 'refused' and self.bad_since is not None and now - self.bad_since >= self.refused:
             return 'the ROS master at %s went away' % self.uri
@@ -112,14 +117,14 @@ class MasterWatch:
             return 'the ROS master at %s went away (no answer for %.0f s)' % (self.uri, now - self.last_ok)
         return ''
 
-    def wait_answering(self, limit):
+    def wait_answering(self, limit: float) -> bool:
         """Until the master answers (True) or it counts as gone or `limit` s pass (False)."""
         deadline = time.monotonic() + limit
         while not self.answering and not self.lost() and time.monotonic() < deadline:
             time.sleep(0.05)
         return self.answering
 
-    def stop(self):
+    def stop(self) -> None:
         self._stop.set()
 
 
@@ -127,12 +132,12 @@ class LiveSource:
     live = True
     """Subscribes a SensorRun to its topic for the length of its window."""
 
-    def __init__(self, caller_id='/sensorTest'):
+    def __init__(self, caller_id: str = '/sensorTest') -> None:
         self.caller_id = caller_id
-        self.subs = {}
-        self._last_conn = {}
-        self.watch = None
-        self.shutdown_reason = None
+        self.subs: Dict[SensorRun, Any] = {}       # the window -> its rospy.Subscriber
+        self._last_conn: Dict[SensorRun, float] = {}
+        self.watch: Optional[MasterWatch] = None
+        self.shutdown_reason: Optional[str] = None
         rospy.core.add_preshutdown_hook(self._on_shutdown)
 
     def _on_shutdown(self, reason):
@@ -158,7 +163,7 @@ class LiveSource:
         if force and not self.watch.wait_answering(self.watch.silence):
             raise SourceLost(self.watch.lost() or 'the ROS master at %s does not answer' % self.watch.uri)
 
-    def attach(self, run):
+    def attach(self, run: 'SensorRun') -> None:
         self._check_master(time.monotonic(), force=True)   # registering waits for the master
         if run.check.active:
             return
@@ -170,11 +175,11 @@ class LiveSource:
 
         if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
             run.use_sim_clock(lambda: rospy.get_rostime().to_sec())
-        self.subs[run] = rospy.Subscriber(run.plan.topic, rospy.AnyMsg, callback,
+        self.subs[run] = rospy.Subscriber(run.topic, rospy.AnyMsg, callback,
                                           queue_size=run.check.queue_size,
                                           buff_size=run.check.buff_size)
 
-    def detach(self, run):
+    def detach(self, run: 'SensorRun') -> None:
         sub = self.subs.pop(run, None)
         self._last_conn.pop(run, None)
         if sub is None:
@@ -184,7 +189,7 @@ class LiveSource:
         else:   # unregistering waits for the master: never in the listening loop
             threading.Thread(target=sub.unregister, daemon=True, name='unregister').start()
 
-    def poll(self, run, now):
+    def poll(self, run: 'SensorRun', now: float) -> None:
         self._check_master(now)
         sub = self.subs.get(run)
         if sub is not None and now - self._last_conn.get(run, 0.0) >= 0.25:
@@ -192,10 +197,10 @@ class LiveSource:
             run.observe_connections(sub.get_num_connections(), now)
 
     @property
-    def master_uri(self):
+    def master_uri(self) -> Optional[str]:
         return master_uri()
 
-    def published_topics(self):
+    def published_topics(self) -> Optional[Set[str]]:
         """The set of topics with a publisher (one question to the master), or None when the
         master does not answer it."""
         if not self._master_ok:
@@ -205,7 +210,7 @@ class LiveSource:
         except Exception:  # the master may have gone between probe and call
             return None
 
-    def lookup(self, topic):
+    def lookup(self, topic: str) -> Optional[TopicInfo]:
         """(advertised type or None, [publisher node names]) of a topic, or None if unknown."""
         if not self._master_ok:
             return None
@@ -219,5 +224,5 @@ class LiveSource:
             return None
 
     @staticmethod
-    def sleep(dt):
+    def sleep(dt: float) -> None:
         time.sleep(dt)

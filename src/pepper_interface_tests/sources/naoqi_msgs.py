@@ -9,8 +9,9 @@ carries the full message definition, and a recorded bag keeps it too. So the cla
 here from the definition text (genpy.dynamic), with the same md5sum as the real package's,
 and a publisher or subscriber made with it interoperates with naoqi_driver's.
 """
-from typing import Dict, Tuple
+from typing import Dict, Tuple, Type
 
+import genpy
 import genpy.dynamic
 
 AUDIO_BUFFER_TYPE = 'naoqi_bridge_msgs/AudioBuffer'
@@ -47,10 +48,10 @@ CHANNEL_NAMES = {0: 'frontLeft', 1: 'frontCenter', 2: 'frontRight', 3: 'rearLeft
                  8: 'subwoofer', 9: 'lfe'}
 PEPPER_CHANNEL_MAP = (3, 5, 0, 2)
 
-_CLASSES: Dict[Tuple[str, str], type] = {}
+_CLASSES: Dict[Tuple[str, str], Type[genpy.Message]] = {}
 
 
-def message_class_from_definition(type_name, definition):
+def message_class_from_definition(type_name: str, definition: str) -> Type[genpy.Message]:
     """A genpy message class for `type_name` built from its full definition text (as found in
     a connection header or a bag); cached per (type, definition)."""
     key = (type_name, definition)
@@ -60,6 +61,6 @@ def message_class_from_definition(type_name, definition):
     return cls
 
 
-def audio_buffer_class():
+def audio_buffer_class() -> Type[genpy.Message]:
     """The naoqi_bridge_msgs/AudioBuffer class (same md5sum as the real package's)."""
     return message_class_from_definition(AUDIO_BUFFER_TYPE, AUDIO_BUFFER_DEFINITION)
