@@ -442,10 +442,10 @@ class JointStatePublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
-        w = 2 * math.pi * self.freq
-        pos = self.pose + self.amp * np.sin(w * t + self.phase)
-        vel = self.amp * w * np.cos(w * t + self.phase)
-        eff = 0.05 * np.sin(w * t + self.phase + 1.0) + 0.01
+        omega = 2 * math.pi * self.freq
+        pos = self.pose + self.amp * np.sin(omega * t + self.phase)
+        vel = self.amp * omega * np.cos(omega * t + self.phase)
+        eff = 0.05 * np.sin(omega * t + self.phase + 1.0) + 0.01
         v, w = scene.speeds()
         wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
                             w * _WHEEL_BASE]) / _WHEEL_RADIUS
