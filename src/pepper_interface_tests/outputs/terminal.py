@@ -206,7 +206,7 @@ class Terminal(RunObserver):
     def sensor_done(self, result: SensorResult) -> None:
         if result.verdict == FAIL:
             self._failed.append(result.name)
-        text = '  %-6s %-22s' % (result.verdict.lower() if result.verdict != FAIL else 'FAIL', result.name)
+        text = '  %-6s %-22s' % (FAIL if result.verdict == FAIL else result.verdict.lower(), result.name)
         if result.verdict == SKIPPED:
             text += ' skipped: ' + _reasons(result.reasons)
         else:
