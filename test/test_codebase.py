@@ -197,6 +197,14 @@ def imported_tops(rel, node):
     return [a.name for a in node.names]       # `from . import x` in the package root
 
 
+def import_text(node):
+    """The import statement as written (ast.unparse is Python 3.9+)."""
+    names = ', '.join(a.name + (' as ' + a.asname if a.asname else '') for a in node.names)
+    if isinstance(node, ast.Import):
+        return 'import ' + names
+    return 'from %s%s import %s' % ('.' * node.level, node.module or '', names)
+
+
 def upward_imports():
     found = []
     for rel, path in source_files():
@@ -209,9 +217,10 @@ def upward_imports():
         for node in runtime_imports(parse(path)):
             for target in imported_tops(rel, node):
                 if target != top and layer_of(target) > own:
-                    found.append('%s:%d imports %s (%s imports nothing above itself: plan -> sources -> '
-                                 'media -> sensors -> runner -> outputs -> programs)'
-                                 % (rel, node.lineno, target, top))
+                    found.append('%s:%d `%s` imports %s, a later stage than %s (plan -> sources -> '
+                                 'media -> sensors -> runner -> outputs -> programs); move the shared '
+                                 'part down, or import it under `if TYPE_CHECKING:` when only '
+                                 'annotations need it' % (rel, node.lineno, import_text(node), target, top))
     return found
 
 
@@ -225,6 +234,8 @@ def test_imported_tops_resolves_relative_and_absolute_imports():
     assert tops('emulator/node.py', 'import pepper_interface_tests.outputs.files') == ['outputs']
     assert tops('emulator/node.py', 'from pepper_interface_tests import cli') == ['cli']
     assert tops('emulator/node.py', 'import rospy') == []
+    assert import_text(ast.parse('from ..outputs import files as f, diagnostics').body[0]) == \
+        'from ..outputs import files as f, diagnostics'
 
 
 def test_type_checking_imports_are_exempt_and_function_level_ones_are_not():
