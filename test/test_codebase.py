@@ -12,6 +12,7 @@
   may name a type from a later stage).
 """
 import ast
+import functools
 import os
 
 PACKAGE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
@@ -52,7 +53,9 @@ def source_files():
                 yield os.path.relpath(path, PACKAGE).replace(os.sep, '/'), path
 
 
+@functools.lru_cache(maxsize=None)
 def parse(path):
+    """The module's tree, read once for every gate (the trees are not changed)."""
     with open(path, encoding='utf-8') as f:
         return ast.parse(f.read(), path, type_comments=True)
 
@@ -168,13 +171,21 @@ def is_type_checking(test):
 
 
 def runtime_imports(tree):
-    """Import nodes that run: every import but those under `if TYPE_CHECKING:`."""
-    skip = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.If) and is_type_checking(node.test):
-            for inner in node.body:
-                skip.update(id(n) for n in ast.walk(inner))
-    return [n for n in ast.walk(tree) if isinstance(n, (ast.Import, ast.ImportFrom)) and id(n) not in skip]
+    """Import nodes that run: every import statement, at any depth (functions, classes, try,
+    with), but those under `if TYPE_CHECKING:`. Only statements are visited: an import is one."""
+    found = []
+    stack = list(tree.body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            found.append(node)
+            continue
+        skip_body = isinstance(node, ast.If) and is_type_checking(node.test)
+        for field in ('body', 'orelse', 'finalbody', 'handlers', 'cases'):
+            if field == 'body' and skip_body:
+                continue
+            stack.extend(getattr(node, field, None) or [])
+    return sorted(found, key=lambda n: n.lineno)
 
 
 def imported_tops(rel, node):
