@@ -77,7 +77,7 @@ class Details:
 
 
 # what a view returns, one item a block of the section
-Block = Union['Heading', 'Para', 'Table', 'KV', 'Image', 'Media', 'Row', 'Details']
+Block = Union[Heading, Para, Table, KV, Image, Media, Row, Details]
 
 
 def span_list(*parts: Any) -> List[Any]:
