@@ -15,7 +15,7 @@ An observer subclasses RunObserver and overrides what it needs; the others do no
 the others still run (Ctrl-C, a KeyboardInterrupt, still ends the run).
 """
 import sys
-from typing import TYPE_CHECKING, Callable, List, Optional
+from typing import TYPE_CHECKING, Callable, Iterable, List, Optional
 
 from .results import RunResult, SensorResult
 
@@ -49,7 +49,7 @@ class RunObserver:
 class Observers(RunObserver):
     """Every observer of a run, called in the order given."""
 
-    def __init__(self, observers=()):
+    def __init__(self, observers: Iterable[RunObserver] = ()) -> None:
         self.members: List[RunObserver] = list(observers)
 
     def _each(self, event: str, call: Callable[[RunObserver], None]) -> None:
@@ -60,20 +60,20 @@ class Observers(RunObserver):
                 sys.stderr.write('sensorTest: %s.%s failed: %s: %s\n'
                                  % (type(o).__name__, event, type(e).__name__, e))
 
-    def run_started(self, run, plan):
+    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         self._each('run_started', lambda o: o.run_started(run, plan))
 
-    def sensor_started(self, sensor_run):
+    def sensor_started(self, sensor_run: 'SensorRun') -> None:
         self._each('sensor_started', lambda o: o.sensor_started(sensor_run))
 
-    def tick(self, sensor_runs, now):
+    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
         self._each('tick', lambda o: o.tick(sensor_runs, now))
 
-    def nothing_published(self, topics, waited, uri):
+    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
         self._each('nothing_published', lambda o: o.nothing_published(topics, waited, uri))
 
-    def sensor_done(self, result):
+    def sensor_done(self, result: SensorResult) -> None:
         self._each('sensor_done', lambda o: o.sensor_done(result))
 
-    def run_ended(self, run):
+    def run_ended(self, run: RunResult) -> None:
         self._each('run_ended', lambda o: o.run_ended(run))

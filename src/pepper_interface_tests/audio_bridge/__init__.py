@@ -3,7 +3,8 @@ and the ROS publisher (``publisher``, Python 3). See docs/audio-bridge.md.
 
 This file also holds the small helpers both sides and the emulator's NAOqi endpoint share (a
 log rate limiter, a one-line usage-error parser, a TCP port argument, dropping roslaunch's
-remapping arguments); it stays Python 2.7 compatible because the capture side imports it.
+remapping arguments); it stays Python 2.7 compatible because the capture side imports it: its
+signatures are type comments, which mypy checks and Python 2.7 ignores.
 """
 import argparse
 import io
@@ -11,6 +12,10 @@ import os
 import stat
 import threading
 import time
+
+MYPY = False
+if MYPY:    # read by mypy only: the robot's Python 2.7 has no typing module
+    from typing import Callable, Dict, List, Mapping, NoReturn, Optional, Sequence, Tuple, Union  # noqa: F401  # novm
 
 # Where both sides take the shared websocket token from, best first. The file is the way under
 # roslaunch: roslaunch writes every process's whole environment into its log file
@@ -28,13 +33,15 @@ class RateLimiter(object):
     """
 
     def __init__(self, interval=5.0, clock=time.time):
+        # type: (float, Callable[[], float]) -> None
         self.interval = interval
         self._clock = clock
-        self._last = {}
-        self._pending = {}
+        self._last = {}  # type: Dict[str, float]
+        self._pending = {}  # type: Dict[str, int]
         self._lock = threading.Lock()
 
     def hit(self, key):
+        # type: (str) -> int
         now = self._clock()
         with self._lock:
             self._pending[key] = self._pending.get(key, 0) + 1
@@ -50,6 +57,7 @@ class OneLineParser(argparse.ArgumentParser):
     """argparse, but a usage error is one line on stderr (exit code 2), not the usage block."""
 
     def error(self, message):
+        # type: (str) -> NoReturn
         self.exit(2, '%s: error: %s (see --help)\n' % (self.prog, message))
 
 
@@ -58,6 +66,7 @@ class PortError(argparse.ArgumentTypeError, ValueError):
 
 
 def port_arg(value):
+    # type: (Union[str, int]) -> int
     """A TCP port number (1..65535) from a command-line or param value; PortError otherwise."""
     try:
         port = int(value)
@@ -69,6 +78,7 @@ def port_arg(value):
 
 
 def listen_port_arg(value):
+    # type: (Union[str, int]) -> int
     """A port a server binds: 0 (any free port, chosen by the system) or 1..65535."""
     if str(value).strip() == '0':
         return 0
@@ -80,6 +90,7 @@ class TokenError(ValueError):
 
 
 def read_token(cli_token=None, cli_file=None, environ=None):
+    # type: (Optional[str], Optional[str], Optional[Mapping[str, str]]) -> Tuple[str, Optional[str], Optional[str]]
     """(token, where it came from, warning or None). Order: --token, --token-file,
     $PEPPER_AUDIO_TOKEN_FILE, $PEPPER_AUDIO_TOKEN; ('', None, None) when none is set."""
     environ = os.environ if environ is None else environ
@@ -110,5 +121,6 @@ def read_token(cli_token=None, cli_file=None, environ=None):
 
 
 def without_remappings(argv):
+    # type: (Sequence[str]) -> List[str]
     """Drop the ROS remapping arguments roslaunch adds to every node (__name:=x, __log:=y)."""
     return [a for a in argv if ':=' not in a]

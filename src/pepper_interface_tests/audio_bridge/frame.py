@@ -19,10 +19,15 @@ one NAOqi buffer, exactly as NAOqi delivered them (planar or interleaved, see ``
 
 This module is shared by the capture side, which may run on the robot under Python 2.7, and the
 ROS side (Python 3): it uses ``struct`` only, no f-strings and no annotations, and works with
-``str`` bytes on 2.7 and ``bytes``/``bytearray``/``memoryview`` on 3.
+``str`` bytes on 2.7 and ``bytes``/``bytearray``/``memoryview`` on 3. Its signatures are type
+comments, which mypy checks and Python 2.7 ignores.
 """
 import collections
 import struct
+
+MYPY = False
+if MYPY:    # read by mypy only: the robot's Python 2.7 has no typing module
+    from typing import Union  # noqa: F401  # novm
 
 MAGIC = b'PAU1'
 VERSION = 1
@@ -54,12 +59,14 @@ class FrameError(ValueError):
     """A message that is not a valid frame. ``cause`` is a short stable key for counting."""
 
     def __init__(self, cause, detail):
+        # type: (str, str) -> None
         ValueError.__init__(self, '%s: %s' % (cause, detail))
         self.cause = cause
         self.detail = detail
 
 
 def _check_geometry(channels, samples_per_channel, sample_rate):
+    # type: (int, int, int) -> None
     if not 1 <= channels <= MAX_CHANNELS:
         raise FrameError('bad channel count',
                          'channels=%d, expected 1..%d' % (channels, MAX_CHANNELS))
@@ -75,6 +82,7 @@ def _check_geometry(channels, samples_per_channel, sample_rate):
 
 def encode_frame(payload, channels, samples_per_channel, sample_rate, sequence,
                  ts_sec=0, ts_usec=0, planar=True, stream_id=0):
+    # type: (Union[bytes, bytearray, memoryview], int, int, int, int, int, int, bool, int) -> bytes
     """Return the frame (bytes) for one buffer. ``payload`` is the raw int16 LE sample bytes."""
     payload = bytes(payload)
     _check_geometry(channels, samples_per_channel, sample_rate)
@@ -91,6 +99,7 @@ def encode_frame(payload, channels, samples_per_channel, sample_rate, sequence,
 
 
 def decode_frame(data):
+    # type: (Union[bytes, bytearray, memoryview]) -> Frame
     """Parse and validate one message; return a Frame or raise FrameError with the reason."""
     if isinstance(data, memoryview):
         data = data.tobytes()

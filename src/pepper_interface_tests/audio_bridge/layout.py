@@ -23,7 +23,11 @@ mislabelled: from then on every frame of that stream id is refused. Suspect fram
 too, one by one. What this rule has been checked against, and what still needs a robot, is in
 docs/audio-bridge.md ("Layout").
 """
+from typing import Dict, Optional, Set, Tuple
+
 import numpy as np
+
+from .frame import Frame
 
 PLANAR_Q = 2.0
 INTERLEAVED_Q = 0.5
@@ -31,7 +35,7 @@ MIN_STEP = 4.0
 CONFIRM = 3
 
 
-def step_ratio(payload, channels):
+def step_ratio(payload: bytes, channels: int) -> Tuple[Optional[float], float, float]:
     """(q, D1, DC) of the raw int16 LE payload, see the module doc."""
     z = np.frombuffer(payload, dtype='<i2').astype(np.int32)
     if channels < 2 or len(z) <= 2 * channels:
@@ -41,7 +45,7 @@ def step_ratio(payload, channels):
     return (dc / d1 if d1 > 0 else None), d1, dc
 
 
-def suspect(planar, payload, channels):
+def suspect(planar: bool, payload: bytes, channels: int) -> Optional[str]:
     """A reason string when the data contradicts the declared layout, else None."""
     q, d1, dc = step_ratio(payload, channels)
     if q is None or d1 < MIN_STEP or dc < MIN_STEP:
@@ -62,11 +66,11 @@ class LayoutGuard(object):
            'really sends (naoqiAudio asks for interleaved, as naoqi_driver does; --planar asks '
            'for deinterleaved) and report it: docs/audio-bridge.md, "Layout"')
 
-    def __init__(self):
-        self.mismatched = set()
-        self._run = {}
+    def __init__(self) -> None:
+        self.mismatched: Set[int] = set()
+        self._run: Dict[int, int] = {}
 
-    def check(self, frame):
+    def check(self, frame: Frame) -> Optional[Tuple[str, str]]:
         """None when the frame may be published, else (kind, why not); kind is 'refused'
         (stream already proven mislabelled), 'confirmed' (this frame proved it) or
         'suspect planar' / 'suspect interleaved' (what the data looks like)."""

@@ -39,13 +39,21 @@ import logging
 import sys
 import threading
 import time
-from typing import Any, Dict
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Protocol, Sequence, Tuple, Union
 
 import numpy as np
 
 from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg, read_token
-from pepper_interface_tests.audio_bridge.frame import MAX_FRAME_BYTES, TOKEN_HEADER, FrameError, decode_frame
+from pepper_interface_tests.audio_bridge.frame import MAX_FRAME_BYTES, TOKEN_HEADER, Frame, FrameError, decode_frame
 from pepper_interface_tests.audio_bridge.layout import LayoutGuard
+
+if TYPE_CHECKING:
+    import argparse
+    from types import ModuleType
+
+    import genpy
+    from websockets.http11 import Request, Response
+    from websockets.sync.server import ServerConnection
 
 NODE = 'naoqiAudioPublisher'
 DEFAULTS = {'host': '127.0.0.1', 'port': 9090, 'token': '', 'topic': '/naoqi_driver/audio'}
@@ -60,18 +68,26 @@ ACTIVE_WINDOW = 2.0
 XMLRPC_INT_MAX = 2 ** 31 - 1
 
 
+class Log(Protocol):
+    """Where the bridge logs: rospy's loggers in the node (_RosLog), a logging.Logger in tests."""
+
+    def info(self, text: str) -> None: ...
+
+    def warning(self, text: str) -> None: ...
+
+
 class SequenceTracker:
     """Counts buffers missing from sequence gaps; tells capture restarts from losses."""
 
-    def __init__(self, stream_id=None, last_sequence=None):
+    def __init__(self, stream_id: Optional[int] = None, last_sequence: Optional[int] = None) -> None:
         self.stream_id, self.last = stream_id, last_sequence
         self.lost = 0
         self.resets = 0
 
-    def observe(self, stream_id, sequence):
+    def observe(self, stream_id: int, sequence: int) -> Tuple[int, Optional[str]]:
         """Account one frame. Returns (missing_before_it, event) with event None, 'start',
         'reset' (new stream id: capture restarted) or 'backwards' (sequence went back)."""
-        if self.stream_id is None:
+        if self.stream_id is None or self.last is None:     # both are set together
             event, missing = 'start', 0
         elif stream_id != self.stream_id:
             event, missing = 'reset', 0
@@ -85,9 +101,9 @@ class SequenceTracker:
         self.lost += missing
         return missing, event
 
-    def implausible(self, stream_id, sequence):
+    def implausible(self, stream_id: int, sequence: int) -> bool:
         """True for a jump of more than MAX_GAP buffers within the current stream."""
-        return stream_id == self.stream_id and sequence - self.last > MAX_GAP
+        return stream_id == self.stream_id and self.last is not None and sequence - self.last > MAX_GAP
 
 
 class Stats:
@@ -96,26 +112,26 @@ class Stats:
     FIELDS = ('received', 'published', 'dropped_bad', 'lost_in_gaps', 'connections',
               'rejected_connections', 'stream_resets')
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.lock = threading.Lock()
         self.counts = dict((f, 0) for f in self.FIELDS)
-        self.bad_causes = {}
-        self._latencies = []
+        self.bad_causes: Dict[str, int] = {}
+        self._latencies: List[float] = []
 
-    def add(self, field, n=1):
+    def add(self, field: str, n: int = 1) -> None:
         with self.lock:
             self.counts[field] += n
 
-    def bad(self, cause):
+    def bad(self, cause: str) -> None:
         with self.lock:
             self.counts['dropped_bad'] += 1
             self.bad_causes[cause] = self.bad_causes.get(cause, 0) + 1
 
-    def latency(self, ms):
+    def latency(self, ms: float) -> None:
         with self.lock:
             self._latencies.append(ms)
 
-    def snapshot(self, tracker):
+    def snapshot(self, tracker: SequenceTracker) -> Dict[str, Any]:
         with self.lock:
             lat, self._latencies = self._latencies, []
             out: Dict[str, Any] = dict(self.counts)
@@ -129,7 +145,7 @@ class Stats:
         return xmlrpc_safe(out)
 
 
-def xmlrpc_safe(value):
+def xmlrpc_safe(value: Any) -> Any:
     """``value`` with every int outside XML-RPC's 32-bit range turned into a float, so a
     rospy.set_param of it can never fail (it did: one sequence of 10**12 stopped ~stats)."""
     if isinstance(value, dict):
@@ -139,7 +155,7 @@ def xmlrpc_safe(value):
     return value
 
 
-def to_message(frame, msg_class):
+def to_message(frame: Frame, msg_class: type) -> 'genpy.Message':
     """AudioCustomMsg from a 4-channel frame (planar or interleaved)."""
     samples = np.frombuffer(frame.payload, dtype='<i2')
     if frame.planar:
@@ -153,7 +169,8 @@ def to_message(frame, msg_class):
 class Bridge:
     """Websocket connection handler: validate, account, publish."""
 
-    def __init__(self, publish, msg_class, token, log, clock=time.monotonic):
+    def __init__(self, publish: Callable[['genpy.Message'], None], msg_class: type, token: str, log: Log,
+                 clock: Callable[[], float] = time.monotonic) -> None:
         self.publish, self.msg_class, self.token, self.log = publish, msg_class, token, log
         self.stats = Stats()
         self.tracker = SequenceTracker()
@@ -161,14 +178,15 @@ class Bridge:
         self._track_lock = threading.Lock()
         self._limiter = RateLimiter(WARN_INTERVAL)
         self._clock = clock
-        self._owner = None  # (peer, connection id, time of its last published frame)
+        # (peer, connection id, time of its last published frame)
+        self._owner: Optional[Tuple[str, Optional[int], float]] = None
 
-    def warn_limited(self, key, text):
+    def warn_limited(self, key: str, text: str) -> None:
         n = self._limiter.hit(key)
         if n:
             self.log.warning('%s (%d in the last %.0f s)' % (text, n, WARN_INTERVAL))
 
-    def check_token(self, connection, request):
+    def check_token(self, connection: 'ServerConnection', request: 'Request') -> Optional['Response']:
         """websockets process_request hook: 401 unless the handshake carries the token; 409
         while another capture connection is streaming."""
         if self.token:
@@ -191,7 +209,7 @@ class Bridge:
                                       'streaming to this publisher\n' % owner)
         return None
 
-    def _streaming_owner(self, exclude=None):
+    def _streaming_owner(self, exclude: Optional[int] = None) -> Optional[str]:
         """Peer of the connection that published within ACTIVE_WINDOW s (not ``exclude``)."""
         with self._track_lock:
             owner = self._owner
@@ -199,7 +217,7 @@ class Bridge:
             return None
         return owner[0]
 
-    def _refuse_second(self, peer, owner):
+    def _refuse_second(self, peer: str, owner: str) -> None:
         self.stats.add('rejected_connections')
         self.stats.bad('second capture')
         self.warn_limited('second capture', 'refused a second capture connection from %s: %s '
@@ -208,7 +226,7 @@ class Bridge:
                           'the other one, e.g. a naoqi_driver audio bridge), or give each its '
                           'own publisher --port and --topic' % (peer, owner))
 
-    def handle(self, connection):
+    def handle(self, connection: 'ServerConnection') -> None:
         """One capture connection: runs in its own thread until the peer goes away."""
         from websockets.exceptions import ConnectionClosed
         peer = _peer(connection)
@@ -229,13 +247,14 @@ class Bridge:
                                   ' %d bytes' % (peer, MAX_FRAME_BYTES))
         self.log.info('capture connection from %s closed' % peer)
 
-    def on_message(self, message, peer, conn=None):
+    def on_message(self, message: Union[str, bytes], peer: str, conn: Optional[int] = None) -> Optional[str]:
         """Validate, account and publish one message; returns the drop cause or None."""
         self.stats.add('received')
         if isinstance(message, str):
             self.stats.bad('text message')
-            return self.warn_limited('text message', 'dropped a text message from %s: only '
-                                     'binary frames are expected' % peer)
+            self.warn_limited('text message', 'dropped a text message from %s: only binary frames '
+                              'are expected' % peer)
+            return 'text message'
         try:
             frame = decode_frame(message)
             if frame.channels != 4:
@@ -261,20 +280,20 @@ class Bridge:
                 self.warn_limited('layout ' + kind, text)
             return 'layout mismatch'
         msg = to_message(frame, self.msg_class)
+        event: Optional[str]
         with self._track_lock:  # publish first: a frame that failed to publish counts as lost
-            if self.tracker.implausible(frame.stream_id, frame.sequence):
-                event = 'implausible'
+            previous = self.tracker.last
+            if previous is not None and self.tracker.implausible(frame.stream_id, frame.sequence):
+                event, jump = 'implausible', frame.sequence - previous
             else:
                 self.publish(msg)
-                previous = self.tracker.last
                 missing, event = self.tracker.observe(frame.stream_id, frame.sequence)
                 self._owner = (peer, conn, self._clock())
         if event == 'implausible':
             self.stats.bad('implausible sequence')
             self.warn_limited('implausible sequence', 'dropped frame from %s: implausible sequence %d '
-                              'jumps %d buffers past %d in stream %08x (more than %d: corrupt '
-                              'or forged)' % (peer, frame.sequence, frame.sequence
-                                              - self.tracker.last, self.tracker.last,
+                              'jumps %d buffers past %s in stream %08x (more than %d: corrupt '
+                              'or forged)' % (peer, frame.sequence, jump, previous,
                                               frame.stream_id, MAX_GAP))
             return 'implausible sequence'
         self.stats.add('published')
@@ -283,8 +302,9 @@ class Bridge:
         if frame.ts_sec:
             self.stats.latency((time.time() - end) * 1000.0)
         self._report(frame, missing, event, previous)
+        return None
 
-    def _report(self, frame, missing, event, previous):
+    def _report(self, frame: Frame, missing: int, event: Optional[str], previous: Optional[int]) -> None:
         if event == 'start':
             self.log.info('stream %08x: %d ch x %d samples @ %d Hz, %s, first sequence %d'
                           % (frame.stream_id, frame.channels, frame.samples_per_channel,
@@ -294,14 +314,14 @@ class Bridge:
             self.log.warning('new stream %08x from sequence %d: the capture side restarted'
                              % (frame.stream_id, frame.sequence))
         elif event == 'backwards':
-            self.log.warning('stream %08x: sequence went back from %d to %d'
+            self.log.warning('stream %08x: sequence went back from %s to %d'
                              % (frame.stream_id, previous, frame.sequence))
         if missing:
             self.warn_limited('gap', 'lost %d buffer(s) before sequence %d; %d lost in total'
                               % (missing, frame.sequence, self.tracker.lost))
 
 
-def _peer(connection):
+def _peer(connection: 'ServerConnection') -> str:
     try:
         host, port = connection.remote_address[:2]
         return '%s:%d' % (host, port)
@@ -309,7 +329,7 @@ def _peer(connection):
         return 'unknown peer'
 
 
-def parse_args(argv):
+def parse_args(argv: Sequence[str]) -> 'argparse.Namespace':
     p = OneLineParser(prog=NODE, description='Publish NAOqi audio frames received '
                                 'over a websocket as AudioCustomMsg.')
     for name in ('host', 'port', 'token', 'topic'):
@@ -320,7 +340,7 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
-def _options(args, rospy):
+def _options(args: 'argparse.Namespace', rospy: 'ModuleType') -> Dict[str, Any]:
     """Options from the command line, else the private params, else DEFAULTS. The token: see
     read_token (--token, --token-file, $PEPPER_AUDIO_TOKEN_FILE, $PEPPER_AUDIO_TOKEN); a ~token
     param still works but is readable by every node: it gets a warning and is deleted once
@@ -347,7 +367,7 @@ def _options(args, rospy):
     return opts
 
 
-def _wait_for_master(log):
+def _wait_for_master(log: Callable[[str], Any]) -> None:
     import rosgraph
     master, warned = rosgraph.Master('/' + NODE), False
     while not master.is_online():
@@ -357,7 +377,7 @@ def _wait_for_master(log):
         time.sleep(1.0)
 
 
-def _resume(bridge, rospy):
+def _resume(bridge: Bridge, rospy: 'ModuleType') -> None:
     """Continue sequence accounting from the previous run's ``~stats``, if any."""
     old = rospy.get_param('~stats', None)
     if not isinstance(old, dict) or not old.get('stream_id'):
@@ -372,7 +392,7 @@ def _resume(bridge, rospy):
                       'the previous ~stats)', old['stream_id'], last)
 
 
-def _stats_loop(bridge, stop, rospy):
+def _stats_loop(bridge: Bridge, stop: threading.Event, rospy: 'ModuleType') -> None:
     while not stop.wait(STATS_INTERVAL):
         _write_stats(bridge, rospy)
 
@@ -380,7 +400,7 @@ def _stats_loop(bridge, stop, rospy):
 _STATS_LIMITER = RateLimiter(60.0)
 
 
-def _write_stats(bridge, rospy):
+def _write_stats(bridge: Bridge, rospy: 'ModuleType') -> None:
     with bridge._track_lock:
         snap = bridge.stats.snapshot(bridge.tracker)
     try:
@@ -392,7 +412,7 @@ def _write_stats(bridge, rospy):
                              % (NODE, n, exc))
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     import rospy
     from websockets.sync.server import serve
 
@@ -429,7 +449,7 @@ def main(argv=None):
         opts['host'], port, ' (token required)' if opts['token'] else '',
         rospy.resolve_name(opts['topic'])))
 
-    def shutdown():
+    def shutdown() -> None:
         stop.set()
         server.shutdown()
         _write_stats(bridge, rospy)
@@ -441,5 +461,5 @@ def main(argv=None):
 class _RosLog:
     """Bridge's log sink: rospy's loggers (they reach stderr and /rosout)."""
 
-    def __init__(self, rospy):
+    def __init__(self, rospy: 'ModuleType') -> None:
         self.info, self.warning = rospy.loginfo, rospy.logwarn

@@ -25,6 +25,7 @@ import shutil
 import subprocess
 import threading
 import wave
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -43,11 +44,11 @@ ESPEAK = 'espeak-ng'
 FULL_SCALE = 32767.0
 
 
-def _dbfs(db):
+def _dbfs(db: float) -> float:
     return FULL_SCALE * 10.0 ** (db / 20.0)
 
 
-def expected_counter(start_index, n, channels=4):
+def expected_counter(start_index: int, n: int, channels: int = 4) -> np.ndarray:
     """The ``counter`` pattern for samples start_index .. start_index+n-1: int16 (n, channels)."""
     out = np.empty((int(n), channels), dtype=np.int16)
     steps = np.arange(int(n), dtype=np.int64)
@@ -58,7 +59,7 @@ def expected_counter(start_index, n, channels=4):
     return out
 
 
-def find_counter_start(block, channel_index=None):
+def find_counter_start(block: np.ndarray, channel_index: Optional[int] = None) -> int:
     """Global sample index of the first row of a received ``counter`` block.
 
     ``block`` is (n, channels) int16, or a 1-D single channel together with its
@@ -91,7 +92,7 @@ def find_counter_start(block, channel_index=None):
     return start
 
 
-def _parse_wav(data):
+def _parse_wav(data: bytes) -> Tuple[np.ndarray, int]:
     """(samples float64 in -1..1, rate) from espeak-ng's streamed WAV (its sizes are bogus)."""
     with wave.open(io.BytesIO(data)) as w:
         rate, width, nch = w.getframerate(), w.getsampwidth(), w.getnchannels()
@@ -102,7 +103,7 @@ def _parse_wav(data):
     return x.reshape(-1, nch).mean(axis=1) / 32768.0, rate
 
 
-def _beeps(rate):
+def _beeps(rate: int) -> np.ndarray:
     """Three 150 ms beeps at 1 kHz, 100 ms apart: the stand-in when espeak-ng is missing."""
     t = np.arange(int(0.15 * rate)) / float(rate)
     beep = np.sin(2 * np.pi * BEEP_HZ * t)
@@ -110,7 +111,7 @@ def _beeps(rate):
     return np.concatenate([beep, gap, beep, gap, beep])
 
 
-def render_speech(text, rate):
+def render_speech(text: str, rate: int) -> np.ndarray:
     """Text -> mono float64 audio at ``rate``, peak 1.0 (espeak-ng, or beeps without it)."""
     exe = shutil.which(ESPEAK)
     audio = None
@@ -133,7 +134,8 @@ def render_speech(text, rate):
 class AudioSource:
     """Continuous synthetic microphone stream; thread-safe ``read`` and ``say``."""
 
-    def __init__(self, rate=48000, channels=4, pattern='tones', silent_channels=(), seed=0):
+    def __init__(self, rate: int = 48000, channels: int = 4, pattern: str = 'tones',
+                 silent_channels: Union[str, Sequence[str]] = (), seed: int = 0) -> None:
         if pattern not in ('tones', 'counter'):
             raise ValueError("pattern must be 'tones' or 'counter', not %r" % (pattern,))
         if isinstance(silent_channels, str):
@@ -152,29 +154,29 @@ class AudioSource:
                  enumerate(names)]
         self._tones = np.array(tones)
         self._index = 0
-        self._speech = []  # queue of float arrays (already scaled), consumed in order
+        self._speech: List[np.ndarray] = []  # queue of float arrays (already scaled), consumed in order
         self._speech_pos = 0
         self._rendering = 0
         self._lock = threading.Lock()
 
     @property
-    def index(self):
+    def index(self) -> int:
         """Global index of the next sample ``read`` will return."""
         return self._index
 
     @property
-    def speaking(self):
+    def speaking(self) -> bool:
         """True while speech is queued or being mixed into the stream."""
         with self._lock:
             return bool(self._speech) or self._rendering > 0
 
-    def say(self, text):
+    def say(self, text: str) -> None:
         """Queue ``text`` to be mixed into the stream; returns at once."""
         with self._lock:
             self._rendering += 1
         threading.Thread(target=self._render, args=(text,), name='say', daemon=True).start()
 
-    def _render(self, text):
+    def _render(self, text: str) -> None:
         try:
             audio = render_speech(text, self.rate) * _dbfs(SPEECH_PEAK_DBFS)
         finally:
@@ -183,7 +185,7 @@ class AudioSource:
         with self._lock:
             self._speech.append(audio)
 
-    def read(self, n):
+    def read(self, n: int) -> np.ndarray:
         """The next ``n`` samples of the stream: int16 ndarray (n, channels)."""
         n = int(n)
         with self._lock:
@@ -204,7 +206,7 @@ class AudioSource:
         out[:, self.silent] = 0
         return np.clip(np.rint(out), -32768, 32767).astype(np.int16)
 
-    def _take_speech(self, n):
+    def _take_speech(self, n: int) -> Optional[np.ndarray]:
         """Next n samples of queued speech (float), or None when nothing is queued. Lock held."""
         if not self._speech:
             return None

@@ -21,6 +21,7 @@ import subprocess
 import sys
 import time
 from collections import OrderedDict
+from typing import IO, Dict, Mapping, Optional, Sequence, Set, Tuple
 
 import rosgraph
 
@@ -55,12 +56,13 @@ class RecordError(RuntimeError):
     pass
 
 
-def _published(uri):
+def _published(uri: str) -> Set[str]:
     state = rosgraph.Master('/recordTestBags', master_uri=uri).getSystemState()
     return {t for t, _ in state[0]}
 
 
-def record_variant(name, out_dir, env, seconds, resolution, compression, log):
+def record_variant(name: str, out_dir: str, env: Mapping[str, str], seconds: float, resolution: str,
+                   compression: str, log: IO[str]) -> str:
     profile_name, faults, extra = VARIANTS[name]
     parse_faults(faults)                                   # fail early on a typo
     profile = build_profile(profile_name, realsense=True, audio='direct', resolution=resolution,
@@ -111,7 +113,7 @@ def record_variant(name, out_dir, env, seconds, resolution, compression, log):
     return path
 
 
-def summarize(path):
+def summarize(path: str) -> Tuple[float, Dict[str, Tuple[str, int]]]:
     import rosbag
     with rosbag.Bag(path) as bag:
         info = bag.get_type_and_topic_info().topics
@@ -119,7 +121,7 @@ def summarize(path):
         return duration, {t: (i.msg_type, i.message_count) for t, i in sorted(info.items())}
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(prog='recordTestBags', description=__doc__.split('\n\n')[0])
     p.add_argument('--out', required=True, help='directory for the bags (created)')
     p.add_argument('--seconds', type=float, default=4.0, help='recording window per bag (4)')

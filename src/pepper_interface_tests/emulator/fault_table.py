@@ -3,6 +3,7 @@ fault (with its value), the sensors it applies to, and what it does. The effects
 form of docs/emulator.md's table; a fault added to faults.py without one here still gets a row
 (pointing at the docs), so the table never hides one."""
 import textwrap
+from typing import Optional, Sequence
 
 from . import faults
 
@@ -40,13 +41,13 @@ KIND_NAMES = {'camera': 'cameras', 'stereo': 'stereoCamera', 'depth': 'depth cam
               'odometry': 'odometry', 'imu': 'imu'}
 
 
-def applies_to(kinds):
+def applies_to(kinds: Optional[Sequence[str]]) -> str:
     if kinds is None:
         return 'every sensor'
     return ', '.join(KIND_NAMES.get(k, k) for k in kinds)
 
 
-def table(width=79):
+def table(width: int = 79) -> str:
     rows = [(name + ('=VALUE' if takes else ''), applies_to(kinds),
              EFFECTS.get(name, 'see docs/emulator.md'))
             for name, (takes, kinds) in faults.FAULTS.items()]

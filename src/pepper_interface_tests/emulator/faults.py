@@ -11,14 +11,14 @@ Sensor names are the canonical names (any spelling the catalog knows, case-insen
 fault names are case-insensitive. Every mistake raises FaultError naming the valid choices.
 """
 from dataclasses import dataclass
-from typing import Dict, Optional
+from typing import Any, Dict, Optional, Tuple
 
 from ..plan import catalog
 from .profiles import MIC_CHANNELS
 
 # fault name -> (takes a value?, sensor kinds it applies to; None = every kind)
 IMAGE = ('camera', 'stereo', 'depth')
-FAULTS = {
+FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'silent': (False, None),
     'rate': (True, None),
     'die_after': (True, None),
@@ -76,7 +76,7 @@ class Faults:
     nan_attitude: bool = False      # imu: NaN orientation, covariance still -1 (a broken IMU)
     all_blind: bool = False         # laser: every slot blind (-1.0 robot, NaN simulator)
     no_returns: bool = False        # laser, simulator: no point reaches laser_2 (all NaN)
-    silent_channel: tuple = ()
+    silent_channel: Tuple[str, ...] = ()
     stuck: bool = False             # the data of one message republished with new stamps
     after: Optional[float] = None   # stuck/frozen/black/silent_channel from T s after the first subscriber
     dead_accelerometer: bool = False    # imu: linear acceleration 0, 0, 0
@@ -87,7 +87,7 @@ class Faults:
     far_depth: bool = False         # depth: every pixel about 20 m
     flat_depth: bool = False        # depth: every pixel 1.5 m
 
-    def describe(self):
+    def describe(self) -> str:
         out = []
         for name in FAULTS:
             value = getattr(self, name)
@@ -101,16 +101,16 @@ class Faults:
 HEALTHY = Faults()
 
 
-def valid_sensors():
+def valid_sensors() -> str:
     return ', '.join(SENSOR_KINDS)
 
 
-def valid_faults(kind=None):
-    return ', '.join(n + ('=VALUE' if FAULTS[n][0] else '') for n in FAULTS
-                     if kind is None or FAULTS[n][1] is None or kind in FAULTS[n][1])  # type: ignore[operator]  # FAULTS[n][1] is a tuple when not None
+def valid_faults(kind: Optional[str] = None) -> str:
+    return ', '.join(n + ('=VALUE' if takes else '') for n, (takes, kinds) in FAULTS.items()
+                     if kind is None or kinds is None or kind in kinds)
 
 
-def _number(sensor, fault, value, positive_only=True):
+def _number(sensor: str, fault: str, value: str, positive_only: bool = True) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
@@ -122,12 +122,12 @@ def _number(sensor, fault, value, positive_only=True):
     return number
 
 
-def parse_faults(text):
+def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
     """Parse a fault string into {canonical sensor name: Faults}. Empty/None -> {}."""
     if text is None:
         return {}
     text = str(text).strip()
-    found: Dict[str, dict] = {}
+    found: Dict[str, Dict[str, Any]] = {}
     for entry in (e.strip() for e in text.replace('\n', ';').split(';')):
         if not entry:
             continue
@@ -180,6 +180,6 @@ def parse_faults(text):
     return {name: Faults(**values) for name, values in found.items()}
 
 
-def format_faults(faults):
+def format_faults(faults: Dict[str, Faults]) -> str:
     """Inverse of parse_faults (canonical spelling)."""
     return ';'.join('%s:%s' % (name, f.describe()) for name, f in faults.items() if f.describe())

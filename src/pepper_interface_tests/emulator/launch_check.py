@@ -12,9 +12,10 @@ roslaunch stop before it starts anything.
 """
 import argparse
 import sys
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple
 
 
-def find_packages(names):
+def find_packages(names: Iterable[str]) -> Tuple[Dict[str, str], List[str]]:
     import rospkg
     rospack = rospkg.RosPack()
     found, missing = {}, []
@@ -26,7 +27,7 @@ def find_packages(names):
     return found, missing
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(prog='launch_check')
     p.add_argument('packages', help='comma-separated ROS package names')
     p.add_argument('--launch', default='this launch file')

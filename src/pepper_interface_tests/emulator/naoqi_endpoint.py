@@ -27,6 +27,7 @@ import socket
 import sys
 import threading
 import time
+from typing import Any, Dict, NoReturn, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -46,19 +47,19 @@ SUBSCRIBER_QUEUE = 8
 class Subscriber:
     """One subscribed module: its preferences, decimation state and delivery thread."""
 
-    def __init__(self, session, name, flag, planar):
+    def __init__(self, session: Any, name: str, flag: int, planar: bool) -> None:
         self.session, self.name, self.flag, self.planar = session, name, flag, planar
         self._carry = np.zeros(0, dtype=np.float64)
         self._queue: collections.deque = collections.deque()
         self._cond = threading.Condition()
         self._stopped = False
-        self._proxy = None
+        self._proxy: Any = None      # the subscriber's service once found (a qi object)
         self._limiter = RateLimiter(5.0)
         self.delivered = 0
         self._thread = threading.Thread(target=self._run, name='deliver-' + name, daemon=True)
         self._thread.start()
 
-    def push(self, block, ts):
+    def push(self, block: np.ndarray, ts: Tuple[int, int]) -> None:
         """Format one 4-channel 48 kHz block per this subscriber's preferences and queue it."""
         if self.flag == 0:
             data = np.ascontiguousarray(block.T) if self.planar else block
@@ -79,12 +80,12 @@ class Subscriber:
             self._queue.append(item)
             self._cond.notify()
 
-    def stop(self):
+    def stop(self) -> None:
         with self._cond:
             self._stopped = True
             self._cond.notify()
 
-    def _run(self):
+    def _run(self) -> None:
         while True:
             with self._cond:
                 while not self._queue and not self._stopped:
@@ -108,18 +109,18 @@ class Subscriber:
 class AudioDevice:
     """The engine behind the ALAudioDevice service: the real-time pump and the subscribers."""
 
-    def __init__(self, session, source):
+    def __init__(self, session: Any, source: AudioSource) -> None:
         self.session, self.source = session, source
-        self.prefs = {}
-        self.subscribers = {}
+        self.prefs: Dict[str, Tuple[int, bool]] = {}
+        self.subscribers: Dict[str, Subscriber] = {}
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._pump, name='pump', daemon=True)
 
-    def start(self):
+    def start(self) -> None:
         self._thread.start()
 
-    def stop(self):
+    def stop(self) -> None:
         self._stop.set()
         self._thread.join(5)
         with self._lock:
@@ -127,7 +128,7 @@ class AudioDevice:
                 sub.stop()
             self.subscribers.clear()
 
-    def set_preferences(self, module, rate, flag, deinterleaved):
+    def set_preferences(self, module: str, rate: int, flag: int, deinterleaved: bool) -> None:
         flag = int(flag)
         if flag not in CHANNEL_FLAGS:
             raise RuntimeError('ALAudioDevice::setClientPreferences: channelsFlag %d is not one '
@@ -139,7 +140,7 @@ class AudioDevice:
         with self._lock:
             self.prefs[module] = (flag, bool(deinterleaved))
 
-    def subscribe(self, module):
+    def subscribe(self, module: str) -> None:
         with self._lock:
             flag, planar = self.prefs.get(module, (0, False))
             old = self.subscribers.pop(module, None)
@@ -149,7 +150,7 @@ class AudioDevice:
         LOG.info('%s subscribed: channels %s, %s', module, CHANNEL_FLAGS[flag],
                  'planar' if planar else 'interleaved')
 
-    def unsubscribe(self, module):
+    def unsubscribe(self, module: str) -> None:
         with self._lock:
             sub = self.subscribers.pop(module, None)
         if sub is None:
@@ -157,7 +158,7 @@ class AudioDevice:
         sub.stop()
         LOG.info('%s unsubscribed after %d buffers', module, sub.delivered)
 
-    def _pump(self):
+    def _pump(self) -> None:
         """Read one buffer per 4096/48000 s, scheduled on absolute time, and fan it out."""
         period = BUFFER_SAMPLES / float(RATE_ALL)
         t0, wall0, i = time.monotonic(), time.time(), 0
@@ -187,31 +188,31 @@ class AudioDevice:
 class ALAudioDeviceService:
     """What NAOqi clients see as ALAudioDevice."""
 
-    def __init__(self, device):
+    def __init__(self, device: AudioDevice) -> None:
         self._device = device
 
-    def setClientPreferences(self, module, sampleRate, channelsFlag, deinterleaved):
+    def setClientPreferences(self, module: str, sampleRate: int, channelsFlag: int, deinterleaved: bool) -> None:
         self._device.set_preferences(str(module), sampleRate, channelsFlag, deinterleaved)
 
-    def subscribe(self, module):
+    def subscribe(self, module: str) -> None:
         self._device.subscribe(str(module))
 
-    def unsubscribe(self, module):
+    def unsubscribe(self, module: str) -> None:
         self._device.unsubscribe(str(module))
 
 
 class ALTextToSpeechService:
     """What NAOqi clients see as ALTextToSpeech: the words end up in the microphone stream."""
 
-    def __init__(self, source):
+    def __init__(self, source: AudioSource) -> None:
         self._source = source
 
-    def say(self, text):
+    def say(self, text: str) -> None:
         LOG.info('say %r', text)
         self._source.say(str(text))
 
 
-def _host(value):
+def _host(value: str) -> str:
     try:
         socket.inet_aton(value)
     except (OSError, ValueError):
@@ -221,7 +222,7 @@ def _host(value):
     return value
 
 
-def parse_args(argv):
+def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p = OneLineParser(prog='naoqiEndpoint', description=__doc__.split('\n')[0])
     p.add_argument('--port', type=listen_port_arg, default=9559,
                    help='TCP port (default 9559; 0 = any free port, the ready line says which)')
@@ -236,7 +237,7 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
-def _start_qi(url):
+def _start_qi(url: str) -> Any:
     import qi
     logging_mod = getattr(qi, 'logging', None)
     if logging_mod is not None and hasattr(logging_mod, 'setFilters'):
@@ -247,7 +248,7 @@ def _start_qi(url):
     return app
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parse_args(without_remappings(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(level=logging.INFO, stream=sys.stderr,
                         format='naoqiEndpoint: %(levelname)s: %(message)s')
@@ -283,7 +284,7 @@ def main(argv=None):
     return exit_now(0)
 
 
-def exit_now(code):
+def exit_now(code: int) -> NoReturn:
     """Flush and leave without interpreter teardown: libqi-python (3.1.5) can deadlock when
     Python finalizes its Application (its event loop waits for the GIL the finalizer holds)."""
     logging.shutdown()

@@ -31,6 +31,7 @@ Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no
 import argparse
 import sys
 import threading
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Union
 
 import rosgraph
 import rospy
@@ -40,8 +41,11 @@ from ..plan import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
-from .publishers import KINDS, AudioPublisher, Clock, ClockPublisher
+from .publishers import KINDS, AudioPublisher, Clock, ClockPublisher, StreamPublisher
 from .speech import DirectSpeech, NaoqiSpeech
+
+if TYPE_CHECKING:
+    from .audio_source import AudioSource
 
 NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
@@ -53,8 +57,8 @@ DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127
 class EmulatorConfig:
     """Validated settings of one emulator run (read once)."""
 
-    def __init__(self, values):
-        v = dict(DEFAULTS)
+    def __init__(self, values: Dict[str, Any]) -> None:
+        v: Dict[str, Any] = dict(DEFAULTS)      # param values: whatever rosparam holds
         v.update({k: val for k, val in values.items() if val is not None})
         self.profile = settings.choice(v['profile'], PROFILES, '~profile')
         self.realsense = settings.parse_bool(v['realsense'], key='~realsense')
@@ -70,7 +74,7 @@ class EmulatorConfig:
         self.real_time_factor = self._positive(v, 'real_time_factor', 'e.g. 0.6 (Gazebo slower '
                                                'than real time) or 1.0', upper=10)
         try:
-            self.audio_buffer = int(v['audio_buffer'] or 0)  # type: ignore[call-overload]  # a param value (int or str)
+            self.audio_buffer = int(v['audio_buffer'] or 0)
         except (TypeError, ValueError):
             self.audio_buffer = -1
         if not 0 <= self.audio_buffer <= 65536:
@@ -78,7 +82,7 @@ class EmulatorConfig:
                                        fix='give samples per channel, e.g. 4096 or 8192 (0 = default)')
         self.naoqi_url = str(v['naoqi_url'])
         try:
-            self.rate_factor = float(v['rate_factor'])  # type: ignore[arg-type]  # a param value (float or str)
+            self.rate_factor = float(v['rate_factor'])
         except (TypeError, ValueError):
             self.rate_factor = -1.0
         if not 0 < self.rate_factor < 1000:
@@ -89,9 +93,9 @@ class EmulatorConfig:
             raise settings.ConfigError('~camera_resolution "%s" is not valid' % v['camera_resolution'],
                                        fix='use one of: ' + ', '.join(RESOLUTIONS))
         self.camera_resolution = res
-        self.seed = int(v['seed'])  # type: ignore[call-overload]  # a param value (int or str)
+        self.seed = int(v['seed'])
         self.audio_pattern = settings.choice(v['audio_pattern'], ('tones', 'counter'), '~audio_pattern')
-        self.ignored = []
+        self.ignored: List[str] = []
         if self.profile == 'simulator':
             if self.realsense:
                 self.ignored.append('~realsense (the simulator has no RealSense camera)')
@@ -120,7 +124,7 @@ class EmulatorConfig:
 
 
     @staticmethod
-    def _positive(v, key, example, upper=1000):
+    def _positive(v: Dict[str, Any], key: str, example: str, upper: float = 1000) -> float:
         try:
             value = float(v[key])
         except (TypeError, ValueError):
@@ -131,7 +135,7 @@ class EmulatorConfig:
         return value
 
 
-def _params():
+def _params() -> Dict[str, Any]:
     out = {}
     for key in DEFAULTS:
         if rospy.has_param('~' + key):
@@ -139,7 +143,7 @@ def _params():
     return out
 
 
-def _parser():
+def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog=NODE_NAME, description='A Pepper robot (naoqi_driver) or Gazebo simulator that '
         'publishes every sensor topic as the real drivers do, optionally with injected faults. '
@@ -189,19 +193,19 @@ def _parser():
 class Emulator:
     """Owns the publisher threads, the speech relay and the audio source of one run."""
 
-    def __init__(self, config):
+    def __init__(self, config: EmulatorConfig) -> None:
         self.config = config
         self.stop_event = threading.Event()
         sim = config.profile_spec.sim_time
         self.clock = Clock(config.real_time_factor if sim else None)
-        self.clock_thread = None
+        self.clock_thread: Optional[ClockPublisher] = None
         self.set_sim_time = False
-        self.threads = []
-        self.source = None
-        self.speech = None
-        self.speech_sub = None
+        self.threads: List[StreamPublisher] = []
+        self.source: Optional[AudioSource] = None
+        self.speech: Optional[Union[DirectSpeech, NaoqiSpeech]] = None
+        self.speech_sub: Optional[rospy.Subscriber] = None
 
-    def start(self):
+    def start(self) -> None:
         cfg = self.config
         from . import scene
         scene.standing_still(cfg.condition == 'still')
@@ -213,6 +217,7 @@ class Emulator:
                 self.set_sim_time = True
         for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
+            pub: StreamPublisher
             cls = KINDS[spec.kind]
             seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
@@ -224,8 +229,7 @@ class Emulator:
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,
                           cfg.condition, source=self.source)
             else:
-                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed,  # type: ignore[call-arg,assignment]  # cls: one of the publisher classes
-                          cfg.condition)
+                pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed, cfg.condition)
             self.threads.append(pub)
         topic = cfg.profile_spec.speech_topic
         if topic:
@@ -239,11 +243,11 @@ class Emulator:
         for t in self.threads:
             t.start()
 
-    def _on_speech(self, msg):
+    def _on_speech(self, msg: String) -> None:
         rospy.loginfo('pepperEmulator: /speech "%s"', msg.data)
         self.speech.say(msg.data)  # type: ignore[union-attr]  # set in start() before any /speech
 
-    def summary_line(self):
+    def summary_line(self) -> str:
         cfg = self.config
         topics = sum(1 + len(t.spec.extra) for t in self.threads)
         faults = faults_mod.format_faults(cfg.faults) or 'none'
@@ -259,7 +263,7 @@ class Emulator:
                 'faults: %s)' % (len(self.threads), topics, cfg.profile, extra, cfg.rate_factor,
                                  faults))
 
-    def stop(self):
+    def stop(self) -> None:
         self.stop_event.set()
         for t in self.threads:
             t.join(2.0)
@@ -283,7 +287,7 @@ class Emulator:
                 pass
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     argv = rospy.myargv(sys.argv if argv is None else argv)
     args = _parser().parse_args(argv[1:])
     if args.list_faults:

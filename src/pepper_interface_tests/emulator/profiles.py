@@ -8,7 +8,7 @@ Pepper simulator and the RealSense driver as listed in docs/emulator.md.
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from ..plan import settings
 
@@ -59,7 +59,7 @@ SIM_LASER_SLOTS = 61 * 8
 SIM_LASER_ANGLE = math.radians(120.0)
 
 
-def laser_blind_mask():
+def laser_blind_mask() -> List[bool]:
     """Boolean list, True for the 16 blind beams of the 61-beam layout."""
     mask = [False] * LASER_BEAMS
     first = LASER_SEGMENT
@@ -92,7 +92,7 @@ class SensorSpec:
     noise: float = 0.0          # standard deviation of the reading noise (m)
 
     @property
-    def msg_type(self):
+    def msg_type(self) -> str:
         return {'camera': 'sensor_msgs/Image', 'depth': 'sensor_msgs/Image',
                 'stereo': 'sensor_msgs/Image', 'laser': 'sensor_msgs/LaserScan',
                 'sonar': 'sensor_msgs/Range', 'imu': 'sensor_msgs/Imu',
@@ -101,7 +101,7 @@ class SensorSpec:
                 'audiobuffer': 'naoqi_bridge_msgs/AudioBuffer'}[self.kind]
 
     @property
-    def is_image(self):
+    def is_image(self) -> bool:
         return self.kind in ('camera', 'depth', 'stereo')
 
 
@@ -114,35 +114,36 @@ class Profile:
     notes: Tuple[str, ...] = field(default=())
     sim_time: bool = False      # publishes /clock and sets /use_sim_time (the Gazebo simulator)
 
-    def sensor(self, name):
+    def sensor(self, name: str) -> Optional[SensorSpec]:
         for s in self.sensors:
             if s.name == name:
                 return s
         return None
 
 
-def topics_file(profile, path=None):
+def topics_file(profile: str, path: Optional[str] = None) -> str:
     if path:
         return path
     name = 'simulatorTopics.dat' if profile == 'simulator' else 'pepperTopics.dat'
     return os.path.join(settings.package_dir(), 'data', name)
 
 
-def _need(topics, name, path):
+def _need(topics: Dict[str, str], name: str, path: str) -> str:
     if name not in topics:
         raise settings.ConfigError('no topic for sensor "%s"' % name, path,
                                    fix='add a line "%s /topic/name" to the topics file' % name)
     return topics[name]
 
 
-def default_resolution(profile):
+def default_resolution(profile: str) -> str:
     """front/bottom camera resolution of each driver's share/boot_config.json: stock
     naoqi_driver asks QVGA ("resolution": 1), the CSSR4Africa fork VGA ("resolution": 2)."""
     return 'VGA' if profile == 'robot' else 'QVGA'
 
 
-def robot_profile(path=None, realsense=False, audio='bridge', resolution=None, stock=False,
-                  head='stereo', audio_buffer=None):
+def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',
+                  resolution: Optional[str] = None, stock: bool = False, head: str = 'stereo',
+                  audio_buffer: Optional[int] = None) -> Profile:
     """naoqi_driver on a physical Pepper (NAOqi 2.5): the CSSR4Africa fork (robot) or stock
     ros-naoqi/naoqi_driver (robot-stock), plus the RealSense D435i when asked.
     Every number is the driver's; file:line references are to ros-naoqi/naoqi_driver master
@@ -222,7 +223,7 @@ def robot_profile(path=None, realsense=False, audio='bridge', resolution=None, s
                    notes=tuple(notes))
 
 
-def simulator_profile(path=None):
+def simulator_profile(path: Optional[str] = None) -> Profile:
     """The Gazebo simulator CSSR4Africa installs: awesomebytes/pepper_robot branch
     correct_chain_model_and_gazebo_enabled (pepper_description/urdf/pepper1.0_generated_urdf/
     pepperGazeboCPU.xacro, loaded by pepper_upload_CPU.launch) and awesomebytes/pepper_virtual
@@ -260,8 +261,9 @@ def simulator_profile(path=None):
     return Profile('simulator', sensors, speech_topic=None, topics_file=path, sim_time=True)
 
 
-def build_profile(name, path=None, realsense=False, audio='bridge', resolution=None,
-                  head='stereo', audio_buffer=None):
+def build_profile(name: str, path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',
+                  resolution: Optional[str] = None, head: str = 'stereo',
+                  audio_buffer: Optional[int] = None) -> Profile:
     if name in ('robot', 'robot-stock'):
         return robot_profile(path, realsense, audio, resolution, stock=name == 'robot-stock',
                              head=head, audio_buffer=audio_buffer)

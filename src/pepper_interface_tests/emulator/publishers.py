@@ -12,7 +12,7 @@ every header stamp is the simulated time (the /clock the emulator publishes).
 import math
 import threading
 import time
-from typing import Any
+from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple, Type
 
 import numpy as np
 import rospy
@@ -22,7 +22,7 @@ from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
 from . import scene
-from .faults import HEALTHY
+from .faults import HEALTHY, Faults
 from .profiles import (
     AUDIO_RATE,
     JOINT_NAMES,
@@ -33,8 +33,14 @@ from .profiles import (
     LASER_INCREMENT,
     SIM_LASER_ANGLE,
     SIM_LASER_SLOTS,
+    SensorSpec,
     laser_blind_mask,
 )
+
+if TYPE_CHECKING:
+    import genpy
+
+    from .audio_source import AudioSource
 
 BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
 LOADED_CAMERA_HZ = 1.3
@@ -52,16 +58,16 @@ class Clock:
 
     SIM_START = 0.001
 
-    def __init__(self, rtf=None):
+    def __init__(self, rtf: Optional[float] = None) -> None:
         self.t0 = time.monotonic()
         self.rtf = rtf
         self.sim = rtf is not None
-        self.speed = rtf if self.sim else 1.0
+        self.speed = rtf if rtf is not None else 1.0
 
-    def now(self):
+    def now(self) -> float:
         return (time.monotonic() - self.t0) * self.speed + (self.SIM_START if self.sim else 0.0)
 
-    def stamp(self):
+    def stamp(self) -> 'rospy.Time':
         return rospy.Time.from_sec(self.now()) if self.sim else rospy.Time.now()
 
 
@@ -70,14 +76,14 @@ class ClockPublisher(threading.Thread):
 
     CLOCK_HZ = 100.0
 
-    def __init__(self, clock, stop):
+    def __init__(self, clock: Clock, stop: threading.Event) -> None:
         super().__init__(name='pub-clock', daemon=True)
         from rosgraph_msgs.msg import Clock as ClockMsg
         self.clock, self.stop, self.msg_class = clock, stop, ClockMsg
         self.pub = rospy.Publisher('/clock', ClockMsg, queue_size=10)
         self.published = 0
 
-    def run(self):
+    def run(self) -> None:
         period = 1.0 / self.CLOCK_HZ
         while not self.stop.wait(period):
             try:
@@ -87,7 +93,7 @@ class ClockPublisher(threading.Thread):
                 if rospy.is_shutdown() or self.stop.is_set():
                     break
 
-    def close(self):
+    def close(self) -> None:
         self.pub.unregister()
 
 
@@ -96,7 +102,8 @@ class StreamPublisher(threading.Thread):
 
     queue_size = 10
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal'):
+    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
+                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(name='pub-' + spec.name, daemon=True)
         self.spec = spec
         self.faults = faults or HEALTHY
@@ -113,30 +120,30 @@ class StreamPublisher(threading.Thread):
         self.rng = np.random.default_rng(seed)
         self.published = 0
         self.dead = False
-        self.error = None
-        self.first_wanted = None    # scene time of the first tick with a subscriber
-        self.stuck_msgs = {}        # output index -> the message republished by the fault stuck
+        self.error: Optional[str] = None
+        self.first_wanted: Optional[float] = None    # scene time of the first tick with a subscriber
+        self.stuck_msgs: Dict[int, genpy.Message] = {}   # output index -> the message republished by the fault stuck
         topics = [(spec.topic, spec.frame_id)] + list(spec.extra)
         msg_class = String if self.faults.wrong_type else self.msg_class()
         self.outputs = [(rospy.Publisher(topic, msg_class, queue_size=self.queue_size), frame)
                         for topic, frame in topics]
 
     # -- to override
-    def msg_class(self):
+    def msg_class(self) -> type:
         raise NotImplementedError
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         """The message for output `index` (0 = main topic) at scene time t."""
         raise NotImplementedError
 
-    def always_tick(self, t):
+    def always_tick(self, t: float) -> None:
         """Work done on every tick, subscribed or not (the audio stream keeps flowing)."""
 
     # -- machinery
-    def wanted(self):
+    def wanted(self) -> bool:
         return any(pub.get_num_connections() > 0 for pub, _ in self.outputs)
 
-    def partial_on(self, t):
+    def partial_on(self, t: float) -> bool:
         """True once a partial fault (stuck, frozen, black, silent_channel) is in force: at
         once, or with after=T from T s after the stream's first subscriber."""
         after = self.faults.after
@@ -144,7 +151,7 @@ class StreamPublisher(threading.Thread):
             return True
         return self.first_wanted is not None and t - self.first_wanted >= after
 
-    def tick(self):
+    def tick(self) -> None:
         t = self.clock.now()
         self.always_tick(t)
         if self.faults.silent or not self.wanted():
@@ -169,14 +176,14 @@ class StreamPublisher(threading.Thread):
             pub.publish(msg)
         self.published += 1
 
-    def die(self):
+    def die(self) -> None:
         self.dead = True
         for pub, _ in self.outputs:
             pub.unregister()
         rospy.loginfo('pepperEmulator: %s stopped after %.1f s (fault die_after)',
                       self.spec.topic, self.faults.die_after)
 
-    def run(self):
+    def run(self) -> None:
         period = 1.0 / self.rate
         t0 = time.monotonic()
         k = 0
@@ -203,7 +210,7 @@ class StreamPublisher(threading.Thread):
             if late > period:
                 k += int(late / period)
 
-    def close(self):
+    def close(self) -> None:
         for pub, _ in self.outputs:
             if not self.dead:
                 pub.unregister()
@@ -214,7 +221,8 @@ class StreamPublisher(threading.Thread):
 class ImagePublisher(StreamPublisher):
     queue_size = 2
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal'):
+    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
+                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.dark = condition == 'dark' and spec.kind != 'depth'
         self.renderer: Any
@@ -225,12 +233,12 @@ class ImagePublisher(StreamPublisher):
         else:
             self.renderer = scene.ColourCamera(spec.width, spec.height, spec.hfov, view=spec.view)
         self.bpp = BYTES_PER_PIXEL[spec.encoding]
-        self.cached = None
+        self.cached: Optional[bytes] = None
 
-    def msg_class(self):
+    def msg_class(self) -> type:
         return Image
 
-    def pixels(self, t):
+    def pixels(self, t: float) -> bytes:
         f = self.faults
         if f.black and self.partial_on(t):
             if self.cached is None:
@@ -250,7 +258,7 @@ class ImagePublisher(StreamPublisher):
             img = np.full_like(img, 1500)
         return img.tobytes()
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         s, f = self.spec, self.faults
         msg = Image()
         msg.height, msg.width = s.height, s.width
@@ -268,14 +276,15 @@ class ImagePublisher(StreamPublisher):
 class LaserPublisher(StreamPublisher):
     """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout)."""
 
-    def __init__(self, *a, **kw):
-        super().__init__(*a, **kw)
+    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
+                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
+        super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.blind = np.asarray(laser_blind_mask())
 
-    def msg_class(self):
+    def msg_class(self) -> type:
         return LaserScan
 
-    def naoqi_ranges(self, t):
+    def naoqi_ranges(self, t: float) -> Tuple[np.ndarray, float, float, float]:
         """laser.cpp:165-205: each measured slot is the raw distance of a point in
         base_footprint, never clipped to range_max; the blind slots keep -1.0 (reset(), :221)."""
         s = self.spec
@@ -285,7 +294,7 @@ class LaserPublisher(StreamPublisher):
             ranges[:] = LASER_BLIND_VALUE
         return ranges, -LASER_ANGLE, LASER_ANGLE, LASER_INCREMENT
 
-    def gazebo_ranges(self, t):
+    def gazebo_ranges(self, t: float) -> Tuple[np.ndarray, float, float, float]:
         """laser_publisher.py:293-395, 424-497: the 45 points of three 15-ray lasers, in
         base_footprint, each written into the slot of its own angle; every other slot NaN."""
         s = self.spec
@@ -301,7 +310,7 @@ class LaserPublisher(StreamPublisher):
             ranges[:] = np.nan
         return ranges, -SIM_LASER_ANGLE, SIM_LASER_ANGLE, increment
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         s, f = self.spec, self.faults
         if s.layout == 'gazebo':
             ranges, a_min, a_max, inc = self.gazebo_ranges(t)
@@ -325,10 +334,10 @@ class LaserPublisher(StreamPublisher):
 
 
 class SonarPublisher(StreamPublisher):
-    def msg_class(self):
+    def msg_class(self) -> type:
         return Range
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         s, f = self.spec, self.faults
         msg = Range()
         msg.radiation_type = Range.ULTRASOUND
@@ -348,17 +357,17 @@ class SonarPublisher(StreamPublisher):
 
 # ---------------------------------------------------------------- body
 
-def _quaternion(yaw, broken):
+def _quaternion(yaw: float, broken: bool) -> Quaternion:
     x, y, z, w = scene.yaw_quaternion(yaw)
     k = BROKEN_QUATERNION_SCALE if broken else 1.0
     return Quaternion(x * k, y * k, z * k, w * k)
 
 
 class OdometryPublisher(StreamPublisher):
-    def msg_class(self):
+    def msg_class(self) -> type:
         return Odometry
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
         x, y, yaw = scene.robot_pose(t)
         if f.pose_jump:     # an odometry that jumps 1 m every 2 s
@@ -375,10 +384,10 @@ class OdometryPublisher(StreamPublisher):
 
 
 class ImuPublisher(StreamPublisher):
-    def msg_class(self):
+    def msg_class(self) -> type:
         return Imu
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
         _, _, yaw = scene.robot_pose(t)
         n = self.rng.normal(0.0, 1.0, 6)
@@ -419,23 +428,24 @@ _WHEEL_RADIUS, _WHEEL_BASE = 0.07, 0.2
 
 
 class JointStatePublisher(StreamPublisher):
-    def __init__(self, *a, **kw):
-        super().__init__(*a, **kw)
+    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
+                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
+        super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         n = len(_POSE)
         self.amp = 0.02 + 0.08 * self.rng.random(n)
         self.freq = 0.1 + 0.3 * self.rng.random(n)
         self.phase = 2 * math.pi * self.rng.random(n)
         self.pose = np.array([_POSE[j] for j in JOINT_NAMES if j in _POSE])
 
-    def msg_class(self):
+    def msg_class(self) -> type:
         return JointState
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
-        w = 2 * math.pi * self.freq
-        pos = self.pose + self.amp * np.sin(w * t + self.phase)
-        vel = self.amp * w * np.cos(w * t + self.phase)
-        eff = 0.05 * np.sin(w * t + self.phase + 1.0) + 0.01
+        omega = 2 * math.pi * self.freq
+        pos = self.pose + self.amp * np.sin(omega * t + self.phase)
+        vel = self.amp * omega * np.cos(omega * t + self.phase)
+        eff = 0.05 * np.sin(omega * t + self.phase + 1.0) + 0.01
         v, w = scene.speeds()
         wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
                             w * _WHEEL_BASE]) / _WHEEL_RADIUS
@@ -469,19 +479,22 @@ class AudioPublisher(StreamPublisher):
     """AudioCustomMsg from an AudioSource (the CSSR fork's bridge: four int16 arrays of
     spec.width samples each, cssr4africa/naoqi_driver scripts/naoqiAudioPublisher.py:15-34)."""
 
-    def __init__(self, spec, faults, clock, stop, rate_factor=1.0, seed=0, condition='normal',
-                 source=None):
+    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
+                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal',
+                 source: Optional['AudioSource'] = None) -> None:
+        if source is None:
+            raise ValueError('%s: an AudioPublisher needs an AudioSource' % spec.name)
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.source = source
 
-    def msg_class(self):
+    def msg_class(self) -> type:
         from pepper_interface_tests.msg import AudioCustomMsg
         return AudioCustomMsg
 
-    def always_tick(self, t):
+    def always_tick(self, t: float) -> None:
         self.block = self.source.read(self.spec.width)
 
-    def data_block(self, t):
+    def data_block(self, t: float) -> np.ndarray:
         """This tick's samples, with after=T's silent channels zeroed from T on."""
         b = self.block
         f = self.faults
@@ -492,7 +505,7 @@ class AudioPublisher(StreamPublisher):
                 b[:, MIC_CHANNELS.index(name)] = 0
         return b
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         b = self.data_block(t)
         cls = self.msg_class()
         return cls(rearLeft=b[:, 0].tolist(), rearRight=b[:, 1].tolist(),
@@ -504,11 +517,11 @@ class AudioBufferPublisher(AudioPublisher):
     62-66 channelMap [3, 5, 0, 2] on Pepper; 107-113 ALAudioDevice at 48000 Hz, all channels,
     interleaved; 177-186 one message per NAOqi buffer, data = the buffer as it came)."""
 
-    def msg_class(self):
+    def msg_class(self) -> type:
         from ..sources.naoqi_msgs import audio_buffer_class
         return audio_buffer_class()
 
-    def build(self, t, frame_id, index):
+    def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         from ..sources.naoqi_msgs import PEPPER_CHANNEL_MAP
         msg = self.msg_class()()
         msg.frequency = AUDIO_RATE
@@ -519,7 +532,7 @@ class AudioBufferPublisher(AudioPublisher):
         return msg
 
 
-KINDS = {'camera': ImagePublisher, 'depth': ImagePublisher, 'stereo': ImagePublisher,
+KINDS: Dict[str, Type[StreamPublisher]] = {'camera': ImagePublisher, 'depth': ImagePublisher, 'stereo': ImagePublisher,
          'laser': LaserPublisher, 'sonar': SonarPublisher, 'odometry': OdometryPublisher,
          'imu': ImuPublisher, 'joints': JointStatePublisher, 'audio': AudioPublisher,
          'audiobuffer': AudioBufferPublisher}

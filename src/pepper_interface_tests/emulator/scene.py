@@ -14,6 +14,7 @@ Everything is a pure function of t (plus a seeded noise generator per caller), c
 all cameras at their nominal rates: see docs/emulator.md for the measured cost.
 """
 import math
+from typing import Sequence, Tuple, Union
 
 import cv2
 import numpy as np
@@ -35,18 +36,18 @@ GRAVITY = 9.80665
 _STILL = [False]        # set once by standing_still() before any publisher starts, then read-only
 
 
-def standing_still(still=True):
+def standing_still(still: bool = True) -> None:
     """A robot that does not move (the ~condition still): pose fixed at the start, no twist.
     Called once at start-up, before the publisher threads exist."""
     _STILL[0] = bool(still)
 
 
-def speeds():
+def speeds() -> Tuple[float, float]:
     """(linear m/s, angular rad/s) of the robot."""
     return (0.0, 0.0) if _STILL[0] else (LINEAR_SPEED, ANGULAR_SPEED)
 
 
-def robot_pose(t):
+def robot_pose(t: float) -> Tuple[float, float, float]:
     """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x
     (the start pose for ever when standing still)."""
     a = 0.0 if _STILL[0] else ANGULAR_SPEED * t
@@ -54,19 +55,19 @@ def robot_pose(t):
             math.atan2(math.sin(a), math.cos(a)))
 
 
-def person_position(t):
+def person_position(t: float) -> Tuple[float, float]:
     lo, hi = PERSON_X
     span = hi - lo
     s = (PERSON_SPEED * t) % (2 * span)
     return (lo + (s if s < span else 2 * span - s), PERSON_Y)
 
 
-def yaw_quaternion(yaw):
+def yaw_quaternion(yaw: float) -> Tuple[float, float, float, float]:
     """(x, y, z, w) of a rotation about z."""
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
-def raycast(x, y, angles, t):
+def raycast(x: float, y: float, angles: Union[np.ndarray, Sequence[float]], t: float) -> np.ndarray:
     """Distances from (x, y) along world angles to the first wall, person or pillar."""
     angles = np.asarray(angles, dtype=np.float64)
     dx, dy = np.cos(angles), np.sin(angles)
@@ -88,7 +89,7 @@ def raycast(x, y, angles, t):
 
 # ---------------------------------------------------------------- colour images
 
-def _hsv_colour(h, s=200, v=220):
+def _hsv_colour(h: float, s: int = 200, v: int = 220) -> Tuple[int, ...]:
     px = np.uint8([[[int(h) % 180, s, v]]])  # type: ignore[arg-type]  # numpy accepts nested lists
     return tuple(int(c) for c in cv2.cvtColor(px, cv2.COLOR_HSV2RGB)[0, 0])
 
@@ -96,7 +97,7 @@ def _hsv_colour(h, s=200, v=220):
 class _Panorama:
     """A 360-degree strip of the room for one view size, panned by the robot's heading."""
 
-    def __init__(self, width, height, hfov, floor_view=False):
+    def __init__(self, width: int, height: int, hfov: float, floor_view: bool = False) -> None:
         self.width, self.height = width, height
         self.full = max(int(round(width * 2 * math.pi / hfov)), width + 1)
         # the gradients change in bands of rows (like a lightly compressed video): flat bands
@@ -135,7 +136,7 @@ class _Panorama:
         self.strip = strip
         self.horizon_row = int(height * horizon)
 
-    def view(self, yaw, shift=0):
+    def view(self, yaw: float, shift: int = 0) -> np.ndarray:
         offset = int(round((-yaw / (2 * math.pi)) * self.full + shift)) % self.full
         return np.ascontiguousarray(self.strip[:, offset:offset + self.width])
 
@@ -143,14 +144,14 @@ class _Panorama:
 class ColourCamera:
     """rgb8 frames of one camera (front, bottom, realsense) at one size."""
 
-    def __init__(self, width, height, hfov, view='front', seed=0):
+    def __init__(self, width: int, height: int, hfov: float, view: str = 'front', seed: int = 0) -> None:
         self.width, self.height, self.hfov, self.view_name = width, height, hfov, view
         self.pano = _Panorama(width, height, hfov, floor_view=(view == 'bottom'))
         self.focal = (width / 2.0) / math.tan(hfov / 2.0)
         self.frame = 0
         self.hue = {'front': 0, 'bottom': 45, 'realsense': 90, 'stereo': 130}.get(view, 0)
 
-    def render(self, t, shift=0, disparity_scale=0.0):
+    def render(self, t: float, shift: int = 0, disparity_scale: float = 0.0) -> np.ndarray:
         x, y, yaw = robot_pose(t)
         img = self.pano.view(yaw, shift)
         w, h = self.width, self.height
@@ -189,12 +190,12 @@ class StereoCamera:
 
     BASELINE_PX = 6
 
-    def __init__(self, width, height, hfov):
+    def __init__(self, width: int, height: int, hfov: float) -> None:
         self.half = width // 2
         self.width, self.height = width, height
         self.left = ColourCamera(self.half, height, hfov, view='stereo')
 
-    def render(self, t):
+    def render(self, t: float) -> np.ndarray:
         out = np.empty((self.height, self.width, 3), np.uint8)
         out[:, :self.half] = self.left.render(t, shift=0, disparity_scale=0.0)
         self.left.frame -= 1
@@ -212,7 +213,7 @@ class DepthCamera:
     HEIGHT_M = 1.0        # camera height above the floor
     MIN_MM, MAX_MM = 400, 6000
 
-    def __init__(self, width, height, hfov, seed=0):
+    def __init__(self, width: int, height: int, hfov: float, seed: int = 0) -> None:
         self.width, self.height = width, height
         self.focal = (width / 2.0) / math.tan(hfov / 2.0)
         cols = np.arange(width, dtype=np.float64)
@@ -227,7 +228,7 @@ class DepthCamera:
         self.rng = np.random.default_rng(seed)
         self.n_invalid = max(1, width * height // 300)
 
-    def render(self, t):
+    def render(self, t: float) -> np.ndarray:
         x, y, yaw = robot_pose(t)
         dist = raycast(x, y, yaw + self.col_angles, t)
         wall_mm = (dist * self.cos_cols * 1000.0).astype(np.float32)[None, :]
@@ -247,7 +248,8 @@ class DepthCamera:
 
 # ---------------------------------------------------------------- range sensors
 
-def laser_ranges(t, angle_min, increment, n, blind_mask, noise, rng):
+def laser_ranges(t: float, angle_min: float, increment: float, n: int, blind_mask: Union[np.ndarray, Sequence[bool]],
+                 noise: float, rng: np.random.Generator) -> np.ndarray:
     """naoqi_driver's scan: raw distances from base_footprint (no clipping), -1.0 when blind."""
     x, y, yaw = robot_pose(t)
     angles = yaw + angle_min + increment * np.arange(n)
@@ -265,7 +267,7 @@ LASER_RAYS = np.linspace(-0.5235987755982988, 0.5235987755982988, 15)
 GAZEBO_LASER_MIN, GAZEBO_LASER_MAX = 0.3, 7.0
 
 
-def gazebo_laser_points(t, noise, rng):
+def gazebo_laser_points(t: float, noise: float, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
     """The simulator's 45 laser points as (distance, angle) from base_footprint: each ray's
     range with Gazebo's noise (mean 0.01, sd `noise`), +inf beyond 7 m (nothing hit)."""
     x, y, yaw = robot_pose(t)
@@ -283,7 +285,7 @@ def gazebo_laser_points(t, noise, rng):
     return np.concatenate(dists), np.concatenate(angles)
 
 
-def sonar_range(t, back, noise, rng):
+def sonar_range(t: float, back: bool, noise: float, rng: np.random.Generator) -> float:
     """Pepper's raw sonar distance (ALMemory .../Sonar/Sensor/Value), not clipped to the 2.55 m
     naoqi_driver advertises: the nearest of a few rays in the cone."""
     x, y, yaw = robot_pose(t)
@@ -292,7 +294,7 @@ def sonar_range(t, back, noise, rng):
     return d + float(rng.normal(0.0, noise))
 
 
-def gazebo_sonar_range(t, back, range_max, noise, rng):
+def gazebo_sonar_range(t: float, back: bool, range_max: float, noise: float, rng: np.random.Generator) -> float:
     """gazebo_ros_range: the nearest of 5x5 rays over +-0.52 rad, plus Gaussian noise, limited
     to range_max (ros-simulation/gazebo_ros_pkgs gazebo_plugins/src/gazebo_ros_range.cpp)."""
     x, y, yaw = robot_pose(t)

@@ -2,8 +2,12 @@
 or straight into the emulator's own AudioSource when it publishes the microphones itself."""
 import queue
 import threading
+from typing import TYPE_CHECKING, Any
 
 import rospy
+
+if TYPE_CHECKING:
+    from .audio_source import AudioSource
 
 
 class NaoqiSpeech:
@@ -13,22 +17,22 @@ class NaoqiSpeech:
     cannot be reached one warning is logged and sentences are dropped until it can.
     """
 
-    def __init__(self, url):
+    def __init__(self, url: str) -> None:
         self.url = url
-        self.session = None
+        self.session: Any = None     # qi.Session once connected (libqi ships no type information)
         self.warned = False
         self.spoken = 0
         self.queue: queue.Queue = queue.Queue()
         self.thread = threading.Thread(target=self._run, name='naoqi-speech', daemon=True)
         self.thread.start()
 
-    def say(self, text):
+    def say(self, text: str) -> None:
         self.queue.put(text)
 
-    def close(self):
+    def close(self) -> None:
         self.queue.put(None)
 
-    def _tts(self):
+    def _tts(self) -> Any:
         if self.session is None:
             try:
                 import qi
@@ -44,7 +48,7 @@ class NaoqiSpeech:
                 return None
         return self.session.service('ALTextToSpeech')
 
-    def _run(self):
+    def _run(self) -> None:
         while True:
             text = self.queue.get()
             if text is None:
@@ -64,13 +68,13 @@ class NaoqiSpeech:
 class DirectSpeech:
     """Mixes the text into the emulator's own microphone stream (AudioSource.say)."""
 
-    def __init__(self, source):
+    def __init__(self, source: 'AudioSource') -> None:
         self.source = source
         self.spoken = 0
 
-    def say(self, text):
+    def say(self, text: str) -> None:
         self.source.say(text)
         self.spoken += 1
 
-    def close(self):
+    def close(self) -> None:
         pass

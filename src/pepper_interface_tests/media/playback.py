@@ -15,9 +15,10 @@ import os
 import shlex
 import shutil
 import subprocess
+from typing import List, Optional, Sequence, Tuple
 
 
-def sound_device():
+def sound_device() -> Tuple[bool, str]:
     """(True, '') when a sound card exists, else (False, reason)."""
     try:
         with open('/proc/asound/cards', encoding='utf-8', errors='replace') as f:
@@ -36,7 +37,7 @@ def sound_device():
     return False, 'no sound device'
 
 
-def player_command(device=None):
+def player_command(device: Optional[str] = None) -> Optional[List[str]]:
     if shutil.which('aplay'):
         return ['aplay', '-q'] + (['-D', device] if device else [])
     if shutil.which('play') and not device:
@@ -44,7 +45,7 @@ def player_command(device=None):
     return None
 
 
-def _mono_sequence(path, channels):
+def _mono_sequence(path: str, channels: Sequence[str]) -> Tuple[str, float]:
     """Write the channels of `path` one after another into a mono WAV; returns its path and seconds."""
     import numpy as np
     import soundfile
@@ -55,7 +56,8 @@ def _mono_sequence(path, channels):
     return out, len(mono) / float(rate)
 
 
-def play_channels(path, channels=None, delete_after=False):
+def play_channels(path: str, channels: Optional[Sequence[str]] = None,
+                  delete_after: bool = False) -> Tuple[Optional[subprocess.Popen], str]:
     """Start playing `path` (channel by channel when `channels` names them).
 
     Prints and returns one line for the user; returns (process or None, line)."""
@@ -64,7 +66,8 @@ def play_channels(path, channels=None, delete_after=False):
     return proc, line
 
 
-def _start(path, channels, delete_after):
+def _start(path: str, channels: Optional[Sequence[str]],
+           delete_after: bool) -> Tuple[Optional[subprocess.Popen], str]:
     if os.environ.get('CI'):
         return None, 'playback off (CI): %s kept' % os.path.basename(path)
     device = os.environ.get('SENSORTEST_AUDIO_DEVICE') or None

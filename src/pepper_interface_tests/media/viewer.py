@@ -13,6 +13,10 @@ import subprocess
 import sys
 import tempfile
 import threading
+from typing import TYPE_CHECKING, Dict, List, Optional
+
+if TYPE_CHECKING:
+    import numpy
 
 MAX_WIDTH = 1280   # wider frames (large stereo modes) are shown scaled down
 
@@ -21,7 +25,7 @@ _PROBE = ("import cv2, numpy; cv2.namedWindow('probe'); "
           "cv2.destroyAllWindows(); cv2.waitKey(1)")
 
 
-def gui_support():
+def gui_support() -> Optional[str]:
     """The GUI backend OpenCV was built with, or None for a headless build."""
     try:
         import cv2
@@ -33,7 +37,7 @@ def gui_support():
     return match.group(1)
 
 
-def unavailable_reason(enabled=True):
+def unavailable_reason(enabled: bool = True) -> Optional[str]:
     """Why there can be no live view, or None when there can be one."""
     if not enabled:
         return 'disabled'
@@ -52,16 +56,16 @@ def unavailable_reason(enabled=True):
 
 
 class Viewer:
-    def __init__(self):
+    def __init__(self) -> None:
         self._lock = threading.Lock()
-        self._latest = {}      # window name -> newest frame not shown yet
-        self._windows = []
-        self.shown = {}        # window name -> frames shown
-        self.posted = {}       # window name -> frames posted
-        self.failed = None
+        self._latest: Dict[str, numpy.ndarray] = {}      # window name -> newest frame not shown yet
+        self._windows: List[str] = []
+        self.shown: Dict[str, int] = {}        # window name -> frames shown
+        self.posted: Dict[str, int] = {}       # window name -> frames posted
+        self.failed: Optional[str] = None
 
     @classmethod
-    def create(cls, enabled=True):
+    def create(cls, enabled: bool = True) -> Optional['Viewer']:
         if not os.environ.get('XDG_RUNTIME_DIR'):   # Qt complains on every start without it
             runtime = os.path.join(tempfile.gettempdir(), 'runtime-%d' % os.getuid())
             os.makedirs(runtime, mode=0o700, exist_ok=True)
@@ -72,13 +76,13 @@ class Viewer:
             return None
         return cls()
 
-    def post(self, name, image):
+    def post(self, name: str, image: 'numpy.ndarray') -> None:
         """Keep `image` (BGR) as the newest frame of window `name`. Any thread; never blocks long."""
         with self._lock:
             self._latest[name] = image
             self.posted[name] = self.posted.get(name, 0) + 1
 
-    def pump(self):
+    def pump(self) -> None:
         """Show the newest frames and let the GUI breathe. Call from one thread only, ~every 50 ms."""
         if self.failed:
             return
@@ -102,7 +106,7 @@ class Viewer:
             self.failed = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             print('live view off: %s' % self.failed, flush=True)
 
-    def close(self):
+    def close(self) -> None:
         if not self._windows:
             return
         try:

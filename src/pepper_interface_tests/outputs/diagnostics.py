@@ -32,10 +32,14 @@ import re
 import sys
 import time
 from dataclasses import dataclass
-from typing import Any, Dict, List, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, TextIO, Tuple
 
 from ..observer import RunObserver
-from ..results import FAIL, INTERRUPTED, SKIPPED
+from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult
+
+if TYPE_CHECKING:
+    from ..plan.settings import TestPlan
+    from ..runner import SensorRun
 
 PERIOD = 1.0
 TOPIC = '/diagnostics'      # where diagnostic_updater.Updater publishes
@@ -50,15 +54,15 @@ class Status:
     values: Tuple[Tuple[str, str], ...]
 
 
-def _band(band):
+def _band(band: Optional[Sequence[float]]) -> str:
     return '%g-%g' % tuple(band) if band else ''
 
 
-def _num(v, nd=2):
+def _num(v: Optional[float], nd: int = 2) -> str:
     return '' if v is None else ('%.*f' % (nd, v))
 
 
-def _values(pairs) -> Tuple[Tuple[str, str], ...]:
+def _values(pairs: Iterable[Tuple[str, Any]]) -> Tuple[Tuple[str, str], ...]:
     return tuple((k, '' if v is None else str(v)) for k, v in pairs)
 
 
@@ -68,10 +72,12 @@ def waiting_status(topic: Optional[str], msg_type: str) -> Status:
                   _values([('state', 'waiting'), ('topic', topic or ''), ('message type', msg_type)]))
 
 
-def live_status(sensor_run: Any, now: float, topic: Optional[str], msg_type: str) -> Status:
+def live_status(sensor_run: 'SensorRun', now: float, topic: Optional[str], msg_type: str) -> Status:
     """The status of a running SensorRun (progress, provisional problems)."""
     expect = sensor_run.expect
     band = expect.rate
+    if sensor_run.t0 is None:
+        raise ValueError('%s has not started listening' % sensor_run.plan.name)
     with sensor_run.lock:
         check = sensor_run.check
         stats = sensor_run.stats
@@ -105,7 +111,7 @@ def live_status(sensor_run: Any, now: float, topic: Optional[str], msg_type: str
         ('problems so far', '; '.join(problems))]))
 
 
-def result_status(r: Any) -> Status:
+def result_status(r: SensorResult) -> Status:
     """The final status of a SensorResult: FAIL -> ERROR; INTERRUPTED and "not run" -> STALE
     (not judged, like a sensor that never ran); SKIPPED -> OK (a skip does not fail the run);
     PASS with warnings -> WARN; PASS -> OK."""
@@ -167,7 +173,8 @@ def make_updater(prefix: str) -> Any:
 class LiveDiagnostics(RunObserver):
     """Runner observer publishing the run's per-sensor statuses on /diagnostics at 1 Hz."""
 
-    def __init__(self, plan, prefix=None, period=PERIOD, out=None):
+    def __init__(self, plan: 'TestPlan', prefix: Optional[str] = None, period: float = PERIOD,
+                 out: Optional[TextIO] = None) -> None:
         self.period = period
         self.prefix = prefix
         self.out = out
@@ -179,16 +186,16 @@ class LiveDiagnostics(RunObserver):
         for s in plan.sensors:
             self._track(s.name, s.topic, s.sensor.msg_type)
 
-    def _track(self, name, topic, msg_type):
+    def _track(self, name: str, topic: Optional[str], msg_type: str) -> None:
         self.topics[name] = (topic, msg_type)
         self.current[name] = waiting_status(topic, msg_type)
         if self.updater is not None:
             self._add_task(name)
 
-    def _add_task(self, name):
+    def _add_task(self, name: str) -> None:
         topic = self.topics[name][0] or ''
 
-        def fill(stat):
+        def fill(stat: Any) -> Any:
             status = self.current[name]
             stat.summary(status.level, status.message)
             stat.hardware_id = topic
@@ -197,14 +204,14 @@ class LiveDiagnostics(RunObserver):
             return stat
         self.updater.add(name, fill)
 
-    def _warn(self, e):
+    def _warn(self, e: Exception) -> None:
         if not self.broken:
             self.broken = True
             stream = self.out or sys.stdout
             stream.write('sensorTest: warning: /diagnostics not published: %s\n' % e)
             stream.flush()
 
-    def publish(self):
+    def publish(self) -> None:
         if self.updater is None or self.broken:
             return
         try:
@@ -214,7 +221,7 @@ class LiveDiagnostics(RunObserver):
             self._warn(e)
 
     # ---------------------------------------------------------------- observer methods
-    def run_started(self, run, plan):
+    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         try:
             if self.prefix is None:
                 import rospy
@@ -227,10 +234,10 @@ class LiveDiagnostics(RunObserver):
             return
         self.publish()
 
-    def tick(self, runs, now):
+    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
         if self.updater is None or (self.last is not None and time.monotonic() - self.last < self.period):
             return
-        for sensor_run in runs:
+        for sensor_run in sensor_runs:
             name = sensor_run.plan.name
             if name in self.current and sensor_run.t0 is not None:
                 topic, msg_type = self.topics[name]
@@ -241,12 +248,12 @@ class LiveDiagnostics(RunObserver):
                     self.current[name] = Status(old.level, 'status unavailable: %s' % e, old.values)
         self.publish()
 
-    def sensor_done(self, result):
+    def sensor_done(self, result: SensorResult) -> None:
         if result.name not in self.current:
             self._track(result.name, result.topic, result.msg_type)
         self.current[result.name] = result_status(result)
 
-    def run_ended(self, run):
+    def run_ended(self, run: RunResult) -> None:
         for r in run.sensors:
             self.sensor_done(r)
         self.publish()

@@ -10,7 +10,7 @@ import errno
 import fcntl
 import json
 import os
-from typing import Optional
+from typing import Any, Dict, Optional
 from xml.etree import ElementTree as ET
 
 from ..results import (
@@ -18,6 +18,8 @@ from ..results import (
     FILE_LIMIT,
     INTERRUPTED,
     SKIPPED,
+    RunResult,
+    SensorResult,
     count_line,
     param_lines,
     printable,
@@ -35,11 +37,11 @@ class OutputFile:
     appending to one file never tear each other's blocks. Write errors (ENOSPC, ...) raise
     OSError; the caller names the file."""
 
-    def __init__(self, path):
+    def __init__(self, path: str) -> None:
         self.path = path
         self._fd: Optional[int] = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
 
-    def _write(self, text):
+    def _write(self, text: str) -> None:
         data = text.encode('utf-8', 'backslashreplace')
         fd = self._fd
         if fd is None:
@@ -52,26 +54,26 @@ class OutputFile:
         finally:
             fcntl.flock(fd, fcntl.LOCK_UN)
 
-    def write_text(self, text):
+    def write_text(self, text: str) -> None:
         """Append `text` (e.g. a whole run's section) in one locked write."""
         self._write(text)
 
-    def begin(self, run):
+    def begin(self, run: RunResult) -> None:
         self._write(dat_begin(run))
 
-    def sensor(self, r):
+    def sensor(self, r: SensorResult) -> None:
         self._write(dat_block(r))
 
-    def end(self, run):
+    def end(self, run: RunResult) -> None:
         self._write(dat_end(run))
 
-    def close(self):
+    def close(self) -> None:
         if self._fd is not None:
             os.close(self._fd)
             self._fd = None
 
 
-def dat_begin(run):
+def dat_begin(run: RunResult) -> str:
     return ('[TESTING] ############ SENSORS ############\n\n[START TIME] %s\n'
             '[RUN] platform %s, mode %s, source %s%s\n'
             % (timestamp(run.start), run.platform, run.mode, printable(run.source, FILE_LIMIT),
@@ -81,7 +83,7 @@ def dat_begin(run):
 
 
 
-def dat_block(r):
+def dat_block(r: SensorResult) -> str:
     """One sensor's block of sensorTestOutput.dat; robot strings escaped, one per line."""
     def p(text):
         return printable(text, FILE_LIMIT)
@@ -104,7 +106,7 @@ def dat_block(r):
 
 
 
-def dat_end(run):
+def dat_end(run: RunResult) -> str:
     text = ''
     if run.interrupted:
         text += '[INTERRUPTED] %s\n' % printable(run.interrupt_reason or 'run interrupted', FILE_LIMIT)
@@ -116,7 +118,7 @@ def dat_end(run):
 
 # ------------------------------------------------------------------ JSON and JUnit
 
-def write_json(run, path):
+def write_json(run: RunResult, path: str) -> None:
     write_atomic(path, json.dumps(run.to_dict(), indent=2, default=str) + '\n')
 
 
@@ -139,7 +141,7 @@ def _indent(elem, level=0):
         elem.tail = pad
 
 
-def junit_text(run):
+def junit_text(run: RunResult) -> str:
     """JUnit XML (built with xml.etree.ElementTree, which escapes &, <, > and quotes).
     INTERRUPTED sensors are <skipped> (with what was measured in system-out): an interrupted
     window is no failure of the robot. Robot strings pass through `printable` first, so no
@@ -172,10 +174,10 @@ def junit_text(run):
             + ET.tostring(suite, encoding='unicode') + '\n')
 
 
-def write_junit(run, path):
+def write_junit(run: RunResult, path: str) -> None:
     write_atomic(path, junit_text(run))
 
 
-def load_json(path):
+def load_json(path: str) -> Dict[str, Any]:
     with open(path, encoding='utf-8') as f:
         return json.load(f)

@@ -24,20 +24,22 @@ but only when they are unchanged since they were published (same size and mtime,
 `list_runs()`, `resolve()` and `compare()` read the runs back for `sensorTestHistory`
 (its commands are in history_cli.py; see docs/results.md).
 """
-import itertools
 import json
 import os
 import shutil
 import sys
 import time
 from dataclasses import dataclass
-from typing import List, Optional
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, TextIO, Tuple
 
 from .. import results
 from ..observer import RunObserver
 from ..results import PASSING, malformed, not_passed  # noqa: F401 (sensorTestHistory reads them here)
 from . import files
 from .atomicfile import write_atomic
+
+if TYPE_CHECKING:
+    from ..plan.settings import TestPlan
 
 RUNS_DIR = 'runs'
 ID_FORMAT = '%Y%m%d-%H%M%S'
@@ -60,7 +62,7 @@ class RunFolder:
     kept: bool         # True: path is <base>/runs/<run_id>; False (--no-history): path == base
 
     @classmethod
-    def create(cls, output_dir, keep=True, now=None):
+    def create(cls, output_dir: str, keep: bool = True, now: Optional[float] = None) -> 'RunFolder':
         """A new run id and, with `keep`, its folder <output_dir>/runs/<run id> (created here).
         Raises OSError when the folder cannot be made."""
         base = os.path.abspath(output_dir)
@@ -69,7 +71,9 @@ class RunFolder:
             return cls(stamp, base, base, False)
         runs = os.path.join(base, RUNS_DIR)
         os.makedirs(runs, exist_ok=True)
-        for n in itertools.count(1):
+        n = 0
+        while True:
+            n += 1
             run_id = stamp if n == 1 else '%s-%d' % (stamp, n)
             try:
                 os.mkdir(os.path.join(runs, run_id))
@@ -78,7 +82,7 @@ class RunFolder:
             return cls(run_id, os.path.join(runs, run_id), base, True)
 
 
-def _publish_file(src, dst):
+def _publish_file(src: str, dst: str) -> str:
     """Make dst the same file as src: a hard link when the file system allows, else a copy.
     Replaces dst atomically (never a half-written file at the spec's path)."""
     folder = os.path.dirname(dst)
@@ -100,7 +104,7 @@ def _publish_file(src, dst):
     return how
 
 
-def _signature(path):
+def _signature(path: str) -> List[int]:
     st = os.stat(path)
     return [st.st_size, st.st_mtime_ns]
 
@@ -114,27 +118,27 @@ class LatestRun(RunObserver):
     publish is a write error of the run (exit 3): the output folder would otherwise show an
     older run's results as the latest."""
 
-    def __init__(self, folder, out=None):
+    def __init__(self, folder: RunFolder, out: Optional[TextIO] = None) -> None:
         self.folder = folder
         self.out = out
         self.dat: Optional[List[str]] = None     # this run's section of the shared .dat, as text
 
-    def _stream(self):
+    def _stream(self) -> TextIO:
         return self.out or sys.stdout
 
-    def _warn(self, text):
+    def _warn(self, text: str) -> None:
         s = self._stream()
         s.write('sensorTest: warning: %s\n' % text)
         s.flush()
 
-    def run_started(self, run, plan):
+    def run_started(self, run: results.RunResult, plan: 'TestPlan') -> None:
         self.dat = [files.dat_begin(run)]
 
-    def sensor_done(self, result):
+    def sensor_done(self, result: results.SensorResult) -> None:
         if self.dat is not None:
             self.dat.append(files.dat_block(result))
 
-    def run_ended(self, run):
+    def run_ended(self, run: results.RunResult) -> None:
         from .observers import write_error
         path = os.path.join(self.folder.base, results.OUTPUT_FILE)
         try:
@@ -157,7 +161,7 @@ class LatestRun(RunObserver):
             write_error(run, 'latest run in %s' % self.folder.base, e)
 
 
-def publish_latest(folder):
+def publish_latest(folder: RunFolder) -> List[str]:
     """Link (or copy) every file of the run's folder into the output folder; returns the names.
 
     The run's own sensorTestOutput.dat is not published: the output folder's one is appended to.
@@ -197,25 +201,25 @@ def publish_latest(folder):
 class RunInfo:
     run_id: str
     path: str
-    data: Optional[dict]       # the run's sensorTestResults.json, None when missing/unreadable
+    data: Optional[Dict[str, Any]]       # the run's sensorTestResults.json, None when missing/unreadable
     problem: str = ''          # why data is None
 
     @property
-    def complete(self):
+    def complete(self) -> bool:
         return self.data is not None
 
-    def sensors(self):
+    def sensors(self) -> Dict[str, Dict[str, Any]]:
         return {s['name']: s for s in (self.data or {}).get('sensors', [])}
 
 
-def _sort_key(run_id):
+def _sort_key(run_id: str) -> Tuple[str, int, str]:
     """Run ids sort by time, then by suffix as a number (-2 before -10)."""
     parts = run_id.split('-')
     suffix = parts[2] if len(parts) > 2 else ''
     return ('-'.join(parts[:2]), int(suffix) if suffix.isdigit() else 0, run_id)
 
 
-def list_runs(output_dir):
+def list_runs(output_dir: str) -> List[RunInfo]:
     """Every run folder under <output_dir>/runs, oldest first."""
     runs_dir = os.path.join(os.path.abspath(output_dir), RUNS_DIR)
     if not os.path.isdir(runs_dir):
@@ -246,7 +250,7 @@ def list_runs(output_dir):
 
 
 
-def resolve(runs, ref):
+def resolve(runs: Sequence[RunInfo], ref: str) -> RunInfo:
     """The run named by `ref`: an exact run id, a unique prefix of one, 'latest' (or 'last'),
     or a negative index (-1 the latest, -2 the one before)."""
     if not runs:
@@ -271,7 +275,7 @@ def resolve(runs, ref):
                        % (ref, shown))
 
 
-def compare(a, b, threshold=RATE_FLAG):
+def compare(a: RunInfo, b: RunInfo, threshold: float = RATE_FLAG) -> List[Dict[str, Any]]:
     """What changed from run `a` to run `b`: one row per sensor of either run."""
     for r in (a, b):
         if not r.complete:
@@ -281,7 +285,7 @@ def compare(a, b, threshold=RATE_FLAG):
     rows = []
     for name in names:
         x, y = sa.get(name), sb.get(name)
-        row = {'sensor': name, 'verdict_a': x['verdict'] if x else None,
+        row: Dict[str, Any] = {'sensor': name, 'verdict_a': x['verdict'] if x else None,
                'verdict_b': y['verdict'] if y else None,
                'rate_a': x.get('rate_hz') if x else None, 'rate_b': y.get('rate_hz') if y else None,
                'reasons_a': (x or {}).get('reasons') or [], 'reasons_b': (y or {}).get('reasons') or []}

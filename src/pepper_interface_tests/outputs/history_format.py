@@ -2,31 +2,32 @@
 width, else $COLUMNS, else 80 columns), free-text cells wrapped inside their column."""
 import os
 import textwrap
+from typing import Any, Collection, Dict, List, Optional, Sequence, Tuple
 
 from .. import results
-from .history import PASSING, RATE_FLAG, RUNS_DIR
+from .history import PASSING, RATE_FLAG, RUNS_DIR, RunInfo
 from .terminal import columns
 
 
-def width():
+def width() -> int:
     """Columns to fit: $COLUMNS, else the terminal's, else 80 (less the one column kept free);
     never under 60."""
     return columns(80, minimum=60)
 
 
-def _counts(data):
+def _counts(data: Dict[str, Any]) -> Tuple[int, int, int]:
     c = data.get('summary') or {}
     return c.get(results.PASS, 0), c.get(results.FAIL, 0), c.get(results.SKIPPED, 0)
 
 
-def _table(rows, right=()):
+def _table(rows: Sequence[Sequence[str]], right: Collection[int] = ()) -> List[str]:
     """Columns padded to their widest cell; columns in `right` right-aligned."""
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return ['  '.join(r[i].rjust(widths[i]) if i in right else r[i].ljust(widths[i])
                       for i in range(len(r))).rstrip() for r in rows]
 
 
-def _wrapped_rows(rows, total):
+def _wrapped_rows(rows: Sequence[Sequence[str]], total: int) -> List[str]:
     """Rows whose last cell is free text, wrapped inside its column so every line fits `total`;
     when the column would be narrower than 24, the text goes under the row, indented."""
     head = [r[:-1] for r in rows]
@@ -45,15 +46,15 @@ def _wrapped_rows(rows, total):
     return lines
 
 
-def format_list(runs, base):
+def format_list(runs: Sequence[RunInfo], base: str) -> str:
     if not runs:
         return 'no runs in %s\n' % os.path.join(base, RUNS_DIR)
     rows = [('run id', 'start', 'platform', 'mode', 'source', 'pass', 'fail', 'skip', 'failed sensors')]
     for r in runs:
-        if not r.complete:
+        d = r.data
+        if d is None:     # not complete
             rows.append((r.run_id, '-', '-', '-', '-', '-', '-', '-', 'incomplete: ' + r.problem))
             continue
-        d = r.data
         p, f, s = _counts(d)
         failed = ', '.join(x['name'] for x in d.get('sensors', []) if x.get('verdict') == results.FAIL)
         if d.get('interrupted'):
@@ -72,15 +73,16 @@ def format_list(runs, base):
     return '\n'.join(lines) + '\n'
 
 
-def format_compare(a, b, rows, threshold=RATE_FLAG, total=80):
+def format_compare(a: RunInfo, b: RunInfo, rows: Sequence[Dict[str, Any]], threshold: float = RATE_FLAG,
+                   total: int = 80) -> str:
     """Every sensor of either run (verdicts, rates), then the verdict changes as a table with
     the reasons wrapped inside their column, then the flagged rate changes; fits `total`."""
-    def rate(v):
+    def rate(v: Optional[float]) -> str:
         return '%.2f' % v if v is not None else '-'
 
     lines = ['compare %s (A) -> %s (B)' % (a.run_id, b.run_id)]
-    for tag, r in (('A', a), ('B', b)):
-        d = r.data
+    for tag, run in (('A', a), ('B', b)):
+        d = run.data or {}     # compare() took only complete runs
         p, f, s = _counts(d)
         lines += textwrap.wrap('%s: %s, %s, %s, %d passed, %d failed, %d skipped%s' % (
             tag, (d.get('start') or '-').replace('.', ' '), d.get('platform'), d.get('mode'), p, f, s,

@@ -17,14 +17,15 @@ import os
 import shutil
 import textwrap
 import time
+from typing import List, Optional, Sequence, TextIO, Tuple
 
-from .history import EXIT_OK, ID_FORMAT, MANIFEST
+from .history import EXIT_OK, ID_FORMAT, MANIFEST, RunInfo
 
 STILL_GOING = 600.0      # s; a full sequential run writes a file at least every 40 s
 EXIT_PARTIAL = 1
 
 
-def run_start(run_id):
+def run_start(run_id: str) -> Optional[float]:
     """Seconds since the epoch of a run id's start (local time), or None when it is no run id."""
     try:
         return time.mktime(time.strptime(run_id[:15], ID_FORMAT))
@@ -32,7 +33,7 @@ def run_start(run_id):
         return None
 
 
-def _folder_size_and_mtime(path):
+def _folder_size_and_mtime(path: str) -> Tuple[int, float]:
     size, newest = 0, 0.0
     for root, _, names in os.walk(path):
         for name in names:
@@ -49,7 +50,7 @@ def _folder_size_and_mtime(path):
     return size, newest
 
 
-def _published_run(base):
+def _published_run(base: str) -> Optional[str]:
     """The run id whose files the output folder holds, or None."""
     try:
         with open(os.path.join(base, MANIFEST), encoding='utf-8') as f:
@@ -59,11 +60,12 @@ def _published_run(base):
         return None
 
 
-def _mb(size):
+def _mb(size: float) -> str:
     return '%.1f MB' % (size / 1e6)
 
 
-def decide(runs, base, keep=None, days=None, now=None):
+def decide(runs: Sequence[RunInfo], base: str, keep: Optional[int] = None, days: Optional[float] = None,
+           now: Optional[float] = None) -> List[Tuple[RunInfo, bool, str, int]]:
     """[(run, delete, why, size)] for every run, oldest first."""
     now = time.time() if now is None else now
     published = _published_run(base)
@@ -77,7 +79,7 @@ def decide(runs, base, keep=None, days=None, now=None):
             out.append((r, False, 'kept: not a run id (not a folder sensorTest made)', size))
             continue
         age_days = (now - start) / 86400.0
-        if r.run_id in newest:
+        if keep and r.run_id in newest:
             out.append((r, False, 'kept: one of the %d newest runs' % keep, size))
             continue
         if days is not None and age_days < days:
@@ -98,12 +100,13 @@ def decide(runs, base, keep=None, days=None, now=None):
     return out
 
 
-def _line(out, verb, run_id, text, total):
+def _line(out: TextIO, verb: str, run_id: str, text: str, total: int) -> None:
     out.write('\n'.join(textwrap.wrap('%-12s %s  %s' % (verb, run_id, text), total,
                                        subsequent_indent=' ' * 15)) + '\n')
 
 
-def prune(runs, base, keep, days, dry_run, out, total=80):
+def prune(runs: Sequence[RunInfo], base: str, keep: Optional[int], days: Optional[float], dry_run: bool,
+          out: TextIO, total: int = 80) -> int:
     """Print one line per deleted run and per run kept for a reason other than the rules
     (the published run, a run maybe still going, a foreign folder), then a total."""
     verb = 'would delete' if dry_run else 'deleted'

@@ -11,15 +11,23 @@ microphone level monitor is offered to it (ctx.services['microphone_levels']).
 import os
 import sys
 import textwrap
-from typing import List
+from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
 from ..observer import RunObserver
 from . import files
 from .terminal import columns
 
+if TYPE_CHECKING:
+    from ..media.viewer import Viewer
+    from ..plan.settings import TestPlan
+    from ..runner import SensorRun
+    from ..sensors.audio import LevelMonitor
+    from ..sensors.base import RunContext
+    from .history import RunFolder
 
-def write_error(run, path, error):
+
+def write_error(run: results.RunResult, path: str, error: Exception) -> None:
     """Record and name a results file that could not be written."""
     text = '%s: %s' % (path, getattr(error, 'strerror', None) or error)
     if text not in run.write_errors:
@@ -30,14 +38,14 @@ def write_error(run, path, error):
 
 
 class ResultFiles(RunObserver):
-    def __init__(self, output_dir, out=None):
+    def __init__(self, output_dir: str, out: Optional[TextIO] = None) -> None:
         self.dir = output_dir
-        self.dat = None
+        self.dat: Optional[files.OutputFile] = None
         self.out = out
-        self.run = None
+        self.run: Optional[results.RunResult] = None
 
-    def _dat(self, method, *args):
-        if self.dat is None:
+    def _dat(self, method: str, *args: object) -> None:
+        if self.dat is None or self.run is None:     # run is set before dat is opened
             return
         try:
             getattr(self.dat, method)(*args)
@@ -46,7 +54,7 @@ class ResultFiles(RunObserver):
             self.dat.close()
             self.dat = None
 
-    def run_started(self, run, plan):
+    def run_started(self, run: results.RunResult, plan: 'TestPlan') -> None:
         self.run = run
         path = os.path.join(self.dir, results.OUTPUT_FILE)
         try:
@@ -56,10 +64,10 @@ class ResultFiles(RunObserver):
             return
         self._dat('begin', run)
 
-    def sensor_done(self, result):
+    def sensor_done(self, result: results.SensorResult) -> None:
         self._dat('sensor', result)
 
-    def run_ended(self, run):
+    def run_ended(self, run: results.RunResult) -> None:
         self.run = run
         self._dat('end', run)
         self._dat('close')
@@ -81,14 +89,14 @@ class ResultFiles(RunObserver):
 class SpeechHearing(RunObserver):
     """Starts a microphone level monitor for the speech check when the microphone is in the run."""
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'TestPlan', ctx: 'RunContext') -> None:
         self.ctx = ctx
         mics = [s for s in plan.active if s.sensor.family == 'audio']
         self.mic_topic = mics[0].topic if mics else None
-        self.monitor = None
+        self.monitor: Optional[LevelMonitor] = None
 
-    def sensor_started(self, run):
-        if run.sensor.family != 'speech' or not self.mic_topic:
+    def sensor_started(self, sensor_run: 'SensorRun') -> None:
+        if sensor_run.sensor.family != 'speech' or not self.mic_topic:
             return
         try:
             from ..sensors.audio import LevelMonitor
@@ -98,13 +106,13 @@ class SpeechHearing(RunObserver):
         self.monitor.start()
         self.ctx.services['microphone_levels'] = self.monitor
 
-    def sensor_done(self, result):
+    def sensor_done(self, result: results.SensorResult) -> None:
         if result.name == 'speech' and self.monitor is not None:
             self.monitor.stop()
             self.ctx.services.pop('microphone_levels', None)
             self.monitor = None
 
-    def run_ended(self, run):
+    def run_ended(self, run: results.RunResult) -> None:
         if self.monitor is not None:
             self.monitor.stop()
 
@@ -113,33 +121,34 @@ class LiveView(RunObserver):
     """One window per camera, drawn from the main thread (the runner's tick), when a display
     and OpenCV GUI support exist; otherwise one line says why and the run goes on."""
 
-    def __init__(self, ctx):
+    def __init__(self, ctx: 'RunContext') -> None:
         self.ctx = ctx
-        self.viewer = None
+        self.viewer: Optional[Viewer] = None
 
-    def run_started(self, run, plan):
+    def run_started(self, run: results.RunResult, plan: 'TestPlan') -> None:
         from ..media.viewer import Viewer
         self.viewer = Viewer.create(enabled=plan.options.show is not False)
         if self.viewer is not None:
             self.ctx.services['viewer'] = self.viewer
 
-    def tick(self, runs, now):
+    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
         if self.viewer is not None:
             self.viewer.pump()
 
-    def run_ended(self, run):
+    def run_ended(self, run: results.RunResult) -> None:
         if self.viewer is not None:
             self.ctx.services.pop('viewer', None)
             self.viewer.close()
             self.viewer = None
 
 
-def observers_for(plan, ctx, source_name, folder=None):
+def observers_for(plan: 'TestPlan', ctx: 'RunContext', source_name: str,
+                  folder: Optional['RunFolder'] = None) -> List[RunObserver]:
     """The run's observers, in the order they are called. `plan.output_dir` is where this run's
     files go; `folder` (history.RunFolder) says whether that is a run folder under
     <output_dir>/runs, whose files are then also published into the output folder."""
     opts = plan.options
-    obs: List[object] = []
+    obs: List[RunObserver] = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
         if any(s.sensor.family in ('camera', 'depth') for s in plan.active):

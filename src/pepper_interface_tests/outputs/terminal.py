@@ -10,9 +10,25 @@ import os
 import shutil
 import sys
 import textwrap
+from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
 from ..observer import RunObserver
-from ..results import FAIL, INTERRUPTED, PASS, SKIPPED, count_line, param_lines, printable
+from ..results import (
+    FAIL,
+    INTERRUPTED,
+    PASS,
+    SKIPPED,
+    RunResult,
+    SensorResult,
+    Verdict,
+    count_line,
+    param_lines,
+    printable,
+)
+
+if TYPE_CHECKING:
+    from ..plan.settings import TestPlan
+    from ..runner import SensorRun
 
 COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
@@ -27,11 +43,11 @@ class SafeStream:
     pointed at /dev/null and every later write is dropped silently, so that the results files
     are still written and the interpreter's final flush cannot fail either."""
 
-    def __init__(self, stream):
+    def __init__(self, stream: TextIO) -> None:
         self._stream = stream
         self.broken = False
 
-    def _broke(self):
+    def _broke(self) -> None:
         self.broken = True
         try:
             fd = self._stream.fileno()
@@ -41,7 +57,7 @@ class SafeStream:
         except (OSError, ValueError, AttributeError):
             pass
 
-    def write(self, text):
+    def write(self, text: str) -> int:
         if self.broken:
             return len(text)
         try:
@@ -50,7 +66,7 @@ class SafeStream:
             self._broke()
             return len(text)
 
-    def flush(self):
+    def flush(self) -> None:
         if self.broken:
             return
         try:
@@ -58,17 +74,17 @@ class SafeStream:
         except (OSError, ValueError):
             self._broke()
 
-    def isatty(self):
+    def isatty(self) -> bool:
         try:
             return not self.broken and self._stream.isatty()
         except (OSError, ValueError):
             return False
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self._stream, name)
 
 
-def protect_std_streams():
+def protect_std_streams() -> None:
     """Make sys.stdout and sys.stderr SafeStreams (once)."""
     for name in ('stdout', 'stderr'):
         stream = getattr(sys, name)
@@ -76,27 +92,27 @@ def protect_std_streams():
             setattr(sys, name, SafeStream(stream))
 
 
-def _reasons(texts):
+def _reasons(texts: Sequence[str]) -> str:
     return '; '.join(printable(t, REASON_LIMIT) for t in texts)
 
 
-def columns(fallback=120, minimum=20):
+def columns(fallback: int = 120, minimum: int = 20) -> int:
     """Usable columns: $COLUMNS, else the terminal's width, else `fallback` (a pipe, a file);
     one column is kept free so that no line makes the terminal wrap; never under `minimum`."""
     return max(minimum, shutil.get_terminal_size((fallback, 20)).columns - 1)
 
 
-def under_roslaunch(argv=None):
+def under_roslaunch(argv: Optional[Sequence[str]] = None) -> bool:
     """roslaunch starts nodes with __log:= (and __name:=); their stdout is shared with every
     other node's log lines, so no carriage-return tricks there even on a terminal."""
     return any(a.startswith('__log:=') for a in (sys.argv if argv is None else argv))
 
 
-def _fit(text, width):
+def _fit(text: str, width: int) -> str:
     return text if len(text) <= width else text[:max(0, width - 3)] + '...'
 
 
-def _troubled(run):
+def _troubled(run: 'SensorRun') -> bool:
     """A running sensor with a provisional problem (wrong type, bad header, its check's
     failures so far): the same question /diagnostics asks (diagnostics.live_status)."""
     with run.lock:
@@ -106,11 +122,12 @@ def _troubled(run):
         return bool(run.header_issues.reasons(count) or run.check.failure_reasons())
 
 
-def progress_text(runs, now, failed_done=(), width=79):
+def progress_text(runs: Sequence['SensorRun'], now: float, failed_done: Sequence[str] = (),
+                  width: int = 79) -> str:
     """One line that stays readable at 80 columns: time left once, then for several sensors
     the counts receiving / silent / failing so far and the names of the silent and failing
     ones (`failed_done`: sensors that already ended with FAIL)."""
-    left = max(max(0.0, r.window - (now - r.t0)) for r in runs)
+    left = max(max(0.0, r.window - (now - (r.t0 if r.t0 is not None else now))) for r in runs)
     if len(runs) == 1 and not failed_done:
         r = runs[0]
         count = r.check.count if r.check.active else r.stats.count
@@ -134,33 +151,33 @@ def progress_text(runs, now, failed_done=(), width=79):
 
 
 class Terminal(RunObserver):
-    def __init__(self, stream=None, plain_every=5.0):
+    def __init__(self, stream: Optional[TextIO] = None, plain_every: float = 5.0) -> None:
         self.out = stream or sys.stdout
         self.tty = (self.out.isatty() and os.environ.get('TERM') != 'dumb'
                     and not under_roslaunch())
         self.colour = self.tty and 'NO_COLOR' not in os.environ
         self.plain_every = plain_every
-        self._last_plain = None
+        self._last_plain: Optional[float] = None
         self._last_tty = 0.0
         self._status_shown = False
-        self._failed = []       # sensors that ended with FAIL, for the progress line
-        self.plan = None
+        self._failed: List[str] = []       # sensors that ended with FAIL, for the progress line
+        self.plan: Optional[TestPlan] = None
 
-    def _paint(self, text, verdict):
+    def _paint(self, text: str, verdict: Verdict) -> str:
         return COLOURS[verdict] + text + RESET if self.colour else text
 
-    def _clear(self):
+    def _clear(self) -> None:
         if self._status_shown:
             self.out.write('\r\033[K')
             self._status_shown = False
 
-    def line(self, text=''):
+    def line(self, text: str = '') -> None:
         self._clear()
         self.out.write(text + '\n')
         self.out.flush()
 
     # ------------------------------------------------------------------ observer methods
-    def run_started(self, run, plan):
+    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         self.plan = plan
         n = len(plan.sensors)
         width = columns()
@@ -177,7 +194,7 @@ class Terminal(RunObserver):
         for note in plan.notes:      # what is left out and why; windows other than --duration
             self.line(textwrap.fill(note, width, initial_indent='  note: ', subsequent_indent=' ' * 8))
 
-    def sensor_started(self, sensor_run):
+    def sensor_started(self, sensor_run: 'SensorRun') -> None:
         p = sensor_run.plan
         if sensor_run.check.active:
             text = '  start  %-22s publishing on %s' % (p.name, p.topic)
@@ -186,23 +203,23 @@ class Terminal(RunObserver):
         for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9) or [text]:
             self.line(part)
 
-    def sensor_done(self, r):
-        if r.verdict == FAIL:
-            self._failed.append(r.name)
-        text = '  %-6s %-22s' % (r.verdict.lower() if r.verdict != FAIL else 'FAIL', r.name)
-        if r.verdict == SKIPPED:
-            text += ' skipped: ' + _reasons(r.reasons)
+    def sensor_done(self, result: SensorResult) -> None:
+        if result.verdict == FAIL:
+            self._failed.append(result.name)
+        text = '  %-6s %-22s' % (FAIL if result.verdict == FAIL else result.verdict.lower(), result.name)
+        if result.verdict == SKIPPED:
+            text += ' skipped: ' + _reasons(result.reasons)
         else:
-            text += ' %d msgs' % r.messages
-            if r.rate_hz is not None:
-                text += ', %.2f Hz' % r.rate_hz
-            if r.reasons:
-                text += ': ' + _reasons(r.reasons)
+            text += ' %d msgs' % result.messages
+            if result.rate_hz is not None:
+                text += ', %.2f Hz' % result.rate_hz
+            if result.reasons:
+                text += ': ' + _reasons(result.reasons)
         for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9,
                                   break_on_hyphens=False) or [text]:
-            self.line(self._paint(part, r.verdict))
+            self.line(self._paint(part, result.verdict))
 
-    def nothing_published(self, topics, waited, uri):
+    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
         """Said once, at the start, instead of once per silent sensor (runner._nothing_published)."""
         text = ('nothing is published: not one of the %d sensor topics of this run has a publisher '
                 'on the ROS master%s after %g s. Likely causes: the robot is off or unreachable; '
@@ -213,14 +230,14 @@ class Terminal(RunObserver):
         self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 
-    def tick(self, runs, now):
-        if not runs:
+    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
+        if not sensor_runs:
             return
         if self.tty:
             if now - self._last_tty < 0.5:
                 return
             self._last_tty = now
-            self.out.write('\r\033[K' + progress_text(runs, now, self._failed, columns(100)))
+            self.out.write('\r\033[K' + progress_text(sensor_runs, now, self._failed, columns(100)))
             self.out.flush()
             self._status_shown = True
         else:
@@ -228,9 +245,9 @@ class Terminal(RunObserver):
                 self._last_plain = now
             if now - self._last_plain >= self.plain_every:
                 self._last_plain = now
-                self.line(progress_text(runs, now, self._failed, columns()))
+                self.line(progress_text(sensor_runs, now, self._failed, columns()))
 
-    def run_ended(self, run):
+    def run_ended(self, run: RunResult) -> None:
         self._clear()
         self.line()
         width = columns()
@@ -250,16 +267,16 @@ class Terminal(RunObserver):
                       % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
 
-    def _verdict_cell(self, r):
+    def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance
         (legend under the table)."""
         return r.verdict + ('*' if r.verdict == PASS and r.warnings else '')
 
     @staticmethod
-    def _summary_reasons(r):
+    def _summary_reasons(r: SensorResult) -> str:
         return _reasons(r.reasons) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
 
-    def _table(self, run, width):
+    def _table(self, run: RunResult, width: int) -> None:
         """One row per sensor, reasons wrapped inside their own column."""
         header = ROW % ('sensor', 'verdict', 'messages', 'rate Hz', 'expected Hz', 'reasons')
         self.line(BOLD + header.rstrip() + RESET if self.colour else header.rstrip())
@@ -273,7 +290,7 @@ class Terminal(RunObserver):
             for more in wrapped[1:]:
                 self.line(' ' * TABLE_FIXED + more)
 
-    def _blocks(self, run, width):
+    def _blocks(self, run: RunResult, width: int) -> None:
         """Narrow terminals: one block per sensor, its figures on the first line and its reasons
         wrapped below, indented, over the whole width."""
         for r in run.sensors:

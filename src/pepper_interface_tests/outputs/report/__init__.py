@@ -22,10 +22,15 @@ import os
 import sys
 import threading
 import time
+from typing import TYPE_CHECKING, Optional, TextIO
 
 from ...observer import RunObserver
+from ...results import RunResult
 from ..atomicfile import write_atomic
 from .files import MAX_EMBED_BYTES, video_codec  # noqa: F401  (public, as before)
+
+if TYPE_CHECKING:
+    from ...plan.settings import TestPlan
 
 REPORT_FILE = 'sensorTestReport.html'
 
@@ -33,17 +38,17 @@ REPORT_FILE = 'sensorTestReport.html'
 class HtmlReport(RunObserver):
     """Runner observer: writes sensorTestReport.html into `folder` when the run ends."""
 
-    def __init__(self, folder, out=None, max_embed=MAX_EMBED_BYTES):
+    def __init__(self, folder: Optional[str], out: Optional[TextIO] = None, max_embed: int = MAX_EMBED_BYTES) -> None:
         self.folder = folder
         self.out = out
         self.max_embed = max_embed
 
-    def run_started(self, run, plan):
+    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         # import matplotlib and Jinja2 now, in the background, so that writing the report at
         # the end (also after Ctrl-C) does not wait for them
         threading.Thread(target=_warm_up, daemon=True, name='report-warm-up').start()
 
-    def run_ended(self, run):
+    def run_ended(self, run: RunResult) -> None:
         stream = self.out or sys.stdout
         t0 = time.monotonic()
         try:
@@ -59,7 +64,7 @@ class HtmlReport(RunObserver):
         stream.flush()
 
 
-def _warm_up():
+def _warm_up() -> None:
     try:
         import jinja2  # noqa: F401
         from matplotlib.backends import backend_agg  # noqa: F401
@@ -68,13 +73,13 @@ def _warm_up():
         pass
 
 
-def render(run, folder=None, max_embed=MAX_EMBED_BYTES):
+def render(run: RunResult, folder: Optional[str] = None, max_embed: int = MAX_EMBED_BYTES) -> str:
     """The report of `run` as one HTML string; recordings are read from `folder`."""
     from .page import render as render_page
     return render_page(run, folder or run.output_dir or '.', max_embed)
 
 
-def write_report(run, folder=None, max_embed=MAX_EMBED_BYTES):
+def write_report(run: RunResult, folder: Optional[str] = None, max_embed: int = MAX_EMBED_BYTES) -> str:
     """Render `run` and write <folder>/sensorTestReport.html (folder: the run's output_dir).
     Returns the path."""
     folder = folder or run.output_dir or '.'

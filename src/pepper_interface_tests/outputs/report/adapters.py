@@ -7,13 +7,15 @@ here is deleted and nothing else changes.
 """
 import math
 import re
+from typing import Any, Callable, Dict, Optional
 
-from ...results import printable
+from ...results import RunResult, SensorResult, printable
 from .values import (
     AudioValues,
     CameraValues,
     ChannelLevel,
     DepthValues,
+    FamilyValues,
     Histogram,
     ImuValues,
     Joint,
@@ -30,13 +32,13 @@ from .values import (
 )
 
 
-def _range(r, run):
+def _range(r: SensorResult, run: RunResult) -> RangeValues:
     limits = dict((k, v) for k, v in (tuple(f[:2]) for f in r.fields or [] if len(f) >= 2))
     return RangeValues(Series.of(r.series.get('range_m')), number(limits.get('Minimum range value')),
                        number(limits.get('Maximum range value')))
 
 
-def _laser(r, run):
+def _laser(r: SensorResult, run: RunResult) -> Optional[LaserScanValues]:
     s = mapping(r.series.get('last_scan'))
     try:
         return LaserScanValues(float(s['angle_min']), float(s['angle_increment']),
@@ -46,7 +48,7 @@ def _laser(r, run):
         return None
 
 
-def _video(r):
+def _video(r: SensorResult) -> Optional[VideoInfo]:
     v = r.values
     recording_off = 'recording off' in (r.notes or [])
     if not isinstance(v.get('video'), dict):
@@ -59,7 +61,7 @@ def _video(r):
                      error=d.get('error'), notes=[n[len('video: '):] for n in r.notes or [] if n.startswith('video: ')])
 
 
-def _camera(r, run):
+def _camera(r: SensorResult, run: RunResult) -> CameraValues:
     v = r.values
     frames = [(r.artifacts[k], c) for k, c in (('first_frame', 'first frame'), ('last_frame', 'last frame'))
               if r.artifacts.get(k)]
@@ -70,7 +72,7 @@ def _camera(r, run):
                         Series.of(r.series.get('brightness')))
 
 
-def _histogram(hist):
+def _histogram(hist: Any) -> Optional[Histogram]:
     """{'edges'|'centres': [...], 'counts': [...]} or rows [low, high, count] / [centre, count]."""
     edges = counts = None
     if isinstance(hist, dict):
@@ -96,7 +98,7 @@ def _histogram(hist):
     return Histogram(edges, counts)
 
 
-def _depth(r, run):
+def _depth(r: SensorResult, run: RunResult) -> DepthValues:
     v = r.values
     lo_hi = v.get('video_range_m')
     if not (isinstance(lo_hi, (list, tuple)) and len(lo_hi) >= 2 and None not in lo_hi[:2]):
@@ -107,7 +109,7 @@ def _depth(r, run):
                        Series.of(r.series.get('valid_share')))
 
 
-def _audio(r, run):
+def _audio(r: SensorResult, run: RunResult) -> AudioValues:
     v = r.values
     chans = mapping(v.get('channels') or v.get('levels'))
     names = list(chans) or [k[len('level_dbfs_'):] for k in r.series if k.startswith('level_dbfs_')]
@@ -133,33 +135,36 @@ def _audio(r, run):
                        sv.get('heard'), in_run, number(sv.get('level_rise_db')))
 
 
-def _joints(r, run):
+def _joints(r: SensorResult, run: RunResult) -> JointValues:
     joints = mapping(r.values.get('joints'))
     return JointValues([Joint(str(n), Spread.of(mapping(d).get('position')), Spread.of(mapping(d).get('velocity')),
                               Spread.of(mapping(d).get('effort'))) for n, d in joints.items()])
 
 
-def _odometry(r, run):
+def _odometry(r: SensorResult, run: RunResult) -> OdometryValues:
     return OdometryValues(Series.of(r.series.get('x_m')), Series.of(r.series.get('y_m')))
 
 
-def _imu(r, run):
+def _imu(r: SensorResult, run: RunResult) -> ImuValues:
     return ImuValues(Series.of(r.series.get('acceleration_m_s2')), Series.of(r.series.get('angular_velocity_rad_s')))
 
 
-def _speech(r, run):
+def _speech(r: SensorResult, run: RunResult) -> SpeechValues:
     v = r.values
-    subs = v.get('subscribers') if isinstance(v.get('subscribers'), (list, tuple)) else []
+    subs = v.get('subscribers')
+    subs = subs if isinstance(subs, (list, tuple)) else []
     return SpeechValues(v.get('text'), [str(s) for s in subs], v.get('heard'), number(v.get('level_rise_db')))
 
 
-ADAPTERS = {'range': _range, 'laser': _laser, 'camera': _camera, 'depth': _depth, 'audio': _audio,
-            'joints': _joints, 'odometry': _odometry, 'imu': _imu, 'speech': _speech}
+Adapter = Callable[[SensorResult, RunResult], Optional[FamilyValues]]
+ADAPTERS: Dict[str, Adapter] = {
+    'range': _range, 'laser': _laser, 'camera': _camera, 'depth': _depth, 'audio': _audio,
+    'joints': _joints, 'odometry': _odometry, 'imu': _imu, 'speech': _speech}
 
 
-def adapt(family, result, run):
+def adapt(family: Optional[str], result: SensorResult, run: RunResult) -> Optional[FamilyValues]:
     """The family's values object for `result`, or None for a family without an adapter."""
-    fn = ADAPTERS.get(family)
+    fn = ADAPTERS.get(family) if family is not None else None
     if fn is None:
         return None
     if not isinstance(result.series, dict):
@@ -174,7 +179,7 @@ def adapt(family, result, run):
 _NONE = re.compile(r'(?<![\w+/=])None(?![\w+/=])')
 
 
-def clean(text):
+def clean(text: Any) -> str:
     """Text for the page: None -> '-', Python's 'None' inside a message -> '-', control
     characters shown as \\xNN instead of breaking the layout."""
     if text is None:

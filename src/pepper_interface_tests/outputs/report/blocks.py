@@ -5,7 +5,7 @@ each one with autoescaping on, so a hostile frame id or reason is shown as text,
 Inline content (`Para.parts`, table cells, KV values) is a string, a `Span`, or a list of both.
 """
 from dataclasses import dataclass, field
-from typing import Any, List, Optional
+from typing import Any, List, Optional, Union
 
 
 @dataclass
@@ -76,5 +76,9 @@ class Details:
     kind: str = 'details'
 
 
-def span_list(*parts):
+# what a view returns, one item a block of the section
+Block = Union[Heading, Para, Table, KV, Image, Media, Row, Details]
+
+
+def span_list(*parts: Any) -> List[Any]:
     return [p for p in parts if p not in (None, '')]

@@ -11,6 +11,7 @@ whatever the run recorded; the plots add about 1 MB for all fourteen robot senso
 """
 import base64
 import os
+from typing import List, Optional, Sequence, Union
 
 from .blocks import Image, Media, Para, Span
 
@@ -19,7 +20,7 @@ EMBED_BUDGET_BYTES = 1024 * 1024
 BROWSER_CODECS = ('avc1', 'avc3', 'vp09', 'av01')
 
 
-def video_codec(data):
+def video_codec(data: bytes) -> Optional[str]:
     """The sample format of the first track of an mp4 (e.g. 'avc1', 'mp4v'), or None."""
     i = data.rfind(b'stsd')
     if i < 0 or i + 20 > len(data):
@@ -31,34 +32,36 @@ def video_codec(data):
         return None
 
 
-def _mb(size):
+def _mb(size: int) -> str:
     return '%.2f MB' % (size / 1e6) if size >= 10000 else '%d kB' % max(1, round(size / 1e3))
 
 
 class RunFiles:
     """Reads recordings from `folder`; counts what was embedded against the budget."""
 
-    def __init__(self, folder, max_embed=MAX_EMBED_BYTES, budget=EMBED_BUDGET_BYTES):
+    def __init__(self, folder: str, max_embed: int = MAX_EMBED_BYTES, budget: int = EMBED_BUDGET_BYTES) -> None:
         self.folder = folder
         self.max_embed = max_embed
         self.budget = budget
         self.embedded = 0          # bytes of media put inside the page so far
-        self.problems = []         # what could not be shown (said in the footer)
+        self.problems: List[str] = []         # what could not be shown (said in the footer)
 
-    def path(self, name):
+    def path(self, name: str) -> str:
         return os.path.join(self.folder, name)
 
-    def exists(self, name):
-        return bool(name) and os.path.exists(self.path(name))
+    def exists(self, name: Optional[str]) -> bool:
+        if not name:
+            return False
+        return os.path.exists(self.path(name))
 
-    def read(self, name):
+    def read(self, name: str) -> Optional[bytes]:
         try:
             with open(self.path(name), 'rb') as f:
                 return f.read()
         except OSError:
             return None
 
-    def frame(self, name, caption):
+    def frame(self, name: str, caption: str) -> Union[Image, Para]:
         """A JPEG/PNG still, embedded, linking to its file."""
         data = self.read(name)
         if data is None:
@@ -67,7 +70,7 @@ class RunFiles:
         return Image('data:%s;base64,%s' % (mime, base64.b64encode(data).decode('ascii')), caption,
                      cls='frame', href=name, caption=caption)
 
-    def _embed(self, name, size):
+    def _embed(self, name: str, size: int) -> Optional[bytes]:
         if size > self.max_embed or self.embedded + size > self.budget:
             return None
         data = self.read(name)
@@ -75,7 +78,7 @@ class RunFiles:
             self.embedded += size
         return data
 
-    def media(self, tag, name, mime, codec=None):
+    def media(self, tag: str, name: str, mime: str, codec: Optional[str] = None) -> Union[Media, Para]:
         """A <video>/<audio> block: inside the page within the budget, else linked."""
         if not self.exists(name):
             return Para(['recording %s not found next to the report' % name], cls='warn-text')
@@ -93,6 +96,6 @@ class RunFiles:
             src, how = name, 'linked, file next to the report'
         return Media(tag, src, [Span(name, href=name), ' (%s, %s)' % (_mb(size), how)])
 
-    def links(self, names):
+    def links(self, names: Sequence[str]) -> List[Span]:
         """Links to the run's files that exist, e.g. the JSON and JUnit results."""
         return [Span(n, href=n) for n in names if self.exists(n)]

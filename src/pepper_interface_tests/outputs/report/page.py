@@ -8,30 +8,33 @@ with their own name in a neutral grey badge.
 import os
 from collections import Counter
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 from ...plan import catalog
-from ...results import FAIL, PASS, SKIPPED, summary_line, timestamp
+from ...results import FAIL, PASS, SKIPPED, RunResult, SensorResult, summary_line, timestamp
 from . import plots, views
 from .adapters import adapt, clean
 from .blocks import KV, Span
 from .files import RunFiles
 from .views.fmt import num
 
+if TYPE_CHECKING:
+    import jinja2
+
 TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'templates')
 KNOWN = (PASS, FAIL, SKIPPED)
 RESULT_FILES = ('sensorTestResults.json', 'sensorTestResults.xml', 'sensorTestOutput.dat')
 
 
-def verdict_class(verdict):
+def verdict_class(verdict: str) -> str:
     return verdict if verdict in KNOWN else 'OTHER'
 
 
-def anchor(name):
+def anchor(name: str) -> str:
     return 'sensor-' + ''.join(c if c.isalnum() or c in '-_' else '-' for c in str(name))
 
 
-def _finalize(value):
+def _finalize(value: Any) -> Any:
     import markupsafe
     if value is None:
         return '-'
@@ -40,18 +43,18 @@ def _finalize(value):
     return value
 
 
-def environment():
+def environment() -> 'jinja2.Environment':
     import jinja2
     return jinja2.Environment(loader=jinja2.FileSystemLoader(TEMPLATES), autoescape=True, finalize=_finalize,
                               trim_blocks=True, lstrip_blocks=True, undefined=jinja2.StrictUndefined)
 
 
-def family(r):
+def family(r: SensorResult) -> Optional[str]:
     sensor = catalog.SENSORS.get(r.name)
     return sensor.family if sensor else None
 
 
-def in_band(r):
+def in_band(r: SensorResult) -> Optional[bool]:
     """The rate's own verdict: True inside the expected band, False outside, None without one."""
     band = r.expected_rate_hz
     if not band or r.rate_hz is None:
@@ -74,7 +77,7 @@ class RateRow:
     label: str
 
 
-def rate_steps(r):
+def rate_steps(r: SensorResult) -> Tuple[List[float], List[float]]:
     """The sensor's 1 s rate bins as stairs on the run's time axis: (edges, rates).
     The last bin usually covers only part of a second; its rate is scaled to that part
     (a bin shorter than 0.25 s is dropped rather than shown as a false drop)."""
@@ -100,7 +103,7 @@ def rate_steps(r):
     return edges, rates
 
 
-def rates_figure(run):
+def rates_figure(run: RunResult) -> Optional[str]:
     rows = []
     for r in run.sensors:
         if r.verdict == SKIPPED or not isinstance(r.series, dict) or not r.series.get('rate_hz') \
@@ -121,7 +124,7 @@ def rates_figure(run):
 
 # ---------------------------------------------------------------- one sensor
 
-def _flatten(prefix, value, out, depth=0):
+def _flatten(prefix: str, value: Any, out: List[Tuple[str, str]], depth: int = 0) -> None:
     if isinstance(value, dict) and depth < 3:
         for k, v in value.items():
             _flatten('%s.%s' % (prefix, k) if prefix else str(k), v, out, depth + 1)
@@ -135,7 +138,7 @@ def _flatten(prefix, value, out, depth=0):
         out.append((prefix, clean(value)))
 
 
-def stats_rows(r):
+def stats_rows(r: SensorResult) -> List[Tuple[str, Any]]:
     s = r.stats if isinstance(r.stats, dict) else {}
     delay = s.get('delay_s') if isinstance(s.get('delay_s'), dict) else {}
     band = r.expected_rate_hz
@@ -164,12 +167,12 @@ def stats_rows(r):
 class View:
     """What a family view may use: the run's files and the anchors of other sections."""
 
-    def __init__(self, files):
+    def __init__(self, files: RunFiles) -> None:
         self.files = files
         self.anchor = anchor
 
 
-def section(r, run, view):
+def section(r: SensorResult, run: RunResult, view: View) -> Dict[str, Any]:
     sec = {'name': r.name, 'anchor': anchor(r.name), 'title': r.title or r.name, 'verdict': r.verdict,
            'vcls': verdict_class(r.verdict), 'topic': r.topic or '-', 'msg_type': r.msg_type or '-',
            'reasons': [clean(x) for x in r.reasons or []], 'warnings': [clean(x) for x in r.warnings or []],
@@ -196,7 +199,7 @@ def section(r, run, view):
 
 # ---------------------------------------------------------------- the page
 
-def header(run):
+def header(run: RunResult) -> Dict[str, Any]:
     counts = Counter(r.verdict for r in run.sensors)
     order = [v for v in KNOWN] + sorted(v for v in counts if v not in KNOWN)
     words = {PASS: 'passed', FAIL: 'failed', SKIPPED: 'skipped'}
@@ -220,7 +223,7 @@ def header(run):
     }
 
 
-def summary_rows(run, files):
+def summary_rows(run: RunResult, files: RunFiles) -> List[Dict[str, Any]]:
     rows = []
     for r in run.sensors:
         art = r.artifacts if isinstance(r.artifacts, dict) else {}
@@ -234,7 +237,7 @@ def summary_rows(run, files):
     return rows
 
 
-def render(run, folder, max_embed):
+def render(run: RunResult, folder: str, max_embed: int) -> str:
     """The report of `run` as one HTML string; recordings are read from `folder`."""
     files = RunFiles(folder, max_embed=max_embed)
     view = View(files)

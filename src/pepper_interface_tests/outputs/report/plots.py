@@ -9,6 +9,15 @@ legends placed outside the axes inside the image.
 import base64
 import io
 import math
+from typing import TYPE_CHECKING, Any, Optional, Sequence
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import MaxNLocator
+
+    from .page import RateRow
+    from .values import ChannelLevel, Histogram, LaserScanValues, Series
 
 DPI = 100
 FONT_PT = 11
@@ -17,7 +26,7 @@ CHANNEL_COLOURS = ('#1f77b4', '#ff7f0e', '#2ca02c', '#d62728')
 T_LABEL = 's since listening began'
 
 
-def figure(w, h, **kw):
+def figure(w: float, h: float, **kw: Any) -> 'Figure':
     import matplotlib
     matplotlib.rcParams.update({'font.size': FONT_PT, 'axes.titlesize': FONT_PT, 'axes.labelsize': FONT_PT,
                                 'xtick.labelsize': FONT_PT - 1, 'ytick.labelsize': FONT_PT - 1,
@@ -26,23 +35,23 @@ def figure(w, h, **kw):
     return Figure(figsize=(w, h), dpi=DPI, layout='constrained', **kw)
 
 
-def uri(fig):
+def uri(fig: 'Figure') -> str:
     buf = io.BytesIO()
     fig.savefig(buf, format='png', dpi=DPI, bbox_inches='tight', pad_inches=0.08)
     return 'data:image/png;base64,' + base64.b64encode(buf.getvalue()).decode('ascii')
 
 
-def _grid(*axes):
+def _grid(*axes: 'Axes') -> None:
     for a in axes:
         a.grid(True, alpha=0.3)
 
 
-def rates(rows, t_end):
+def rates(rows: Sequence['RateRow'], t_end: float) -> str:
     """rows: [RateRow] (page.py): one strip per sensor, coloured by its rate's own verdict."""
     fig = figure(13, 0.62 * len(rows) + 1.0)
     axes = fig.subplots(len(rows), 1, sharex=True, squeeze=False)[:, 0]
     for ax, r in zip(axes, rows):
-        colour = {True: BLUE, False: RED}.get(r.in_band, GREY)
+        colour = BLUE if r.in_band else (RED if r.in_band is False else GREY)
         top = max(r.rates + [1.0])
         if r.band:
             ax.fill_between([r.start, r.end], [r.band[0]] * 2, [r.band[1]] * 2, color=GREEN, alpha=0.18, lw=0)
@@ -66,12 +75,12 @@ def rates(rows, t_end):
     return uri(fig)
 
 
-def _locator(n):
+def _locator(n: int) -> 'MaxNLocator':
     from matplotlib.ticker import MaxNLocator
     return MaxNLocator(n)
 
 
-def range_over_time(s, lo, hi):
+def range_over_time(s: 'Series', lo: Optional[float], hi: Optional[float]) -> str:
     fig = figure(8, 2.6)
     ax = fig.subplots()
     ax.plot(s.t, s.v, '.-', color=BLUE, ms=4, lw=1)
@@ -89,7 +98,7 @@ def range_over_time(s, lo, hi):
     return uri(fig)
 
 
-def laser_scan(scan):
+def laser_scan(scan: 'LaserScanValues') -> str:
     import numpy as np
     angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
     rng = np.array(scan.ranges, dtype=float)
@@ -106,7 +115,7 @@ def laser_scan(scan):
         ax.set_thetamin(math.degrees(angles.min()))
         ax.set_thetamax(math.degrees(angles.max()))
     ax.plot(angles[valid], rng[valid], '.', color=BLUE, ms=6, label='valid (%d)' % valid.sum())
-    if is_blind.any():
+    if blind is not None and is_blind.any():
         ax.plot(angles[is_blind], np.full(is_blind.sum(), hi), 'x', color=GREY, ms=6,
                 label='blind beams = %g (%d)' % (blind, is_blind.sum()))
     if invalid.any():
@@ -120,7 +129,7 @@ def laser_scan(scan):
     return uri(fig)
 
 
-def brightness(s):
+def brightness(s: 'Series') -> str:
     fig = figure(8, 2.2)
     ax = fig.subplots()
     ax.plot(s.t, s.v, '.-', ms=4, lw=1, color=BLUE)
@@ -131,7 +140,7 @@ def brightness(s):
     return uri(fig)
 
 
-def depth_over_time(median, valid):
+def depth_over_time(median: 'Series', valid: 'Series') -> str:
     fig = figure(8, 3.2)
     a1, a2 = fig.subplots(2, 1, sharex=True)
     a1.plot(median.t, median.v, '.-', ms=4, lw=1, color=BLUE)
@@ -144,7 +153,7 @@ def depth_over_time(median, valid):
     return uri(fig)
 
 
-def colour_scale(lo, hi):
+def colour_scale(lo: float, hi: float) -> str:
     import matplotlib
     fig = figure(1.5, 3.0)
     ax = fig.subplots()
@@ -153,7 +162,7 @@ def colour_scale(lo, hi):
     return uri(fig)
 
 
-def histogram(h):
+def histogram(h: 'Histogram') -> str:
     fig = figure(8, 2.4)
     ax = fig.subplots()
     if len(h.edges) == len(h.counts) + 1:
@@ -167,7 +176,7 @@ def histogram(h):
     return uri(fig)
 
 
-def levels_per_channel(channels):
+def levels_per_channel(channels: Sequence['ChannelLevel']) -> str:
     """One strip per microphone channel on a shared time and dB axis; a silent channel is
     drawn on a red background with 'silent' written across it, so it cannot hide."""
     fig = figure(6.2, 0.95 * len(channels) + 0.9)
@@ -189,7 +198,7 @@ def levels_per_channel(channels):
     return uri(fig)
 
 
-def waveform(path, name, max_seconds=300.0, bins=900):
+def waveform(path: str, name: str, max_seconds: float = 300.0, bins: int = 900) -> Optional[str]:
     """Min/max envelope of every channel of a WAV file, one row per channel, each at its own
     scale with its peak written. Returns the URI, or raises what soundfile raised."""
     import numpy as np
@@ -221,7 +230,7 @@ def waveform(path, name, max_seconds=300.0, bins=900):
     return uri(fig)
 
 
-def odometry(x, y):
+def odometry(x: 'Series', y: 'Series') -> str:
     fig = figure(10, 3.0)
     a1, a2 = fig.subplots(1, 2, gridspec_kw={'width_ratios': [2.2, 1]})
     a1.plot(x.t, x.v, lw=1.4, label='x')
@@ -241,7 +250,7 @@ def odometry(x, y):
     return uri(fig)
 
 
-def imu(acc, gyro):
+def imu(acc: 'Series', gyro: 'Series') -> str:
     fig = figure(8, 3.2)
     a1, a2 = fig.subplots(2, 1, sharex=True)
     a1.plot(acc.t, acc.v, lw=1.3, color=BLUE)

@@ -5,12 +5,12 @@ Today adapters.py builds them from the checks' dicts; a check may later produce 
 directly (then its adapter goes, and the view does not change).
 """
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
 
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')   # sensors/audio.py order
 
 
-def xy(points):
+def xy(points: Optional[Iterable[Any]]) -> Tuple[List[float], List[float]]:
     """[(t, v), ...] with None values -> (times, values) float lists (None -> nan)."""
     xs, ys = [], []
     for p in points or []:
@@ -26,7 +26,7 @@ def xy(points):
     return xs, ys
 
 
-def number(v):
+def number(v: Any) -> Optional[float]:
     try:
         f = float(v)
     except (TypeError, ValueError):
@@ -34,7 +34,7 @@ def number(v):
     return f
 
 
-def mapping(v):
+def mapping(v: Any) -> Dict[Any, Any]:
     return v if isinstance(v, dict) else {}
 
 
@@ -46,7 +46,7 @@ class Spread:
     max: Optional[float] = None
 
     @classmethod
-    def of(cls, d, mid='mean'):
+    def of(cls, d: Any, mid: str = 'mean') -> Optional['Spread']:
         d = mapping(d)
         return cls(number(d.get('min')), number(d.get(mid)), number(d.get('max'))) if d else None
 
@@ -57,10 +57,10 @@ class Series:
     v: List[float] = field(default_factory=list)
 
     @classmethod
-    def of(cls, points):
+    def of(cls, points: Optional[Iterable[Any]]) -> 'Series':
         return cls(*xy(points))
 
-    def __bool__(self):
+    def __bool__(self) -> bool:
         return bool(self.t)
 
 
@@ -182,3 +182,8 @@ class SpeechValues:
     subscribers: List[str] = field(default_factory=list)
     heard: Optional[bool] = None
     level_rise_db: Optional[float] = None
+
+
+# what adapters.adapt returns and views.render takes: one family's values
+FamilyValues = Union[RangeValues, LaserScanValues, CameraValues, DepthValues, AudioValues, JointValues,
+                     OdometryValues, ImuValues, SpeechValues]

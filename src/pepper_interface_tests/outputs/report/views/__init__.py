@@ -5,15 +5,24 @@ section: a view receives the SensorResult (for its name and artifacts) and the f
 values (values.py); `ctx` (page.View) gives the run's files (files.RunFiles) and the anchors of
 other sections. A family without a view shows only the common parts of its section.
 """
+from typing import TYPE_CHECKING, List, Optional
 
+from ....results import SensorResult
+from ..blocks import Block
+from ..values import FamilyValues
 from . import audio, camera, depth, imu, joints, laser, odometry, speech
 from . import range as range_view
 
 VIEWS = {'range': range_view, 'laser': laser, 'camera': camera, 'depth': depth, 'audio': audio,
          'joints': joints, 'odometry': odometry, 'imu': imu, 'speech': speech}
 
-def render(family, result, values, ctx):
-    view = VIEWS.get(family)
+if TYPE_CHECKING:
+    from ..page import View
+
+
+def render(family: Optional[str], result: SensorResult, values: Optional[FamilyValues],
+           ctx: 'View') -> List[Block]:
+    view = VIEWS.get(family) if family is not None else None
     if view is None or values is None:
         return []
     return view.render(result, values, ctx)

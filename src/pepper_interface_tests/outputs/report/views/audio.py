@@ -1,13 +1,20 @@
 """Microphone: levels per channel, one level-over-time strip per channel (a silent one marked),
 the waveform of each channel, the WAV players (linked or embedded), and whether the speech
 check's sentence was heard."""
+from typing import TYPE_CHECKING, List, Sequence
+
+from ....results import SensorResult
 from .. import plots
-from ..blocks import Heading, Image, Para, Row, Span, Table
+from ..blocks import Block, Heading, Image, Para, Row, Span, Table
+from ..values import AudioValues, ChannelLevel
 from .fmt import num
 from .speech import heard_text
 
+if TYPE_CHECKING:
+    from ..page import View
 
-def _levels_table(channels):
+
+def _levels_table(channels: Sequence[ChannelLevel]) -> Table:
     rows = []
     for c in channels:
         clip = '-' if c.clipping_share is None else '%.3f%%' % (100 * c.clipping_share)
@@ -17,8 +24,8 @@ def _levels_table(channels):
     return Table(['channel', 'RMS dBFS', 'peak dBFS', 'clipping', 'silent'], rows, numeric=[1, 2, 3])
 
 
-def render(r, v, ctx):
-    out = []
+def render(r: SensorResult, v: AudioValues, ctx: 'View') -> List[Block]:
+    out: List[Block] = []
     if v.channels:
         out += [Heading('Levels per channel'), _levels_table(v.channels)]
     if v.sample_rate_hz is not None:

@@ -1,10 +1,17 @@
 """Cameras: first and last frame, the video (or why there is none), brightness statistics."""
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple
+
+from ....results import SensorResult
 from .. import plots
-from ..blocks import KV, Heading, Image, Para, Row
+from ..blocks import KV, Block, Heading, Image, Para, Row
+from ..values import CameraValues, VideoInfo
 from .fmt import num, spread
 
+if TYPE_CHECKING:
+    from ..page import View
 
-def no_video_reason(video):
+
+def no_video_reason(video: VideoInfo) -> Optional[str]:
     """Why no video file was written, in words (None when there is a video)."""
     if video.recording_off:
         return 'recording is off for this run'
@@ -21,9 +28,9 @@ def no_video_reason(video):
     return '; '.join(parts) or 'the video writer produced no file'
 
 
-def frames_and_video(r, cam, ctx, cells):
+def frames_and_video(r: SensorResult, cam: CameraValues, ctx: 'View', cells: List[Any]) -> List[Block]:
     """The 'Frames and video' row: `cells` (frame thumbnails, ...) plus the player, or the reason."""
-    out = []
+    out: List[Block] = []
     video = cam.video
     reason = no_video_reason(video) if video else None
     if video and video.file:
@@ -37,18 +44,18 @@ def frames_and_video(r, cam, ctx, cells):
     return out
 
 
-def frames(cam, ctx, extra=''):
+def frames(cam: CameraValues, ctx: 'View', extra: str = '') -> List[Any]:
     return [ctx.files.frame(name, caption + extra) for name, caption in cam.frames]
 
 
-def video_row(video):
+def video_row(video: Optional[VideoInfo]) -> Optional[Tuple[str, str]]:
     if video is None or not video.file:
         return None
     return ('video', '%s frames, %s fps, codec %s' % (num(video.frames_written), num(video.fps),
                                                        video.codec or 'unknown'))
 
 
-def render(r, v, ctx):
+def render(r: SensorResult, v: CameraValues, ctx: 'View') -> List[Block]:
     out = frames_and_video(r, v, ctx, frames(v, ctx))
     rows = []
     if v.width is not None:
@@ -59,8 +66,9 @@ def render(r, v, ctx):
                          (v.longest_identical_run, 'longest run of identical frames (frozen)')):
         if value is not None:
             rows.append((label, num(value)))
-    if video_row(v.video):
-        rows.append(video_row(v.video))
+    video = video_row(v.video)
+    if video:
+        rows.append(video)
     if v.stereo:
         st = v.stereo
         rows.append(('stereo', 'two views of %sx%s, identical views in %s frames'

@@ -1,12 +1,19 @@
 """Depth cameras: colour-mapped frames with their scale, the video, depth statistics, the
 histogram when the check recorded one, median depth and valid pixels over time."""
+from typing import TYPE_CHECKING, List
+
+from ....results import SensorResult
 from .. import plots
-from ..blocks import KV, Heading, Image
+from ..blocks import KV, Block, Heading, Image
+from ..values import DepthValues
 from .camera import frames, frames_and_video, video_row
 from .fmt import num, spread
 
+if TYPE_CHECKING:
+    from ..page import View
 
-def render(r, v, ctx):
+
+def render(r: SensorResult, v: DepthValues, ctx: 'View') -> List[Block]:
     cam = v.camera
     cells = frames(cam, ctx, ' (colour-mapped)')
     if cells:
@@ -20,8 +27,9 @@ def render(r, v, ctx):
     rows.append(('valid pixels (share)', spread(v.valid_share, 3)))
     if v.frames_all_zero is not None:
         rows.append(('frames without a valid pixel', num(v.frames_all_zero)))
-    if video_row(cam.video):
-        rows.append(video_row(cam.video))
+    video = video_row(cam.video)
+    if video:
+        rows.append(video)
     out += [Heading('Depth statistics'), KV(rows)]
     if v.histogram:
         out += [Heading('Depth histogram'), Image(plots.histogram(v.histogram), 'depth histogram')]

@@ -1,8 +1,11 @@
 """Numbers as the page shows them: never 'None' (unknown is '-' or 'not measured')."""
 import math
+from typing import Any, Optional
+
+from ..values import Spread
 
 
-def num(v, nd=2, unit=''):
+def num(v: Any, nd: int = 2, unit: str = '') -> str:
     if v is None:
         return '-'
     if isinstance(v, float):
@@ -16,7 +19,7 @@ def num(v, nd=2, unit=''):
     return text + ((' ' + unit) if unit else '')
 
 
-def spread(s, nd=2, mid='mean', unit=''):
+def spread(s: Optional[Spread], nd: int = 2, mid: str = 'mean', unit: str = '') -> str:
     """'min 1.00, mean 2.00, max 3.00' or 'not measured'."""
     if s is None or (s.min is None and s.mid is None and s.max is None):
         return 'not measured'

@@ -1,9 +1,16 @@
 """Speech: the sentence, who received it, whether the microphones heard it."""
-from ..blocks import KV, Heading, Span
+from typing import TYPE_CHECKING, List, Optional, Union
+
+from ....results import SensorResult
+from ..blocks import KV, Block, Heading, Span
+from ..values import SpeechValues
 from .fmt import num
 
+if TYPE_CHECKING:
+    from ..page import View
 
-def heard_text(heard):
+
+def heard_text(heard: Optional[bool]) -> Union[Span, str]:
     if heard is True:
         return Span('yes', strong=True)
     if heard is False:
@@ -11,7 +18,7 @@ def heard_text(heard):
     return 'not measured (microphones not in this run)'
 
 
-def render(r, v, ctx):
+def render(r: SensorResult, v: SpeechValues, ctx: 'View') -> List[Block]:
     rows = [('sentence', v.text or '-'),
             ('delivered to', ', '.join(v.subscribers) or '-'),
             ('heard by the microphones', heard_text(v.heard))]
