@@ -84,7 +84,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
                          % interrupts.POLICY.reason())
         code = results.EXIT_INTERRUPTED
-    if '--end-launch' in argv:     # launch files: see launch_end.py
+    if '--end-launch' in argv:     # launch files: see launch/end.py
         from .launch.end import end_launch
         end_launch(code)
     return code

@@ -7,7 +7,7 @@ LAUNCH is a path, or a file name of this package's launch/ folder (pepperEmulato
 one sensorTest wrote (0 passed, 1 a sensor failed, 2 could not start, 3, 130: see sensorTest
 --help); 2 when the launch ended without sensorTest finishing (a node it needs failed, e.g. the
 emulator refusing a fault string: its message is above; sensorTest then reports 130, interrupted
-by roslaunch's shutdown) or after --timeout; 130 on Ctrl-C. See launch_end.py for how sensorTest ends the launch."""
+by roslaunch's shutdown) or after --timeout; 130 on Ctrl-C. See launch/end.py for how sensorTest ends the launch."""
 import argparse
 import os
 import signal
