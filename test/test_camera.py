@@ -62,6 +62,7 @@ def test_wrong_encoding_and_size_fail(tmp_path):
     assert c.converted == 3                            # bgra8 converts: it is only unexpected
 
 
+@pytest.mark.integration     # the real cv_bridge, which imports OpenCV (half a second)
 def test_cv_bridge_error_is_a_counted_failure_not_a_crash(tmp_path):
     depth = np.full((120, 160), 1000, np.uint16)
     frames = [image_msg(depth, '16UC1') for _ in range(3)]
