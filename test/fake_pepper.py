@@ -27,6 +27,14 @@ FAULTS = ('nan', 'out_of_range', 'broken_quaternion', 'zero_stamp', 'old_stamp',
 UNKNOWN_COVARIANCE = [-1.0] + [0.0] * 8                    # naoqi_driver imu.cpp: "no estimate"
 
 
+def serialized(msg):
+    """The message's bytes on the wire (what a subscriber's AnyMsg or a bag holds)."""
+    import io
+    buff = io.BytesIO()
+    msg.serialize(buff)
+    return buff.getvalue()
+
+
 def spec(name, platform='robot'):
     """The robot (or simulator) profile's SensorSpec of `name` (e.g. 'frontSonar')."""
     return (SIMULATOR if platform == 'simulator' else ROBOT).sensor(name)

@@ -30,17 +30,15 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import Image
 
-from media_tools import pattern  # noqa: E402  (test/ is this script's own folder)
+import fake_pepper as fake  # (test/ is this script's own folder)
+from media_tools import pattern
 
 TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 
 
-def image(w, h, encoding, data, step, frame_id):
-    m = Image(width=w, height=h, encoding=encoding, step=step, is_bigendian=0, data=data)
-    m.header.stamp = rospy.Time.now()
-    m.header.frame_id = frame_id
-    return m
+def image(a, pixels, encoding, step=None):
+    return fake.image(pixels, encoding, step=step, t=rospy.Time.now(), frame_id=a.frame_id)
 
 
 def make_camera(a, i, cache):
@@ -61,9 +59,9 @@ def make_camera(a, i, cache):
         px = pattern(w, h, i)
     if a.fault == 'wrong_encoding':
         px4 = np.dstack([px, np.full((h, w), 255, np.uint8)])
-        return image(w, h, 'bgra8', px4.tobytes(), w * 4, a.frame_id)
+        return image(a, px4, 'bgra8')
     step = w * 3 - 1 if a.fault == 'wrong_step' else w * 3
-    return image(w, h, 'rgb8', px.tobytes(), step, a.frame_id)
+    return image(a, px, 'rgb8', step)
 
 
 def make_depth(a, i, cache):
@@ -78,10 +76,10 @@ def make_depth(a, i, cache):
     if a.fault == 'float_m':
         m = mm.astype(np.float32) / 1000.0
         m[: h // 10] = np.nan
-        return image(w, h, '32FC1', m.tobytes(), w * 4, a.frame_id)
+        return image(a, m, '32FC1')
     if a.fault == 'bad_encoding':
-        return image(w, h, 'rgb8', pattern(w, h, i).tobytes(), w * 3, a.frame_id)
-    return image(w, h, '16UC1', mm.tobytes(), w * 2, a.frame_id)
+        return image(a, pattern(w, h, i), 'rgb8')
+    return image(a, mm, '16UC1')
 
 
 def make_audio(a, i, cache):

@@ -17,7 +17,7 @@ import pytest
 import rosbag
 from std_msgs.msg import String
 
-from fake_pepper import BLIND, JOINTS, UNKNOWN_COVARIANCE, imu, joints, laser, odometry, sonar
+from fake_pepper import BLIND, JOINTS, UNKNOWN_COVARIANCE, imu, joints, laser, odometry, serialized, sonar
 from pepper_interface_tests import results
 from pepper_interface_tests.observer import RunObserver
 from pepper_interface_tests.outputs import files
@@ -40,12 +40,6 @@ R0 = 1700000000.0      # ROS time at T0
 
 # ------------------------------------------------------------------ helpers
 
-def ser(msg):
-    buff = io.BytesIO()
-    msg.serialize(buff)
-    return buff.getvalue()
-
-
 def make_run(name, tmp_path, expect=None, topic='/t', quick=False, wait=2.0, duration=3.0):
     plan = SensorPlan(catalog.SENSORS[name], topic, ROBOT[name].but(**(expect or {})))
     ctx = RunContext(str(tmp_path), 'robot', Options())
@@ -64,7 +58,7 @@ def feed(run, msgs, rate=10.0, start=0.05, delay=0.01, stamp=None):
         if hasattr(m, 'header'):
             s = stamp(i, ros) if stamp else ros - delay
             m.header.stamp = genpy.Time.from_sec(s) if s else genpy.Time(0, 0)
-        run.feed_raw(run.sensor.msg_type, ser(m), t, ros)
+        run.feed_raw(run.sensor.msg_type, serialized(m), t, ros)
     return t
 
 
@@ -440,7 +434,7 @@ def test_imu_with_unknown_covariance_is_checked(tmp_path):
 def test_wrong_message_type_names_both_types(tmp_path):
     run = make_run('backSonar', tmp_path, topic='/naoqi_driver/sonar/back')
     for i in range(10):
-        run.feed_raw('std_msgs/String', ser(String(data='x')), T0 + 0.1 * i, R0 + 0.1 * i)
+        run.feed_raw('std_msgs/String', serialized(String(data='x')), T0 + 0.1 * i, R0 + 0.1 * i)
     r = close(run, lookup=lambda topic: ('std_msgs/String', ['/talker']))
     assert r.verdict == FAIL and r.messages == 0
     assert r.reasons[0] == ('topic /naoqi_driver/sonar/back carries std_msgs/String, '
@@ -588,11 +582,11 @@ def test_interrupted_window_says_so(tmp_path):
 def test_messages_outside_the_window_are_ignored(tmp_path):
     plan = SensorPlan(catalog.SENSORS['backSonar'], '/t', ROBOT['backSonar'])
     run = SensorRun(plan, RunContext(str(tmp_path), 'robot', Options()), T0)
-    run.feed_raw('sensor_msgs/Range', ser(sonar(0)), T0, R0)       # before begin()
+    run.feed_raw('sensor_msgs/Range', serialized(sonar(0)), T0, R0)       # before begin()
     run.begin(T0)
     feed(run, [sonar(i) for i in range(N)])
     r = close(run)
-    run.feed_raw('sensor_msgs/Range', ser(sonar(0)), T0 + 3.1, R0 + 3.1)   # after close()
+    run.feed_raw('sensor_msgs/Range', serialized(sonar(0)), T0 + 3.1, R0 + 3.1)   # after close()
     assert r.messages == N and run.stats.count == N
     assert run.close(T0 + 4, 'again') is r                       # closing twice: same result
 
@@ -1010,7 +1004,7 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     for i, m in enumerate(msgs):
         t = T0 + 0.05 + i / 10.0 + (1.5 if i >= 12 else 0.0)      # one 1.6 s pause
         m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
-        run.feed_raw(run.sensor.msg_type, ser(m), t, R0 + (t - T0))
+        run.feed_raw(run.sensor.msg_type, serialized(m), t, R0 + (t - T0))
     warned = close(run, at=4.5)
     assert warned.verdict == PASS and warned.warnings, (warned.reasons, warned.warnings)
     clean = judged('frontSonar', tmp_path, [sonar(i, frame_id='SonarFront_frame') for i in range(N)])

@@ -6,7 +6,6 @@ the same through sensorTest with real rospy publishers (test/driver_publisher.py
 Sources: ros-naoqi/naoqi_driver src/converters/{sonar,laser,imu}.cpp, src/event/audio.cpp;
 awesomebytes/pepper_virtual (simulation_that_works) pepper_gazebo_plugin/scripts/laser_publisher.py.
 """
-import io
 import os
 import subprocess
 import sys
@@ -18,7 +17,7 @@ import pytest
 import rosbag
 import soundfile
 
-from fake_pepper import STOCK_TONES, sim_laser, stock_audio_buffer
+from fake_pepper import STOCK_TONES, serialized, sim_laser, stock_audio_buffer
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -42,12 +41,6 @@ AUDIO_CONN = {'type': AUDIO_BUFFER_TYPE, 'message_definition': AUDIO_BUFFER_DEFI
               'callerid': '/naoqi_driver'}
 
 
-def ser(msg):
-    buff = io.BytesIO()
-    msg.serialize(buff)
-    return buff.getvalue()
-
-
 def run_of(name, tmp_path, platform_expect, expect=None, record=False):
     plan = SensorPlan(catalog.SENSORS[name], '/t', platform_expect[name].but(**(expect or {})))
     ctx = RunContext(str(tmp_path), 'robot', Options(record=record))
@@ -61,7 +54,7 @@ def feed(run, msgs, rate, type_name=None, conn=None):
         t = T0 + 0.05 + i / rate
         if hasattr(m, 'header'):
             m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
-        run.feed_raw(type_name or run.sensor.msg_type, ser(m), t, R0 + (t - T0), conn)
+        run.feed_raw(type_name or run.sensor.msg_type, serialized(m), t, R0 + (t - T0), conn)
     return run.close(T0 + 3.0, 'window ended')
 
 
@@ -155,7 +148,7 @@ def test_two_publishers_on_the_audio_topic_fail_naming_both(tmp_path):
         t = T0 + 0.05 + i / 11.7
         caller = '/naoqi_driver' if i % 2 else '/naoqiAudioPublisher'
         m = stock_audio_buffer(i, samples=4096)
-        run.feed_raw(AUDIO_BUFFER_TYPE, ser(m), t, R0, dict(AUDIO_CONN, callerid=caller))
+        run.feed_raw(AUDIO_BUFFER_TYPE, serialized(m), t, R0, dict(AUDIO_CONN, callerid=caller))
     r = run.close(T0 + 3.0, 'window ended')
     assert r.verdict == FAIL
     assert any(x.startswith('2 publishers deliver on /t: /naoqiAudioPublisher, /naoqi_driver (two audio '

@@ -17,6 +17,7 @@ import time
 import psutil
 import pytest
 
+from fake_pepper import BLIND, JOINTS, WHEELS
 from rosmaster import kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -69,12 +70,6 @@ SIMULATOR = {
     '/pepper/odom': ('nav_msgs/Odometry', 20, 'odom', dict(child='base_footprint')),
 }
 AUDIO_BUFFER_MD5 = '50f300aa63f3c1b2f3d3173329165316'    # naoqi_bridge_msgs/AudioBuffer
-JOINTS = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch', 'LShoulderPitch',
-          'LShoulderRoll', 'LElbowYaw', 'LElbowRoll', 'LWristYaw', 'LHand', 'RShoulderPitch',
-          'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw', 'RHand', 'WheelFL', 'WheelFR',
-          'WheelB']
-BLIND = list(range(15, 23)) + list(range(38, 46))
-WHEELS = ['WheelFL', 'WheelFR', 'WheelB']
 
 
 # ---------------------------------------------------------------- helpers
