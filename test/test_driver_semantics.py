@@ -27,7 +27,7 @@ from pepper_interface_tests.sources.naoqi_msgs import (
     AUDIO_BUFFER_DEFINITION,
     AUDIO_BUFFER_TYPE,
 )
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_for_publishers, wait_registered
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PKG = settings.package_dir()
@@ -220,7 +220,7 @@ def test_healthy_robot_as_naoqi_driver_publishes_it_passes(master, tmp_path):
         publish(master, procs, 'imu', '/d/imu', '--node', 'imu_pub')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--channel-map', '0,5,3,2',
                 '--node', 'naoqi_driver')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/d/sonar/front', '/d/laser', '/d/imu', '/d/audio'])
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, ROBOT_TOPICS), SENSORS)
     finally:
         for p in procs:
@@ -246,7 +246,7 @@ def test_real_faults_fail_naming_the_sensor_and_channel(master, tmp_path):
         publish(master, procs, 'imu', '/d/imu', '--fault', 'nan_attitude', '--node', 'imu_pub')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--channel-map', '2,0,3,5',
                 '--fault', 'dead:frontRight', '--node', 'naoqi_driver')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/d/sonar/front', '/d/laser', '/d/imu', '/d/audio'])
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, ROBOT_TOPICS), SENSORS)
     finally:
         for p in procs:
@@ -264,7 +264,7 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
     topics = _topics(tmp_path, {'Laser': '/pepper/laser_2', 'FrontSonar': '/pepper/laser_none'})
     try:
         publish(master, procs, 'sim_laser', '/pepper/laser_2', '--rate', 6.25, '--node', 'laser_publisher')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/pepper/laser_2'])
         done, res = sensor_test(master, tmp_path, topics, ['laser'], platform='simulator')
     finally:
         for p in procs:
@@ -274,7 +274,7 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
     try:
         publish(master, procs, 'sim_laser', '/pepper/laser_2', '--rate', 6.25, '--fault', 'no_returns',
                 '--node', 'laser_publisher')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/pepper/laser_2'])
         done, res = sensor_test(master, tmp_path, topics, ['laser'], platform='simulator')
     finally:
         for p in procs:
@@ -292,7 +292,7 @@ def test_two_audio_bridges_live_fail_naming_both_and_levels_read_stock_audio_buf
     try:
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqi_driver')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqiAudioPublisher')
-        time.sleep(1.5)
+        wait_registered(master, [('/d/audio', '/naoqi_driver'), ('/d/audio', '/naoqiAudioPublisher')])
         probe = subprocess.run([sys.executable, os.path.join(HERE, 'media_level_probe.py'), '/d/audio', '3',
                                 str(loud_file)], env=master.env(), capture_output=True, text=True, timeout=60)
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, {'Microphone': '/d/audio'}), ['microphone'])

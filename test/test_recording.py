@@ -14,7 +14,7 @@ from media_tools import Publishers, load_results, pattern, topics_file, video_in
 from pepper_interface_tests.media import playback, recording
 from pepper_interface_tests.media.recording import VideoRecorder, WavWriter
 from pepper_interface_tests.media.viewer import Viewer
-from rosmaster import script, spawn
+from rosmaster import script, spawn, wait_until
 
 
 def record(path, frames, rate, **kw):
@@ -33,7 +33,7 @@ def ffprobe_stream(path, entries='codec_name,pix_fmt'):
 def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path):
     path = tmp_path / 'frontCameraOutput.mp4'
     rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
-    time.sleep(0.5)
+    wait_until(lambda: os.path.exists(rec.tmp_path), 20, 'no %s while recording' % rec.tmp_path)
     assert not path.exists()                       # written under a temporary name until close
     summary = rec.close()
     frames, w, h, fps = video_info(str(path))
@@ -106,7 +106,7 @@ def test_an_encoder_that_dies_is_reported_and_the_rest_counted(tmp_path):
     while rec._proc is None and time.time() < deadline:     # ffmpeg starts after ~1 s of frames
         time.sleep(0.05)
     os.killpg(rec._proc.pid, signal.SIGKILL)      # a real encoder crash
-    time.sleep(0.3)
+    wait_until(lambda: rec._proc.poll() is not None, 10, 'the killed encoder still runs')
     for i in range(20, 60):
         rec.add(pattern(160, 120, i), i / 10.0)
     summary = rec.close()

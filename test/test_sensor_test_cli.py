@@ -17,6 +17,7 @@ import xml.etree.ElementTree as ET
 import pytest
 import rosgraph
 
+import rosmaster
 from rosmaster import Master, kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -52,19 +53,8 @@ def write_topics(path, prefix, names):
 
 
 def wait_registered(master, topics=(), subscribed=(), timeout=START_LIMIT):
-    """Until every topic has a publisher (and every `subscribed` topic a subscriber)."""
-    m = rosgraph.Master('/test_sensor_test_cli', master_uri=master.uri)
-    deadline = time.time() + timeout
-    while True:
-        pubs, subs, _ = m.getSystemState()
-        pubs = {t for t, nodes in pubs if nodes}
-        subs = {t for t, nodes in subs if any('core_publisher' in n for n in nodes)}
-        if set(topics) <= pubs and set(subscribed) <= subs:
-            return
-        if time.time() > deadline:
-            raise AssertionError('publishers did not register: %s %s'
-                                 % (sorted(set(topics) - pubs), sorted(set(subscribed) - subs)))
-        time.sleep(0.2)
+    """Until every topic has a publisher (and every `subscribed` topic a core_publisher subscriber)."""
+    rosmaster.wait_registered(master, topics, subscribed, subscriber='core_publisher', timeout=timeout)
 
 
 def sonar_and_laser(master, tmp, prefix, extra_topics=()):
