@@ -14,6 +14,7 @@ import threading
 import time
 import xml.etree.ElementTree as ET
 
+import psutil
 import pytest
 import rosgraph
 
@@ -189,17 +190,7 @@ class Running:
 
 def child_pids(pid):
     """Processes whose parent is `pid` (roscore's rosmaster and rosout run in their own groups)."""
-    out = []
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            try:
-                with open('/proc/%s/stat' % entry) as f:
-                    ppid = int(f.read().rsplit(')', 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-            if ppid == pid:
-                out.append(int(entry))
-    return out
+    return [child.pid for child in psutil.Process(pid).children()]
 
 
 def sensor_test(master, out_dir, *args, timeout=90):
