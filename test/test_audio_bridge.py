@@ -201,7 +201,7 @@ def test_chain_tones_identify_each_field_and_a_dead_microphone(procs, master, tm
 def test_chain_60s_realtime_no_lost_buffer(procs, master, tmp_path):
     _, _, out, p = chain(procs, master, tmp_path, 'counter')
     wait_messages(p['dumper'], 1, 40)
-    time.sleep(61.5)
+    time.sleep(61.5)    # the 60 s soak
     stats = get_param(master, STATS)
     blocks, recv = finish_dump(p['dumper'], out)
     starts = counter_starts(blocks)
@@ -260,7 +260,7 @@ def test_capture_resubscribes_after_naoqi_restart(procs, master, tmp_path):
     wait_messages(p['dumper'], 10, 40)
     p['endpoint'].stop(signal.SIGKILL)
     p['capture'].wait_for('NAOqi connection lost', 20)
-    time.sleep(1.0)
+    time.sleep(1.0)    # NAOqi stays down 1 s
     n = message_count(p['dumper'])
     procs.endpoint(naoqi_port, '--pattern', 'counter')
     p['capture'].wait_for('subscribed to ALAudioDevice', 30, count=2)
@@ -481,7 +481,7 @@ def test_usage_errors_and_waiting_for_peers(master, tmp_path):
     try:
         cap = procs.capture(free_port(), free_port())
         cap.wait_for('NAOqi not reachable', 20)
-        time.sleep(3)
+        time.sleep(3)    # 3 s of retries, which must not flood the log
         assert cap.alive()
         assert cap.log().count('not reachable') == 1, 'retry messages flood:\n' + cap.log()
         assert cap.stop(signal.SIGTERM, timeout=15) == 0

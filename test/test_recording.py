@@ -102,9 +102,7 @@ def test_an_encoder_that_dies_is_reported_and_the_rest_counted(tmp_path):
     rec = VideoRecorder(str(tmp_path / 'bottomCameraOutput.mp4'))
     for i in range(20):
         rec.add(pattern(160, 120, i), i / 10.0)
-    deadline = time.time() + 20
-    while rec._proc is None and time.time() < deadline:     # ffmpeg starts after ~1 s of frames
-        time.sleep(0.05)
+    wait_until(lambda: rec._proc is not None, 20, 'ffmpeg never started')   # after ~1 s of frames
     os.killpg(rec._proc.pid, signal.SIGKILL)      # a real encoder crash
     wait_until(lambda: rec._proc.poll() is not None, 10, 'the killed encoder still runs')
     for i in range(20, 60):
@@ -283,7 +281,7 @@ def test_recordings_are_finished_when_sensor_test_is_interrupted(module_master, 
             lines.append(line)
             if 'start  microphone' in line or not line:
                 break
-        time.sleep(4.0)
+        time.sleep(4.0)    # 4 s of recording before Ctrl-C
         os.killpg(proc.pid, signal.SIGINT)
         rest, _ = proc.communicate(timeout=60)
     assert proc.returncode == 130, ''.join(lines) + rest

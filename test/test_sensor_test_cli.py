@@ -353,7 +353,7 @@ def test_no_publisher_wrong_type_dying_publisher_and_no_listener(module_master, 
                        '--duration', '3', '--wait', '2', '--output-dir', str(tmp_path / 'out')],
                       module_master.env(), tmp_path / 'out')
         run.wait_for('start  laser')
-        time.sleep(1.0)
+        time.sleep(1.0)    # 1 s into the laser's window
         pubs.procs['laser'].kill()          # the laser driver crashes 1 s into its window
         r = run.finish()
     assert r.rc == 1, r
@@ -572,7 +572,7 @@ def test_interrupted_mid_run(module_master, good, tmp_path, sig):
     run = Running(['--topics', good.topics, '--sensors', 'backSonar,laser', '--mode', 'sequential',
                    '--duration', '30', '--wait', '2', '--output-dir', str(out)], module_master.env(), out)
     run.wait_for('start  backSonar')
-    time.sleep(2.0)
+    time.sleep(2.0)    # 2 s of listening before the signal
     sent = time.monotonic()
     run.proc.send_signal(sig)
     r = run.finish(30)
@@ -603,7 +603,7 @@ def test_master_killed_mid_run(master, tmp_path):
                        '--sensors', 'backSonar,laser', '--duration', '30', '--wait', '2',
                        '--output-dir', str(out)], master.env(), out)
         run.wait_for('start  backSonar')
-        time.sleep(1.5)
+        time.sleep(1.5)    # 1.5 s into the window
         doomed = child_pids(master.proc.pid)            # rosmaster and rosout
         assert doomed
         for pid in doomed:
