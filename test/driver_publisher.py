@@ -17,7 +17,7 @@ KIND
   audio_buffer stock naoqi_driver audio (event/audio.cpp): naoqi_bridge_msgs/AudioBuffer
                built from its definition (naoqi_msgs.py), interleaved, frequency 48000,
                --channel-map codes (default 3,5,0,2); channel named by code c carries a tone
-               of fake_pepper.STOCK_TONES[name]; faults: dead:<name> (that microphone all zeros)
+               of fake_pepper.MIC_TONES[name]; faults: dead:<name> (that microphone all zeros)
   clock        sets /use_sim_time true and publishes rosgraph_msgs/Clock about every 5 ms:
                100 s + --rtf x wall seconds since start
 Rates are kept with rospy.Rate, i.e. on the simulation clock when /use_sim_time is true, as

@@ -232,30 +232,42 @@ def depth_image(i, w=320, h=240, t=0.0):
     return image(mm, '16UC1', t=t, frame_id='CameraDepth_optical_frame')
 
 
-def audio_buffer(i, n=profiles.AUDIO_BUFFER, rate=profiles.AUDIO_RATE):
-    """AudioCustomMsg: one tone per channel, each 10 dB quieter than the one before."""
+MIC_TONES = {'rearLeft': 500.0, 'rearRight': 1000.0, 'frontLeft': 1500.0, 'frontRight': 2500.0}   # Hz
+
+
+def audio_buffer(i=0, n=profiles.AUDIO_BUFFER, rate=profiles.AUDIO_RATE, tones=False, amplitude=3000.0,
+                 channels=None, silent=None, short=None):
+    """AudioCustomMsg (the CSSR4Africa bridge's four int16 microphones) of buffer `i`: by default
+    one tone per channel, each 10 dB quieter than the one before; `tones` gives each microphone
+    its MIC_TONES sine at `amplitude` (clipped to int16); `channels` gives the four channels'
+    samples instead; the `silent` microphone is all zeros, the `short` one a sample short."""
     from pepper_interface_tests.msg import AudioCustomMsg
     tt = (np.arange(n) + i * n) / float(rate)
-    amps = (0.30, 0.10, 0.03, 0.01)
-    freqs = (220.0, 330.0, 440.0, 660.0)
-    envelope = 0.6 + 0.4 * np.sin(2 * np.pi * 0.5 * tt)
-    chans = [(a * 32767 * envelope * np.sin(2 * np.pi * f * tt)).astype(np.int16) for a, f in zip(amps, freqs)]
-    return AudioCustomMsg(**{name: c.tolist() for name, c in zip(profiles.MIC_CHANNELS, chans)})
-
-
-STOCK_TONES = {'rearLeft': 500.0, 'rearRight': 1000.0, 'frontLeft': 1500.0, 'frontRight': 2500.0}
+    if channels is None and tones:
+        channels = [amplitude * np.sin(2 * np.pi * MIC_TONES[name] * tt) for name in profiles.MIC_CHANNELS]
+    elif channels is None:
+        envelope = 0.6 + 0.4 * np.sin(2 * np.pi * 0.5 * tt)
+        channels = [a * 32767 * envelope * np.sin(2 * np.pi * f * tt)
+                    for a, f in zip((0.30, 0.10, 0.03, 0.01), (220.0, 330.0, 440.0, 660.0))]
+    out = {}
+    for name, x in zip(profiles.MIC_CHANNELS, channels):
+        x = np.clip(np.asarray(x, dtype=float), -32768, 32767).astype(np.int16)
+        if name == silent:
+            x[:] = 0
+        out[name] = (x[:-1] if name == short else x).tolist()
+    return AudioCustomMsg(**out)
 
 
 def stock_audio_buffer(i, cmap=(3, 5, 0, 2), dead=None, samples=profiles.STOCK_AUDIO_BUFFER,
                        frequency=profiles.AUDIO_RATE):
     """Stock naoqi_driver's naoqi_bridge_msgs/AudioBuffer (event/audio.cpp:170-180): interleaved
     int16 in the order of `cmap` (channelMap codes), `frequency`; the channel named by code c
-    carries the tone STOCK_TONES[name] (700 Hz for a code that is no microphone), the `dead`
+    carries the tone MIC_TONES[name] (700 Hz for a code that is no microphone), the `dead`
     microphone all zeros."""
     from pepper_interface_tests.sources.naoqi_msgs import CHANNEL_NAMES, audio_buffer_class
     tt = (np.arange(samples) + i * samples) / float(profiles.AUDIO_RATE)
     cols = [np.zeros(samples, np.int16) if CHANNEL_NAMES[c] == dead
-            else (3000 * np.sin(2 * np.pi * STOCK_TONES.get(CHANNEL_NAMES[c], 700.0) * tt)).astype(np.int16)
+            else (3000 * np.sin(2 * np.pi * MIC_TONES.get(CHANNEL_NAMES[c], 700.0) * tt)).astype(np.int16)
             for c in cmap]
     m = audio_buffer_class()()
     m.frequency, m.channelMap = frequency, bytes(cmap)

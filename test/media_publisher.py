@@ -12,8 +12,8 @@ Faults
       (step one byte short), wrong_encoding (bgra8 with a matching layout), size_change
       (every other frame half size), same_halves (stereo views identical)
   depth: zero (all pixels 0), float_m (32FC1 in metres, NaN band), bad_encoding (rgb8)
-  audio: silent:<channel> (that channel all zeros), tone (channel i carries a sine of
-      TONES[i] Hz), lengths (frontRight one sample short)
+  audio: silent:<channel> (that channel all zeros), tone (each microphone carries its sine of
+      fake_pepper.MIC_TONES), lengths (frontRight one sample short)
 --loud-after S (audio): quiet noise (about -50 dBFS) for S seconds, then loud noise (about
 -15 dBFS); the time.monotonic() of the switch is written to --loud-file.
 --count N publishes N messages, starting once a subscriber is connected, then stays up (so
@@ -32,9 +32,6 @@ from sensor_msgs.msg import Image
 
 import fake_pepper as fake  # (test/ is this script's own folder)
 from media_tools import pattern
-
-TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
-CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 
 
 def image(a, pixels, encoding, step=None):
@@ -83,30 +80,21 @@ def make_depth(a, i, cache):
 
 
 def make_audio(a, i, cache):
-    from pepper_interface_tests.msg import AudioCustomMsg
     n = a.samples
-    t = (np.arange(n) + i * n) / float(a.sample_rate)
     rng = cache.setdefault('rng', np.random.default_rng(1))
-    chans = []
-    for c, name in enumerate(CHANNELS):
-        if a.fault == 'tone':
-            x = 8000.0 * np.sin(2 * np.pi * TONES[c] * t)
-        elif a.loud_after is not None:
-            loud = time.monotonic() >= cache.setdefault('loud_at', time.monotonic() + a.loud_after)
-            if loud and not cache.get('told'):
-                cache['told'] = True
-                with open(a.loud_file, 'w') as f:
-                    f.write('%.6f' % cache['loud_at'])
-            x = rng.normal(0, 6000.0 if loud else 100.0, n)
-        else:
-            x = rng.normal(0, 1500.0, n)     # noise, about -27 dBFS
-        x = np.clip(x, -32768, 32767).astype(np.int16)
-        if a.fault == 'silent:' + name:
-            x[:] = 0
-        if a.fault == 'lengths' and name == 'frontRight':
-            x = x[:-1]
-        chans.append(x.tolist())
-    return AudioCustomMsg(*chans)
+    chans = None                             # --fault tone: fake_pepper.MIC_TONES at 8000
+    if a.fault != 'tone' and a.loud_after is not None:
+        loud = time.monotonic() >= cache.setdefault('loud_at', time.monotonic() + a.loud_after)
+        if loud and not cache.get('told'):
+            cache['told'] = True
+            with open(a.loud_file, 'w') as f:
+                f.write('%.6f' % cache['loud_at'])
+        chans = [rng.normal(0, 6000.0 if loud else 100.0, n) for _ in range(4)]
+    elif a.fault != 'tone':
+        chans = [rng.normal(0, 1500.0, n) for _ in range(4)]     # noise, about -27 dBFS
+    return fake.audio_buffer(i, n, a.sample_rate, tones=True, amplitude=8000.0, channels=chans,
+                             silent=a.fault[len('silent:'):] if a.fault.startswith('silent:') else None,
+                             short='frontRight' if a.fault == 'lengths' else None)
 
 
 def main():

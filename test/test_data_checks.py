@@ -4,7 +4,7 @@ deserialised with genpy as it comes off the wire, and fed to the check with expl
 
 import numpy as np
 
-from fake_pepper import image, serialized
+from fake_pepper import audio_buffer, image, serialized
 from media_tools import make_check
 
 
@@ -70,16 +70,13 @@ def test_depth_that_turns_all_zero_partway_fails_from_when(tmp_path):
 
 
 def custom(i, n=4096, dead=None, dead_from=None):
-    from pepper_interface_tests.msg import AudioCustomMsg
+    """Tones of 500, 800, 1100 and 1400 Hz with a little noise (no two buffers alike); `dead`
+    all zeros from buffer `dead_from` on."""
     rng = np.random.default_rng(i)
-    cols = {}
-    for k, name in enumerate(('rearLeft', 'rearRight', 'frontLeft', 'frontRight')):
-        x = (2000 * np.sin(2 * np.pi * (500 + 300 * k) * (np.arange(n) + i * n) / 48000.0)
-             + rng.normal(0, 50, n)).astype(np.int16)
-        if name == dead and i >= dead_from:
-            x[:] = 0
-        cols[name] = x.tolist()
-    return AudioCustomMsg(**cols)
+    tt = (np.arange(n) + i * n) / 48000.0
+    return audio_buffer(i, n, channels=[(2000 * np.sin(2 * np.pi * (500 + 300 * k) * tt) + rng.normal(0, 50, n))
+                                        .astype(np.int16) for k in range(4)],
+                        silent=dead if dead_from is not None and i >= dead_from else None)
 
 
 def test_microphone_buffers_that_repeat_fail(tmp_path):

@@ -17,7 +17,7 @@ import pytest
 import rosbag
 import soundfile
 
-from fake_pepper import STOCK_TONES, serialized, sim_laser, stock_audio_buffer
+from fake_pepper import MIC_TONES, audio_buffer, serialized, sim_laser, stock_audio_buffer
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -103,7 +103,7 @@ def test_audio_buffer_decoded_from_its_definition_passes(tmp_path):
     assert data.shape == (NB * 8192, 4) and rate == 48000
     for i, name in enumerate(CHANNELS):   # rearLeft, rearRight, frontLeft, frontRight
         spectrum = np.abs(np.fft.rfft(data[:, i].astype(float)))
-        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - STOCK_TONES[name]) < 5, name
+        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - MIC_TONES[name]) < 5, name
 
 
 @pytest.mark.parametrize('cmap', [(3, 5, 0, 2), (0, 2, 5, 3), (2, 3, 0, 5)])
@@ -130,10 +130,8 @@ def test_audio_buffer_layout_faults(tmp_path, build, words):
 
 def test_audio_rate_band_follows_the_buffer_size(tmp_path):
     """4096 samples per buffer (the CSSR bridge) -> 11.7 Hz; 2 Hz is too slow for that."""
-    from pepper_interface_tests.msg import AudioCustomMsg
-
     def custom(i):
-        return AudioCustomMsg(*[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
+        return audio_buffer(channels=[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
     r = feed(run_of('microphone', tmp_path, ROBOT), [custom(i) for i in range(30)], rate=48000 / 4096.0)
     assert r.verdict == PASS, r.reasons
     assert r.expected_rate_hz == [5.86, 17.58]
@@ -234,7 +232,7 @@ def test_healthy_robot_as_naoqi_driver_publishes_it_passes(master, tmp_path):
     assert data.shape[1] == 4
     for i, name in enumerate(CHANNELS):
         spectrum = np.abs(np.fft.rfft(data[:, i].astype(float)))
-        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - STOCK_TONES[name]) < 5, name
+        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - MIC_TONES[name]) < 5, name
 
 
 def test_real_faults_fail_naming_the_sensor_and_channel(master, tmp_path):
