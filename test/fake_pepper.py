@@ -11,6 +11,7 @@ seconds as a float; None leaves the stamp to the caller), `fault` (one of FAULTS
 message), and keyword options for the variants the tests need; `**fields` set message fields
 last (e.g. range=4.0, angle_increment=0.0), to break one thing on purpose.
 """
+import io
 import math
 
 import numpy as np
@@ -24,12 +25,11 @@ WHEELS = list(profiles.JOINTS_WITHOUT_VELOCITY)
 BLIND = [k for k, blind in enumerate(profiles.laser_blind_mask()) if blind]   # 15-22, 38-45
 FAULTS = ('nan', 'out_of_range', 'broken_quaternion', 'zero_stamp', 'old_stamp', 'frame',
           'missing_joint', 'dup_joint', 'short_velocity', 'bad_limits', 'wrong_ranges')
-UNKNOWN_COVARIANCE = [-1.0] + [0.0] * 8                    # naoqi_driver imu.cpp: "no estimate"
+UNKNOWN_COVARIANCE = [-1.0] + [0.0] * 8     # naoqi_driver imu.cpp:123-126: "Covariances unknown"
 
 
 def serialized(msg):
     """The message's bytes on the wire (what a subscriber's AnyMsg or a bag holds)."""
-    import io
     buff = io.BytesIO()
     msg.serialize(buff)
     return buff.getvalue()

@@ -410,7 +410,7 @@ def test_imu_faults(tmp_path, kw, words):
     one_reason_with(r, words)
 
 
-UNKNOWN = UNKNOWN_COVARIANCE    # naoqi_driver imu.cpp:123-126: "Covariances unknown"
+UNKNOWN = UNKNOWN_COVARIANCE
 
 
 def test_imu_with_unknown_covariance_is_checked(tmp_path):
