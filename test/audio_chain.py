@@ -14,7 +14,7 @@ import xmlrpc.client
 
 import numpy as np
 
-from rosmaster import free_port, kill_group, script, spawn
+from rosmaster import free_port, kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 BUFFER = 4096
@@ -144,15 +144,14 @@ def get_param(master, name):
 
 
 def wait_param(master, name, predicate, timeout):
-    deadline = time.time() + timeout
-    value = None
-    while time.time() < deadline:
-        value = get_param(master, name)
-        if value is not None and predicate(value):
-            return value
-        time.sleep(0.2)
-    raise AssertionError('param %s never satisfied the condition; last value %r'
-                         % (name, value))
+    """The param's value once `predicate` holds for it (asked every 0.2 s)."""
+    last = [None]
+
+    def holds():
+        last[0] = get_param(master, name)
+        return last[0] if last[0] is not None and predicate(last[0]) else None
+    return wait_until(holds, timeout, lambda: 'param %s never satisfied the condition; last value %r'
+                      % (name, last[0]), every=0.2)
 
 
 __all__ = ['Procs', 'free_port', 'wait_messages', 'message_count', 'finish_dump', 'get_param',

@@ -23,8 +23,8 @@ SLOW_FILES = {'test_report.py'}
 SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the audio chain
               'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
 INTEGRATION_FILES = {
-    'test_audio_bridge.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
-    'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_graph.py',
+    'test_audio_bridge.py', 'test_bag_platform_hint.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
+    'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_emulator_cli.py', 'test_graph.py',
     'test_history.py', 'test_launch.py', 'test_naoqi_endpoint.py', 'test_recording.py',
     'test_rostest.py',
     'test_selection.py', 'test_sensor_test_cli.py', 'test_signals.py', 'test_sim_time.py',
@@ -45,6 +45,14 @@ def tier_of(item):
             or any(w in item.name.lower() for w in words)):
         return 'integration'
     return 'unit'
+
+
+def pytest_ignore_collect(collection_path, config):
+    """`-m unit` does not even import the files whose every test is integration or slow (rosbag,
+    rospy, websockets and cv2 at their top would cost the unit tier a second of collection)."""
+    if config.getoption('markexpr') == 'unit' and collection_path.name in INTEGRATION_FILES | SLOW_FILES:
+        return True
+    return None
 
 
 def pytest_collection_modifyitems(config, items):

@@ -17,7 +17,7 @@ KIND
   audio_buffer stock naoqi_driver audio (event/audio.cpp): naoqi_bridge_msgs/AudioBuffer
                built from its definition (naoqi_msgs.py), interleaved, frequency 48000,
                --channel-map codes (default 3,5,0,2); channel named by code c carries a tone
-               of TONES[name]; faults: dead:<name> (that microphone all zeros)
+               of fake_pepper.MIC_TONES[name]; faults: dead:<name> (that microphone all zeros)
   clock        sets /use_sim_time true and publishes rosgraph_msgs/Clock about every 5 ms:
                100 s + --rtf x wall seconds since start
 Rates are kept with rospy.Rate, i.e. on the simulation clock when /use_sim_time is true, as
@@ -28,80 +28,40 @@ import math
 import sys
 import time
 
-import numpy as np
 import rospy
 
-from pepper_interface_tests.sources.naoqi_msgs import CHANNEL_NAMES, audio_buffer_class
-
-TONES = {'rearLeft': 500.0, 'rearRight': 1000.0, 'frontLeft': 1500.0, 'frontRight': 2500.0}
-BLIND = list(range(15, 23)) + list(range(38, 46))
+import fake_pepper as fake
+from pepper_interface_tests.emulator import profiles
 
 
 def sonar(a, i):
-    from sensor_msgs.msg import Range
     sim = a.kind == 'sim_sonar'
-    m = Range(radiation_type=Range.ULTRASOUND, field_of_view=1.05 if sim else 0.523598776,
-              min_range=0.0 if sim else 0.25, max_range=5.0 if sim else 2.55)
-    m.range = float('nan') if a.fault == 'nan' else (1.5 + 0.05 * math.sin(i) if sim else 4.0 + 0.01 * (i % 3))
-    m.header.frame_id = 'SonarFront_frame'
-    return m
+    # Gazebo: 1.5 m + noise; naoqi_driver: the raw distance, 4 m when nothing is in front
+    distance = 1.5 + 0.05 * math.sin(i) if sim else 4.0 + 0.01 * (i % 3)
+    return fake.sonar(i, platform='simulator' if sim else 'robot', sensor='frontSonar',
+                      range=float('nan') if a.fault == 'nan' else distance)
 
 
 def laser(a, i):
-    from sensor_msgs.msg import LaserScan
-    m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0, scan_time=0.1)
-    m.angle_increment = (2 * 2.0944) / 61
-    # raw distances carry measurement noise from scan to scan (a stuck rule relies on it)
-    m.ranges = [-1.0 if (k in BLIND or a.fault == 'all_blind') else
-                5.0 + 0.01 * (k % 5) + 0.003 * math.sin(1.7 * i + k) for k in range(61)]
-    m.header.frame_id = 'base_footprint'
-    return m
+    # raw distances of 5 m carry measurement noise from scan to scan (a stuck rule relies on it)
+    return fake.laser(i, distance=5.0, swing=0.01,
+                      blind=range(profiles.LASER_BEAMS) if a.fault == 'all_blind' else fake.BLIND)
 
 
 def sim_laser(a, i):
-    from sensor_msgs.msg import LaserScan
-    n = 61 * 8
-    half = math.radians(120.0)
-    m = LaserScan(angle_min=-half, angle_max=half, angle_increment=2 * half / n,
-                  range_min=0.1, range_max=7.0)
-    r = [float('nan')] * n
-    if a.fault != 'no_returns':
-        for k in range(200, 240):
-            # the model's Gaussian noise (sd 0.01 m, pepperGazeboCPU.xacro) per scan
-            r[k] = 2.0 + 0.01 * (k % 7) + 0.005 * math.sin(1.7 * i + k)
-    m.ranges = r
-    m.header.frame_id = 'base_footprint'
-    return m
+    return fake.sim_laser(i, returns=() if a.fault == 'no_returns' else range(200, 240), distance=2.0)
 
 
 def imu(a, i):
-    from geometry_msgs.msg import Quaternion
-    from sensor_msgs.msg import Imu
-    m = Imu()
-    m.orientation = Quaternion(*([float('nan')] * 4 if a.fault == 'nan_attitude' else (0, 0, 0, 1.0)))
-    # the inertial board's raw values carry noise from message to message
-    m.angular_velocity.z = 0.01 + 0.001 * math.sin(1.3 * i)
-    m.linear_acceleration.z = 9.81 + 0.01 * math.sin(0.7 * i)
-    for cov in (m.orientation_covariance, m.angular_velocity_covariance, m.linear_acceleration_covariance):
-        cov[0] = -1.0
-    m.header.frame_id = 'base_footprint'
+    m = fake.imu(i, orientation=(float('nan'),) * 4 if a.fault == 'nan_attitude' else (0, 0, 0, 1.0),
+                 covariance=fake.UNKNOWN_COVARIANCE)
     return m
 
 
 def audio_buffer(a, i):
-    cmap = [int(c) for c in a.channel_map.split(',')]
     dead = a.fault.split(':', 1)[1] if a.fault.startswith('dead:') else None
-    t = (np.arange(a.samples) + i * a.samples) / 48000.0
-    cols = []
-    for code in cmap:
-        name = CHANNEL_NAMES[code]
-        x = np.zeros(a.samples) if name == dead else 3000 * np.sin(2 * np.pi * TONES[name] * t)
-        cols.append(x.astype(np.int16))
-    m = audio_buffer_class()()
-    m.frequency = 48000
-    m.channelMap = bytes(cmap)
-    m.data = np.stack(cols, axis=1).reshape(-1).tolist()
-    return m
+    return fake.stock_audio_buffer(i, cmap=[int(c) for c in a.channel_map.split(',')], dead=dead,
+                                   samples=a.samples)
 
 
 MAKERS = {'sonar': sonar, 'sim_sonar': sonar, 'laser': laser, 'sim_laser': sim_laser, 'imu': imu,

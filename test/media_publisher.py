@@ -12,8 +12,8 @@ Faults
       (step one byte short), wrong_encoding (bgra8 with a matching layout), size_change
       (every other frame half size), same_halves (stereo views identical)
   depth: zero (all pixels 0), float_m (32FC1 in metres, NaN band), bad_encoding (rgb8)
-  audio: silent:<channel> (that channel all zeros), tone (channel i carries a sine of
-      TONES[i] Hz), lengths (frontRight one sample short)
+  audio: silent:<channel> (that channel all zeros), tone (each microphone carries its sine of
+      fake_pepper.MIC_TONES), lengths (frontRight one sample short)
 --loud-after S (audio): quiet noise (about -50 dBFS) for S seconds, then loud noise (about
 -15 dBFS); the time.monotonic() of the switch is written to --loud-file.
 --count N publishes N messages, starting once a subscriber is connected, then stays up (so
@@ -30,17 +30,12 @@ import numpy as np
 import rospy
 from sensor_msgs.msg import Image
 
-from media_tools import pattern  # noqa: E402  (test/ is this script's own folder)
-
-TONES = (500.0, 1000.0, 1500.0, 2500.0)    # Hz per channel: rearLeft, rearRight, frontLeft, frontRight
-CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
+import fake_pepper as fake  # (test/ is this script's own folder)
+from media_tools import pattern
 
 
-def image(w, h, encoding, data, step, frame_id):
-    m = Image(width=w, height=h, encoding=encoding, step=step, is_bigendian=0, data=data)
-    m.header.stamp = rospy.Time.now()
-    m.header.frame_id = frame_id
-    return m
+def image(a, pixels, encoding, step=None):
+    return fake.image(pixels, encoding, step=step, t=rospy.Time.now(), frame_id=a.frame_id)
 
 
 def make_camera(a, i, cache):
@@ -61,9 +56,9 @@ def make_camera(a, i, cache):
         px = pattern(w, h, i)
     if a.fault == 'wrong_encoding':
         px4 = np.dstack([px, np.full((h, w), 255, np.uint8)])
-        return image(w, h, 'bgra8', px4.tobytes(), w * 4, a.frame_id)
+        return image(a, px4, 'bgra8')
     step = w * 3 - 1 if a.fault == 'wrong_step' else w * 3
-    return image(w, h, 'rgb8', px.tobytes(), step, a.frame_id)
+    return image(a, px, 'rgb8', step)
 
 
 def make_depth(a, i, cache):
@@ -78,37 +73,28 @@ def make_depth(a, i, cache):
     if a.fault == 'float_m':
         m = mm.astype(np.float32) / 1000.0
         m[: h // 10] = np.nan
-        return image(w, h, '32FC1', m.tobytes(), w * 4, a.frame_id)
+        return image(a, m, '32FC1')
     if a.fault == 'bad_encoding':
-        return image(w, h, 'rgb8', pattern(w, h, i).tobytes(), w * 3, a.frame_id)
-    return image(w, h, '16UC1', mm.tobytes(), w * 2, a.frame_id)
+        return image(a, pattern(w, h, i), 'rgb8')
+    return image(a, mm, '16UC1')
 
 
 def make_audio(a, i, cache):
-    from pepper_interface_tests.msg import AudioCustomMsg
     n = a.samples
-    t = (np.arange(n) + i * n) / float(a.sample_rate)
     rng = cache.setdefault('rng', np.random.default_rng(1))
-    chans = []
-    for c, name in enumerate(CHANNELS):
-        if a.fault == 'tone':
-            x = 8000.0 * np.sin(2 * np.pi * TONES[c] * t)
-        elif a.loud_after is not None:
-            loud = time.monotonic() >= cache.setdefault('loud_at', time.monotonic() + a.loud_after)
-            if loud and not cache.get('told'):
-                cache['told'] = True
-                with open(a.loud_file, 'w') as f:
-                    f.write('%.6f' % cache['loud_at'])
-            x = rng.normal(0, 6000.0 if loud else 100.0, n)
-        else:
-            x = rng.normal(0, 1500.0, n)     # noise, about -27 dBFS
-        x = np.clip(x, -32768, 32767).astype(np.int16)
-        if a.fault == 'silent:' + name:
-            x[:] = 0
-        if a.fault == 'lengths' and name == 'frontRight':
-            x = x[:-1]
-        chans.append(x.tolist())
-    return AudioCustomMsg(*chans)
+    chans = None                             # --fault tone: fake_pepper.MIC_TONES at 8000
+    if a.fault != 'tone' and a.loud_after is not None:
+        loud = time.monotonic() >= cache.setdefault('loud_at', time.monotonic() + a.loud_after)
+        if loud and not cache.get('told'):
+            cache['told'] = True
+            with open(a.loud_file, 'w') as f:
+                f.write('%.6f' % cache['loud_at'])
+        chans = [rng.normal(0, 6000.0 if loud else 100.0, n) for _ in range(4)]
+    elif a.fault != 'tone':
+        chans = [rng.normal(0, 1500.0, n) for _ in range(4)]     # noise, about -27 dBFS
+    return fake.audio_buffer(i, n, a.sample_rate, tones=True, amplitude=8000.0, channels=chans,
+                             silent=a.fault[len('silent:'):] if a.fault.startswith('silent:') else None,
+                             short='frontRight' if a.fault == 'lengths' else None)
 
 
 def main():

@@ -159,16 +159,6 @@ def make_check(sensor, tmp, platform='robot', services=None, expect=None, **opti
     return check_class(sp.sensor.family)(sp, ctx)
 
 
-def image_msg(pixels, encoding, step=None, width=None, height=None):
-    """A sensor_msgs/Image of a numpy array (step/width/height overridable to break the layout)."""
-    from sensor_msgs.msg import Image
-    h, w = pixels.shape[:2]
-    row = pixels.strides[0] if pixels.flags['C_CONTIGUOUS'] else w * pixels.itemsize * (
-        pixels.shape[2] if pixels.ndim == 3 else 1)
-    return Image(width=width or w, height=height or h, encoding=encoding, is_bigendian=0,
-                 step=row if step is None else step, data=np.ascontiguousarray(pixels).tobytes())
-
-
 def pattern(w, h, i):
     yy, xx = np.mgrid[0:h, 0:w]
     return np.dstack([(xx * 2 + 5 * i) % 256, (yy * 3 + 3 * i) % 256, (xx + yy + 7 * i) % 256]).astype(np.uint8)

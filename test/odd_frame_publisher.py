@@ -10,6 +10,8 @@ import sys
 import rospy
 from sensor_msgs.msg import Range
 
+import fake_pepper as fake
+
 FRAMES = {'control': 'Sonar\x01\x1b[31mRED\x1b[0m\x07', 'huge': 'F' * 200000}
 
 
@@ -19,10 +21,7 @@ def main():
     pub = rospy.Publisher(topic, Range, queue_size=10)
     rate = rospy.Rate(10)
     while not rospy.is_shutdown():
-        m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25,
-                  max_range=2.55, range=1.0)
-        m.header.stamp = rospy.Time.now()
-        m.header.frame_id = FRAMES[kind]
+        m = fake.sonar(t=rospy.Time.now(), frame_id=FRAMES[kind], range=1.0)
         pub.publish(m)
         try:
             rate.sleep()

@@ -11,7 +11,6 @@ does not record a histogram yet), so every section of the report has something t
 `handmade_media(folder)` writes a small H.264 mp4 with cv2.VideoWriter and a WAV with
 soundfile directly, for tests that need files of a known size.
 """
-import io
 import os
 import time
 
@@ -19,12 +18,6 @@ import numpy as np
 
 import fake_pepper as fake
 from fake_pepper import audio_buffer, camera_image, depth_image, stereo_image
-
-
-def _serialize(msg):
-    buf = io.BytesIO()
-    msg.serialize(buf)
-    return buf.getvalue()
 
 
 def _core_message(kind, i, t):
@@ -95,7 +88,7 @@ def media_run(folder, sensors=MEDIA_SENSORS):
         for i in range(count):
             t = clock + i / rate
             stamp = wall + (t - 1000.0)
-            sr.feed_raw(type_name, _serialize(make(i, stamp)), t, stamp + 0.002)
+            sr.feed_raw(type_name, fake.serialized(make(i, stamp)), t, stamp + 0.002)
         clock += count / rate
         result = sr.close(clock, 'window ended')
         run.sensors.append(result)

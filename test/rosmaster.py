@@ -17,7 +17,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPTS = os.path.join(ROOT, 'scripts')
 
 __all__ = ['ROOT', 'SCRIPTS', 'Master', 'free_port', 'script', 'spawn', 'kill_group',
-           'wait_for_publishers']
+           'wait_until', 'unregistered', 'wait_registered', 'wait_for_publishers']
 
 
 class Master(PrivateMaster):
@@ -42,20 +42,44 @@ def kill_group(proc, sig=signal.SIGINT, timeout=10):
     return stop_group(proc, sig, timeout)
 
 
-def wait_for_publishers(master, topics, timeout=30.0):
-    """Return once every topic of `topics` has a publisher registered on `master` (asked with
-    the master's own getSystemState every 50 ms), instead of sleeping a guessed time; after
-    `timeout` s an AssertionError names the topics still without one."""
-    proxy = xmlrpc.client.ServerProxy(master.uri)
+def wait_until(condition, timeout, what, every=0.05):
+    """condition()'s first true value, asked every `every` s, instead of sleeping a guessed time;
+    after `timeout` s an AssertionError says what did not happen (`what`: text, or a callable
+    giving it, asked then)."""
     deadline = time.monotonic() + timeout
-    missing = set(topics)
     while True:
-        code, _, (publishers, _, _) = proxy.getSystemState('/test_wait')
-        if code == 1:
-            missing = set(topics) - {topic for topic, nodes in publishers if nodes}
-            if not missing:
-                return
+        value = condition()
+        if value:
+            return value
         if time.monotonic() > deadline:
-            raise AssertionError('no publisher registered within %.0f s on: %s'
-                                 % (timeout, ', '.join(sorted(missing))))
-        time.sleep(0.05)
+            raise AssertionError('%s (waited %.0f s)' % (what() if callable(what) else what, timeout))
+        time.sleep(every)
+
+
+def unregistered(master, published=(), subscribed=(), subscriber=''):
+    """What of `published` and `subscribed` the master (its own getSystemState) does not list
+    yet: `published` holds topics, or (topic, node) pairs for one given node; a `subscribed`
+    topic counts once a node whose name holds `subscriber` subscribes it."""
+    code, _, (pubs, subs, _) = xmlrpc.client.ServerProxy(master.uri).getSystemState('/test_wait')
+    if code != 1:
+        return list(published) + list(subscribed)
+    pubs = {topic: set(nodes) for topic, nodes in pubs}
+    subs = {topic: [n for n in nodes if subscriber in n] for topic, nodes in subs}
+    missing = [p for p in published
+               if not (pubs.get(p) if isinstance(p, str) else p[1] in pubs.get(p[0], ()))]
+    return missing + ['a subscriber of %s' % t for t in subscribed if not subs.get(t)]
+
+
+def wait_registered(master, published=(), subscribed=(), subscriber='', timeout=30.0):
+    """Return once the master lists every publisher and subscriber asked for (see unregistered)."""
+    left = []
+
+    def done():
+        left[:] = unregistered(master, published, subscribed, subscriber)
+        return not left
+    wait_until(done, timeout, lambda: 'not registered on the master: %s' % ', '.join(map(str, left)))
+
+
+def wait_for_publishers(master, topics, timeout=30.0):
+    """Return once every topic of `topics` has a publisher registered on `master`."""
+    wait_registered(master, topics, timeout=timeout)

@@ -28,7 +28,7 @@ from pepper_interface_tests.emulator.audio_source import (
     expected_counter,
     find_counter_start,
 )
-from rosmaster import ROOT, kill_group, script
+from rosmaster import ROOT, kill_group, script, wait_until
 
 STATS = '/naoqiAudioPublisher/stats'
 CAPTURE_SIDE = [os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/capture.py'),
@@ -201,7 +201,7 @@ def test_chain_tones_identify_each_field_and_a_dead_microphone(procs, master, tm
 def test_chain_60s_realtime_no_lost_buffer(procs, master, tmp_path):
     _, _, out, p = chain(procs, master, tmp_path, 'counter')
     wait_messages(p['dumper'], 1, 40)
-    time.sleep(61.5)
+    time.sleep(61.5)    # the 60 s soak
     stats = get_param(master, STATS)
     blocks, recv = finish_dump(p['dumper'], out)
     starts = counter_starts(blocks)
@@ -225,10 +225,11 @@ def test_publisher_killed_and_restarted_mid_stream(procs, master, tmp_path):
     naoqi_port, ws_port, out, p = chain(procs, master, tmp_path, 'counter')
     wait_messages(p['dumper'], 20, 40)
     before_kill = message_count(p['dumper'])
-    time.sleep(1.2)  # let the publisher write a ~stats snapshot covering these buffers
+    # a ~stats snapshot of the publisher covering these buffers (it writes one about every second)
+    wait_param(master, STATS, lambda s: s['published'] >= before_kill, 10)
     p['publisher'].stop(signal.SIGKILL)
     stale = get_param(master, STATS)     # what the killed publisher left on the server
-    time.sleep(2.0)
+    time.sleep(2.0)     # the publisher stays down 2 s: buffers are lost (what is counted)
     publisher2 = procs.publisher(master, ws_port)
     p['capture'].wait_for('websocket connection lost', 20)
     p['capture'].wait_for('websocket connected', 30, count=2)
@@ -259,7 +260,7 @@ def test_capture_resubscribes_after_naoqi_restart(procs, master, tmp_path):
     wait_messages(p['dumper'], 10, 40)
     p['endpoint'].stop(signal.SIGKILL)
     p['capture'].wait_for('NAOqi connection lost', 20)
-    time.sleep(1.0)
+    time.sleep(1.0)    # NAOqi stays down 1 s
     n = message_count(p['dumper'])
     procs.endpoint(naoqi_port, '--pattern', 'counter')
     p['capture'].wait_for('subscribed to ALAudioDevice', 30, count=2)
@@ -457,7 +458,7 @@ def test_layout_rule_on_the_emulated_microphones():
     for pattern, silent in (('tones', ()), ('counter', ()), ('tones', ('rearRight',))):
         src = AudioSource(pattern=pattern, silent_channels=silent)
         src.say('Hello, this is the Pepper microphone test.')
-        time.sleep(1.0)
+        wait_until(lambda s=src: s._rendering == 0, 30, 'espeak-ng did not render the sentence')
         for _ in range(30):
             block = src.read(BUFFER)
             inter = block.astype('<i2').tobytes()
@@ -480,7 +481,7 @@ def test_usage_errors_and_waiting_for_peers(master, tmp_path):
     try:
         cap = procs.capture(free_port(), free_port())
         cap.wait_for('NAOqi not reachable', 20)
-        time.sleep(3)
+        time.sleep(3)    # 3 s of retries, which must not flood the log
         assert cap.alive()
         assert cap.log().count('not reachable') == 1, 'retry messages flood:\n' + cap.log()
         assert cap.stop(signal.SIGTERM, timeout=15) == 0

@@ -9,28 +9,18 @@ import sys
 import numpy as np
 import soundfile
 
+from fake_pepper import MIC_TONES, audio_buffer
 from media_tools import HERE, TOPICS, Publishers, dominant_frequency, explain, make_check, sensor_test
+from pepper_interface_tests.emulator import profiles
 from rosmaster import kill_group, spawn
 
-CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
-TONES = (500.0, 1000.0, 1500.0, 2500.0)     # as media_publisher.py
+CHANNELS = profiles.MIC_CHANNELS
+TONES = tuple(MIC_TONES[c] for c in CHANNELS)      # as media_publisher.py sends with --fault tone
 
 
 def buffers(n_buffers, n=4096, rate=48000.0, silent=None, amplitude=3000.0, short=None):
-    from pepper_interface_tests.msg import AudioCustomMsg
-    out = []
-    for i in range(n_buffers):
-        t = (np.arange(n) + i * n) / rate
-        chans = []
-        for c, name in enumerate(CHANNELS):
-            x = np.clip(amplitude * np.sin(2 * np.pi * TONES[c] * t), -32768, 32767).astype(np.int16)
-            if name == silent:
-                x[:] = 0
-            if name == short:
-                x = x[:-1]
-            chans.append(x.tolist())
-        out.append(AudioCustomMsg(*chans))
-    return out
+    return [audio_buffer(i, n, rate, tones=True, amplitude=amplitude, silent=silent, short=short)
+            for i in range(n_buffers)]
 
 
 def feed(check, msgs, interval=4096 / 48000.0, start=0.0):

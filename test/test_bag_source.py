@@ -15,8 +15,8 @@ import time
 
 import genpy
 import rosbag
-from sensor_msgs.msg import Image, Range
 
+import fake_pepper as fake
 from pepper_interface_tests.sources.bag import MAX_SILENCE, dense_span
 from rosmaster import script
 
@@ -30,13 +30,7 @@ PEAK_RSS = ('import resource, subprocess, sys\n'
 
 
 def sonar(t):
-    m = Range()
-    m.header.stamp = genpy.Time.from_sec(t)
-    m.header.frame_id = 'SonarBack_frame'
-    m.radiation_type = Range.ULTRASOUND
-    m.field_of_view = 0.5236
-    m.min_range, m.max_range, m.range = 0.25, 2.55, 1.2
-    return m
+    return fake.sonar(t=t, range=1.2)
 
 
 def run_bag(bag, out, sensors, timeout=60, wrap=False):
@@ -92,11 +86,8 @@ def write_image_bag(path, megabytes, width=640, height=480, rate=10.0):
     with rosbag.Bag(path, 'w') as bag:
         for i in range(n):
             t = T0 + i / rate
-            m = Image()
-            m.header.stamp = genpy.Time.from_sec(t)
-            m.header.frame_id = 'CameraTop_optical_frame'
-            m.height, m.width, m.encoding, m.step = height, width, 'rgb8', width * 3
-            m.data = np.roll(base, i * 997).tobytes()        # no two frames alike
+            m = fake.image(np.roll(base, i * 997).reshape(height, width, 3), 'rgb8', t=t,   # no two alike
+                           frame_id='CameraTop_optical_frame')
             bag.write('/naoqi_driver/camera/front/image_raw', m, genpy.Time.from_sec(t))
     return n
 

@@ -8,7 +8,6 @@ speed of the machine. Also: stream statistics (stats.py), the runner with a real
 """
 import io
 import json
-import math
 import os
 import re
 import xml.etree.ElementTree as ET
@@ -16,11 +15,9 @@ import xml.etree.ElementTree as ET
 import genpy
 import pytest
 import rosbag
-from geometry_msgs.msg import Quaternion
-from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
+from fake_pepper import BLIND, JOINTS, UNKNOWN_COVARIANCE, imu, joints, laser, odometry, serialized, sonar
 from pepper_interface_tests import results
 from pepper_interface_tests.observer import RunObserver
 from pepper_interface_tests.outputs import files
@@ -39,16 +36,9 @@ PKG = settings.package_dir()
 ROBOT = settings.read_expectations(os.path.join(PKG, 'config', 'sensorExpectations.yaml'), 'robot')
 T0 = 5000.0            # the runner's clock when listening begins (monotonic seconds)
 R0 = 1700000000.0      # ROS time at T0
-JOINTS = list(ROBOT['jointState'].joints) + ['WheelFL', 'WheelFR', 'WheelB']
 
 
 # ------------------------------------------------------------------ helpers
-
-def ser(msg):
-    buff = io.BytesIO()
-    msg.serialize(buff)
-    return buff.getvalue()
-
 
 def make_run(name, tmp_path, expect=None, topic='/t', quick=False, wait=2.0, duration=3.0):
     plan = SensorPlan(catalog.SENSORS[name], topic, ROBOT[name].but(**(expect or {})))
@@ -68,7 +58,7 @@ def feed(run, msgs, rate=10.0, start=0.05, delay=0.01, stamp=None):
         if hasattr(m, 'header'):
             s = stamp(i, ros) if stamp else ros - delay
             m.header.stamp = genpy.Time.from_sec(s) if s else genpy.Time(0, 0)
-        run.feed_raw(run.sensor.msg_type, ser(m), t, ros)
+        run.feed_raw(run.sensor.msg_type, serialized(m), t, ros)
     return t
 
 
@@ -90,77 +80,6 @@ def one_reason_with(result, words):
     return hits[0]
 
 
-# ------------------------------------------------------------------ message builders
-
-def sonar(i, frame='SonarBack_frame', **fields):
-    m = Range(radiation_type=Range.ULTRASOUND, field_of_view=0.5236, min_range=0.25,
-              max_range=2.55, range=1.0 + 0.3 * math.sin(i / 3.0))
-    m.header.frame_id = frame
-    for k, v in fields.items():
-        setattr(m, k, v)
-    return m
-
-
-BLIND = list(range(15, 23)) + list(range(38, 46))   # naoqi_driver laser.cpp:178/:193
-
-
-def scan(i, n=61, blind=BLIND, **fields):
-    m = LaserScan(angle_min=-2.0944, angle_max=2.0944, range_min=0.1, range_max=3.0,
-                  scan_time=0.1, time_increment=0.0)
-    m.angle_increment = (m.angle_max - m.angle_min) / 60
-    r = [1.5 + 0.2 * math.sin(k / 4.0 + i / 10.0) for k in range(n)]
-    for k in blind:
-        if k < n:
-            r[k] = -1.0
-    m.ranges = r
-    m.header.frame_id = 'base_footprint'
-    for k, v in fields.items():
-        setattr(m, k, v)
-    return m
-
-
-def _middle(name):
-    lo, hi = LIMITS.get(name, (0.0, 0.0))[:2]
-    return 0.0 if lo is None else (lo + hi) / 2.0
-
-
-def joints(i, names=None, velocity=None, position=None):
-    """Every joint swinging by 0.1 rad around the middle of its URDF limits."""
-    names = list(names or JOINTS)
-    n = len(names)
-    return JointState(name=names,
-                      position=position if position is not None else
-                      [_middle(j) + 0.1 * math.sin(i / 7.0) for j in names],
-                      velocity=velocity if velocity is not None else [0.01] * n,
-                      effort=[0.5] * n)
-
-
-def odom(i, w=1.0, child='base_link', frame='odom', x=None, cov=None):
-    m = Odometry(child_frame_id=child)
-    m.header.frame_id = frame
-    m.pose.pose.position.x = 0.01 * i if x is None else x
-    m.pose.pose.orientation = Quaternion(0, 0, 0, w)
-    m.twist.twist.linear.x = 0.1
-    if cov is not None:
-        m.pose.covariance = cov
-    return m
-
-
-def imu(i, q=(0, 0, 0, 1.0), acc_z=9.81, ocov=None, acov=None, gcov=None):
-    m = Imu()
-    m.header.frame_id = 'base_footprint'
-    m.orientation = Quaternion(*q)
-    m.linear_acceleration.z = acc_z
-    m.angular_velocity.x = 0.01 * i
-    if ocov is not None:
-        m.orientation_covariance = ocov
-    if acov is not None:
-        m.linear_acceleration_covariance = acov
-    if gcov is not None:
-        m.angular_velocity_covariance = gcov
-    return m
-
-
 N = 25      # messages per window at 10 Hz (2.5 s of a 3 s window)
 NJ = 125    # joint states: 2.5 s at their nominal 50 Hz
 
@@ -170,12 +89,12 @@ NJ = 125    # joint states: 2.5 s at their nominal 50 Hz
 @pytest.mark.parametrize('name, build, fields', [
     ('backSonar', sonar, ['Frame id', 'Field of view', 'Minimum range value', 'Maximum range value',
                           'Range value']),
-    ('laser', scan, ['Frame id', 'Start angle of the scan', 'End angle of the scan',
+    ('laser', laser, ['Frame id', 'Start angle of the scan', 'End angle of the scan',
                      'Angular distance between measurements', 'Time between measurements',
                      'Time between scans', 'Minimum range value', 'Maximum range value',
                      'Range data size']),
     ('jointState', joints, ['Header frame id', 'Number of joints'] + ['Joint'] * len(JOINTS)),
-    ('odometry', odom, ['Header', 'Child frame id', 'Pose', 'Twist']),
+    ('odometry', odometry, ['Header', 'Child frame id', 'Pose', 'Twist']),
     ('imu', imu, ['Header', 'Orientation', 'Angular velocity', 'Linear acceleration']),
 ])
 def test_good_messages_pass(tmp_path, name, build, fields):
@@ -208,7 +127,7 @@ def test_sonar_fields_hold_the_first_message(tmp_path):
     (dict(max_range=float('inf')), 'min_range 0.25 is not below max_range inf'),
     (dict(field_of_view=0.0), 'field of view is not positive'),
     (dict(field_of_view=2.0), 'field of view outside the expected [0.1, 1.2] rad'),
-    (dict(frame='SonarFront_frame'), 'frame_id is "SonarFront_frame", expected "SonarBack_frame"'),
+    (dict(frame_id='SonarFront_frame'), 'frame_id is "SonarFront_frame", expected "SonarBack_frame"'),
 ])
 def test_sonar_faults(tmp_path, fault, words):
     r = judged('backSonar', tmp_path, [sonar(i, **fault) for i in range(N)])
@@ -252,15 +171,15 @@ def test_sonar_one_bad_message_is_counted(tmp_path):
 # ------------------------------------------------------------------ laser
 
 @pytest.mark.parametrize('build, words', [
-    (lambda i: scan(i, ranges=[float('nan')] * 61), 'scan without a single valid return'),
-    (lambda i: scan(i, ranges=[-1.0] * 61), 'scan without a single valid return'),
-    (lambda i: scan(i, ranges=[-1.0] * 61), '100% of the beams are invalid'),
-    (lambda i: scan(i, blind=BLIND[1:]), "blind slots [[15, 22], [38, 45]] do not all hold -1"),
-    (lambda i: scan(i, n=40), '40 ranges where the driver publishes 61'),
-    (lambda i: scan(i, n=40), 'number of ranges does not match the angles'),
-    (lambda i: scan(i, angle_increment=0.0), 'angle increment is zero or not finite'),
-    (lambda i: scan(i, range_min=3.0, range_max=1.0), 'range_min 3 is not below range_max 1'),
-    (lambda i: scan(i, intensities=[1.0] * 10), 'intensities (10) not as long as ranges (61)'),
+    (lambda i: laser(i, ranges=[float('nan')] * 61), 'scan without a single valid return'),
+    (lambda i: laser(i, ranges=[-1.0] * 61), 'scan without a single valid return'),
+    (lambda i: laser(i, ranges=[-1.0] * 61), '100% of the beams are invalid'),
+    (lambda i: laser(i, blind=BLIND[1:]), "blind slots [[15, 22], [38, 45]] do not all hold -1"),
+    (lambda i: laser(i, n=40), '40 ranges where the driver publishes 61'),
+    (lambda i: laser(i, n=40), 'number of ranges does not match the angles'),
+    (lambda i: laser(i, angle_increment=0.0), 'angle increment is zero or not finite'),
+    (lambda i: laser(i, range_min=3.0, range_max=1.0), 'range_min 3 is not below range_max 1'),
+    (lambda i: laser(i, intensities=[1.0] * 10), 'intensities (10) not as long as ranges (61)'),
     (lambda i: _laser_frame(i), 'frame_id is "laser_frame", expected "base_footprint"'),
 ])
 def test_laser_faults(tmp_path, build, words):
@@ -270,13 +189,13 @@ def test_laser_faults(tmp_path, build, words):
 
 
 def _laser_frame(i):
-    m = scan(i)
+    m = laser(i)
     m.header.frame_id = 'laser_frame'
     return m
 
 
 def _scan_with_invalid(i, invalid):
-    m = scan(i)
+    m = laser(i)
     counted = [k for k in range(61) if k not in BLIND]
     r = list(m.ranges)
     for k in counted[:invalid]:
@@ -297,7 +216,7 @@ def test_laser_invalid_share_limit(tmp_path):
 
 def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
     """naoqi_driver does not clip to range_max 3.0 (laser.cpp:170-175): 5 m in a wide room."""
-    r = judged('laser', tmp_path, [scan(i, ranges=[-1.0 if k in BLIND else 5.0 + 0.001 * (i % 3)
+    r = judged('laser', tmp_path, [laser(i, ranges=[-1.0 if k in BLIND else 5.0 + 0.001 * (i % 3)
                                                    for k in range(61)]) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert r.values['beyond_advertised_max'] == 45 * N and r.values['invalid_beams'] == 0
@@ -305,10 +224,10 @@ def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
 
 def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):
     """Only the driver's blind slots may hold -1.0; elsewhere it is an invalid reading."""
-    r = judged('laser', tmp_path, [scan(i, blind=BLIND + list(range(0, 12))) for i in range(N)])
+    r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 12))) for i in range(N)])
     assert r.values['blind_beams'] == 16 * N and r.values['invalid_beams'] == 12 * N
     assert r.verdict == PASS, r.reasons          # 12 of 45 = 27%: within max_invalid_share
-    r = judged('laser', tmp_path, [scan(i, blind=BLIND + list(range(0, 15)) + list(range(23, 31)))
+    r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 15)) + list(range(23, 31)))
                                    for i in range(N)])
     assert r.verdict == FAIL
     one_reason_with(r, '51% of the beams are invalid')
@@ -316,10 +235,10 @@ def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):
 
 def test_laser_blind_value_without_a_layout(tmp_path):
     """Without blind_slots any blind value is blind; without a blind value, -1.0 is invalid."""
-    r = judged('laser', tmp_path, [scan(i, blind=range(0, 40)) for i in range(N)],
+    r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
                expect={'blind_value': None, 'blind_slots': None})
     assert r.verdict == FAIL and r.values['blind_beams'] == 0
-    r = judged('laser', tmp_path, [scan(i, blind=range(0, 40)) for i in range(N)],
+    r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
                expect={'blind_slots': None})
     assert r.verdict == PASS, r.reasons
 
@@ -352,7 +271,7 @@ def test_joint_short_arrays_do_not_break_the_fields(tmp_path):
 
 def test_joint_empty_velocity_and_effort_are_allowed(tmp_path):
     rest = [0.2 if LIMITS[j][0] is None else min(max(0.2, LIMITS[j][0]), LIMITS[j][1]) for j in JOINTS]
-    msgs = [JointState(name=JOINTS, position=rest) for _ in range(NJ)]
+    msgs = [joints(position=rest, velocity=[], effort=[]) for _ in range(NJ)]
     r = judged('jointState', tmp_path, msgs)
     assert r.verdict == PASS, r.reasons     # a robot at rest: the same angles every time is no fault
     assert r.values['joint_count'] == len(JOINTS)
@@ -365,14 +284,14 @@ def test_joint_empty_velocity_and_effort_are_allowed(tmp_path):
     (dict(w=2.0), 'orientation is not a unit quaternion (norm 2)'),
     (dict(w=0.0), 'orientation is not a unit quaternion (norm 0)'),
     (dict(x=float('nan')), 'pose or twist holds NaN or inf'),
-    (dict(cov=[float('nan')] + [0.0] * 35), 'a covariance holds NaN or inf'),
-    (dict(child=''), 'child_frame_id is empty'),
-    (dict(child='base_footprint'), 'child_frame_id is "base_footprint", expected "base_link"'),
-    (dict(frame=''), 'header.frame_id is empty'),
-    (dict(frame='map'), 'frame_id is "map", expected "odom"'),
+    (dict(pose_covariance=[float('nan')] + [0.0] * 35), 'a covariance holds NaN or inf'),
+    (dict(child_frame_id=''), 'child_frame_id is empty'),
+    (dict(child_frame_id='base_footprint'), 'child_frame_id is "base_footprint", expected "base_link"'),
+    (dict(frame_id=''), 'header.frame_id is empty'),
+    (dict(frame_id='map'), 'frame_id is "map", expected "odom"'),
 ])
 def test_odometry_faults(tmp_path, kw, words):
-    r = judged('odometry', tmp_path, [odom(i, **kw) for i in range(37)])   # 2.5 s at 15 Hz
+    r = judged('odometry', tmp_path, [odometry(i, **kw) for i in range(37)])   # 2.5 s at 15 Hz
     assert r.verdict == FAIL
     one_reason_with(r, words)
 
@@ -382,14 +301,14 @@ def test_odometry_faults(tmp_path, kw, words):
 def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
     """naoqi_driver reads ALMemory at its own rate: 2-3 identical scans in a row are normal,
     20 (2 s at 10 Hz) are a cached scan republished."""
-    r = judged('laser', tmp_path, [scan(0) for _ in range(N)])
+    r = judged('laser', tmp_path, [laser(0) for _ in range(N)])
     assert r.verdict == FAIL
     one_reason_with(r, 'laser stuck: 25 identical scans in a row from t = 0.05 s to the end of '
                        'the window (stuck_scans 20)')
-    r = judged('laser', tmp_path, [scan(i // 3) for i in range(N)])      # each scan three times
+    r = judged('laser', tmp_path, [laser(i // 3) for i in range(N)])      # each scan three times
     assert r.verdict == PASS, r.reasons
     assert r.values['longest_identical_run'] == 3
-    r = judged('laser', tmp_path, [scan(i) for i in range(5)] + [scan(99)] * 22)
+    r = judged('laser', tmp_path, [laser(i) for i in range(5)] + [laser(99)] * 22)
     one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')
 
 
@@ -453,7 +372,7 @@ def test_joint_jumps_fail_and_reported_velocity_spikes_warn(tmp_path):
 
 
 def _odom_at(x, vx):
-    m = odom(0, x=x)
+    m = odometry(0, x=x)
     m.twist.twist.linear.x = vx
     return m
 
@@ -479,11 +398,11 @@ def test_odometry_pose_jumps_and_twist_against_pose(tmp_path):
 # ------------------------------------------------------------------ IMU
 
 @pytest.mark.parametrize('kw, words', [
-    (dict(q=(0, 0, 0, 0.5)), 'orientation is not a unit quaternion (norm 0.5)'),
+    (dict(orientation=(0, 0, 0, 0.5)), 'orientation is not a unit quaternion (norm 0.5)'),
     (dict(acc_z=float('nan')), 'angular velocity or linear acceleration holds NaN or inf'),
     (dict(acc_z=float('inf')), 'angular velocity or linear acceleration holds NaN or inf'),
-    (dict(ocov=[float('nan')] * 9), 'orientation covariance holds NaN or inf'),
-    (dict(acov=[0.0] * 8 + [float('inf')]), 'linear acceleration covariance holds NaN or inf'),
+    (dict(orientation_covariance=[float('nan')] * 9), 'orientation covariance holds NaN or inf'),
+    (dict(acceleration_covariance=[0.0] * 8 + [float('inf')]), 'linear acceleration covariance holds NaN or inf'),
 ])
 def test_imu_faults(tmp_path, kw, words):
     r = judged('imu', tmp_path, [imu(i, **kw) for i in range(N)])
@@ -491,21 +410,22 @@ def test_imu_faults(tmp_path, kw, words):
     one_reason_with(r, words)
 
 
-UNKNOWN = [-1.0] + [0.0] * 8    # naoqi_driver imu.cpp:123-126: "Covariances unknown"
+UNKNOWN = UNKNOWN_COVARIANCE
 
 
 def test_imu_with_unknown_covariance_is_checked(tmp_path):
     """covariance[0] == -1 (as naoqi_driver sends) means the covariance is unknown, not that the
     data may be skipped: a good IMU passes, a NaN or zero attitude fails."""
-    r = judged('imu', tmp_path, [imu(i, ocov=UNKNOWN, gcov=UNKNOWN, acov=UNKNOWN) for i in range(N)])
+    r = judged('imu', tmp_path, [imu(i, covariance=UNKNOWN) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert r.values['acceleration_norm_m_s2']['mean'] == pytest.approx(9.81)
-    r = judged('imu', tmp_path, [imu(i, q=(float('nan'),) * 4, ocov=UNKNOWN) for i in range(N)])
+    nan = (float('nan'),) * 4
+    r = judged('imu', tmp_path, [imu(i, orientation=nan, orientation_covariance=UNKNOWN) for i in range(N)])
     assert r.verdict == FAIL
     one_reason_with(r, 'orientation holds NaN or inf (covariance -1 means unknown covariance')
-    r = judged('imu', tmp_path, [imu(i, q=(0, 0, 0, 0), ocov=UNKNOWN) for i in range(N)])
+    r = judged('imu', tmp_path, [imu(i, orientation=(0, 0, 0, 0), orientation_covariance=UNKNOWN) for i in range(N)])
     one_reason_with(r, 'orientation is not a unit quaternion (norm 0)')
-    r = judged('imu', tmp_path, [imu(i, acc_z=float('nan'), acov=UNKNOWN) for i in range(N)])
+    r = judged('imu', tmp_path, [imu(i, acc_z=float('nan'), acceleration_covariance=UNKNOWN) for i in range(N)])
     one_reason_with(r, 'angular velocity or linear acceleration holds NaN or inf')
 
 
@@ -514,7 +434,7 @@ def test_imu_with_unknown_covariance_is_checked(tmp_path):
 def test_wrong_message_type_names_both_types(tmp_path):
     run = make_run('backSonar', tmp_path, topic='/naoqi_driver/sonar/back')
     for i in range(10):
-        run.feed_raw('std_msgs/String', ser(String(data='x')), T0 + 0.1 * i, R0 + 0.1 * i)
+        run.feed_raw('std_msgs/String', serialized(String(data='x')), T0 + 0.1 * i, R0 + 0.1 * i)
     r = close(run, lookup=lambda topic: ('std_msgs/String', ['/talker']))
     assert r.verdict == FAIL and r.messages == 0
     assert r.reasons[0] == ('topic /naoqi_driver/sonar/back carries std_msgs/String, '
@@ -662,11 +582,11 @@ def test_interrupted_window_says_so(tmp_path):
 def test_messages_outside_the_window_are_ignored(tmp_path):
     plan = SensorPlan(catalog.SENSORS['backSonar'], '/t', ROBOT['backSonar'])
     run = SensorRun(plan, RunContext(str(tmp_path), 'robot', Options()), T0)
-    run.feed_raw('sensor_msgs/Range', ser(sonar(0)), T0, R0)       # before begin()
+    run.feed_raw('sensor_msgs/Range', serialized(sonar(0)), T0, R0)       # before begin()
     run.begin(T0)
     feed(run, [sonar(i) for i in range(N)])
     r = close(run)
-    run.feed_raw('sensor_msgs/Range', ser(sonar(0)), T0 + 3.1, R0 + 3.1)   # after close()
+    run.feed_raw('sensor_msgs/Range', serialized(sonar(0)), T0 + 3.1, R0 + 3.1)   # after close()
     assert r.messages == N and run.stats.count == N
     assert run.close(T0 + 4, 'again') is r                       # closing twice: same result
 
@@ -826,7 +746,7 @@ class Broken(RunObserver):
 
 
 def run_bag(tmp_path, mode, sensors, extra_observers=(), cameras=None):
-    bag = write_bag(tmp_path / 'run.bag', {'/laser': scan, '/back': sonar})
+    bag = write_bag(tmp_path / 'run.bag', {'/laser': laser, '/back': sonar})
     d = tmp_path / 'files'
     d.mkdir(exist_ok=True)
     (d / 'config.ini').write_text('platform robot\nmode %s\n' % mode)
@@ -895,7 +815,7 @@ def test_runner_interrupt_finishes_the_files(tmp_path):
 def test_runner_simulator_cameras_one_at_a_time_in_parallel_mode(tmp_path):
     """Gazebo cannot render several cameras at once at full rate: in parallel mode the simulator's
     cameras share one lane, while the other sensors still run at the same time."""
-    bag = write_bag(tmp_path / 'sim.bag', {'/laser': scan, '/back': sonar})
+    bag = write_bag(tmp_path / 'sim.bag', {'/laser': laser, '/back': sonar})
     d = tmp_path / 'files'
     d.mkdir()
     (d / 'config.ini').write_text('platform simulator\nmode parallel\n')
@@ -1084,10 +1004,10 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     for i, m in enumerate(msgs):
         t = T0 + 0.05 + i / 10.0 + (1.5 if i >= 12 else 0.0)      # one 1.6 s pause
         m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
-        run.feed_raw(run.sensor.msg_type, ser(m), t, R0 + (t - T0))
+        run.feed_raw(run.sensor.msg_type, serialized(m), t, R0 + (t - T0))
     warned = close(run, at=4.5)
     assert warned.verdict == PASS and warned.warnings, (warned.reasons, warned.warnings)
-    clean = judged('frontSonar', tmp_path, [sonar(i, frame='SonarFront_frame') for i in range(N)])
+    clean = judged('frontSonar', tmp_path, [sonar(i, frame_id='SonarFront_frame') for i in range(N)])
     assert clean.verdict == PASS and not clean.warnings, clean.warnings
     rr = RunResult(platform='robot', mode='parallel', start=1700000000.0, end=1700000005.0,
                    output_dir=str(tmp_path), sensors=[warned, clean])

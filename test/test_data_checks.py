@@ -1,20 +1,16 @@
 """Depth and microphone rules for data that cannot be real (issue 10), on real serialised
 messages: each message is built as a sensor_msgs/Image or AudioCustomMsg, serialised and
 deserialised with genpy as it comes off the wire, and fed to the check with explicit times."""
-import io
 
 import numpy as np
 
-from media_tools import image_msg, make_check
+from fake_pepper import audio_buffer, image, serialized
+from media_tools import make_check
 
 
 def wire(msg):
     """The message as a subscriber receives it: serialised, then deserialised."""
-    buff = io.BytesIO()
-    msg.serialize(buff)
-    out = type(msg)()
-    out.deserialize(buff.getvalue())
-    return out
+    return type(msg)().deserialize(serialized(msg))
 
 
 def feed(check, msgs, rate=10.0, start=0.05):
@@ -30,7 +26,7 @@ def depth(i, w=160, h=120, rng=None):
     yy = np.mgrid[0:h, 0:w][0]
     a = (1500 + 10 * yy + rng.normal(0, 8, (h, w))).astype(np.uint16)
     a[rng.integers(0, h, 50), rng.integers(0, w, 50)] = 0
-    return image_msg(a, '16UC1')
+    return image(a, '16UC1')
 
 
 def test_a_healthy_depth_stream_passes(tmp_path):
@@ -46,7 +42,7 @@ def test_frozen_depth_fails_from_when_it_froze(tmp_path):
 
 
 def test_a_single_depth_everywhere_fails_on_the_robot_not_in_the_simulator(tmp_path):
-    flat = [image_msg(np.full((120, 160), 1500 + i, np.uint16), '16UC1') for i in range(6)]
+    flat = [image(np.full((120, 160), 1500 + i, np.uint16), '16UC1') for i in range(6)]
     c = feed(make_check('depthCamera', tmp_path, record=False), flat)
     assert any(r.startswith('depth image holds a single value everywhere in 6 of 6 frames')
                for r in c.failure_reasons()), c.failure_reasons()
@@ -57,7 +53,7 @@ def test_a_single_depth_everywhere_fails_on_the_robot_not_in_the_simulator(tmp_p
 
 def test_depth_mostly_beyond_the_physical_range_fails(tmp_path):
     """30 m over most of the image: 16UC1 can say it, an Xtion cannot measure it."""
-    far = [image_msg((30000 + (np.arange(160 * 120) + i) % 500).astype(np.uint16).reshape(120, 160),
+    far = [image((30000 + (np.arange(160 * 120) + i) % 500).astype(np.uint16).reshape(120, 160),
                      '16UC1') for i in range(6)]
     frames = [depth(i) for i in range(2)] + far
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'median_range': None}), frames)
@@ -66,7 +62,7 @@ def test_depth_mostly_beyond_the_physical_range_fails(tmp_path):
 
 
 def test_depth_that_turns_all_zero_partway_fails_from_when(tmp_path):
-    zero = image_msg(np.zeros((120, 160), np.uint16), '16UC1')
+    zero = image(np.zeros((120, 160), np.uint16), '16UC1')
     frames = [depth(i) for i in range(15)] + [zero] * 12
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
     assert 'depth all zero from t = 1.55 s to the end of the window (12 frames, 1.1 s)' \
@@ -74,16 +70,13 @@ def test_depth_that_turns_all_zero_partway_fails_from_when(tmp_path):
 
 
 def custom(i, n=4096, dead=None, dead_from=None):
-    from pepper_interface_tests.msg import AudioCustomMsg
+    """Tones of 500, 800, 1100 and 1400 Hz with a little noise (no two buffers alike); `dead`
+    all zeros from buffer `dead_from` on."""
     rng = np.random.default_rng(i)
-    cols = {}
-    for k, name in enumerate(('rearLeft', 'rearRight', 'frontLeft', 'frontRight')):
-        x = (2000 * np.sin(2 * np.pi * (500 + 300 * k) * (np.arange(n) + i * n) / 48000.0)
-             + rng.normal(0, 50, n)).astype(np.int16)
-        if name == dead and i >= dead_from:
-            x[:] = 0
-        cols[name] = x.tolist()
-    return AudioCustomMsg(**cols)
+    tt = (np.arange(n) + i * n) / 48000.0
+    return audio_buffer(i, n, channels=[(2000 * np.sin(2 * np.pi * (500 + 300 * k) * tt) + rng.normal(0, 50, n))
+                                        .astype(np.int16) for k in range(4)],
+                        silent=dead if dead_from is not None and i >= dead_from else None)
 
 
 def test_microphone_buffers_that_repeat_fail(tmp_path):

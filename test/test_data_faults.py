@@ -14,7 +14,7 @@ import time
 
 import pytest
 
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_until
 
 PKG = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROBOT_SENSORS = ['laser', 'imu', 'depthCamera', 'microphone', 'jointState', 'odometry']
@@ -30,10 +30,7 @@ def run(master, tmp_path, emu_params, sensors, platform='robot', duration=3, tag
         emu = spawn(script('pepperEmulator') + ['__name:=' + name] + list(emu_params), master.env(),
                     stdout=log, stderr=subprocess.STDOUT)
         try:
-            deadline = time.time() + 30
-            while 'publishers up' not in log_path.read_text() and time.time() < deadline:
-                time.sleep(0.05)
-            assert 'publishers up' in log_path.read_text(), log_path.read_text()
+            wait_until(lambda: 'publishers up' in log_path.read_text(), 30, log_path.read_text)
             out = tmp_path / (tag + '-out')
             topics = os.path.join(PKG, 'data', 'pepperTopics.dat' if platform == 'robot'
                                   else 'simulatorTopics.dat')

@@ -2,10 +2,11 @@
 encodings, valid share and median limits, the fixed-range colour video; and through sensorTest."""
 import os
 
-import cv2
 import numpy as np
+import pytest
 
-from media_tools import Publishers, explain, image_msg, make_check, sensor_test, video_info
+from fake_pepper import image
+from media_tools import Publishers, explain, make_check, sensor_test, video_info
 from pepper_interface_tests.media.recording import to_bgr
 
 
@@ -19,7 +20,7 @@ def feed(check, frames, rate=10.0):
 def mm_frame(value_mm, w=160, h=120, invalid_rows=0):
     a = np.full((h, w), value_mm, np.uint16)
     a[:invalid_rows] = 0
-    return image_msg(a, '16UC1')
+    return image(a, '16UC1')
 
 
 def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
@@ -44,7 +45,7 @@ def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
     m = np.full((120, 160), 2.0, np.float32)
     m[:30] = np.nan
     m[30:40] = np.inf
-    frames = [image_msg(m, '32FC1') for _ in range(5)]
+    frames = [image(m, '32FC1') for _ in range(5)]
     c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), frames)
     assert c.failure_reasons() == []
     assert c.values['depth_m'] == {'min': 2.0, 'median': 2.0, 'max': 2.0}
@@ -53,16 +54,16 @@ def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
 
 def test_realsense_aligned_depth_16uc1(tmp_path):
     a = np.tile(np.linspace(300, 4000, 640).astype(np.uint16), (480, 1))
-    c = feed(make_check('realsenseDepthCamera', tmp_path, record=False), [image_msg(a, '16UC1')] * 3)
+    c = feed(make_check('realsenseDepthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
     assert c.failure_reasons() == []
     assert c.values['width'] == 640 and c.values['depth_m']['min'] == 0.3
 
 
 def test_a_colour_image_on_a_depth_topic_is_a_wrong_encoding(tmp_path):
     rgb = np.zeros((120, 160, 3), np.uint8)
-    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), [image_msg(rgb, 'rgb8')] * 3)
+    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), [image(rgb, 'rgb8')] * 3)
     assert any(r.startswith('encoding "rgb8" is not a depth encoding') for r in c.failure_reasons())
-    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(1000)] * 2 + [image_msg(rgb, 'rgb8')])
+    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(1000)] * 2 + [image(rgb, 'rgb8')])
     assert 'encoding "rgb8" where "16UC1" is expected in 1 of 3 messages' in c.failure_reasons()
 
 
@@ -74,7 +75,9 @@ def test_valid_share_and_median_limits(tmp_path):
     assert 'median depth 9.5 m outside median_range [0.3, 8] m' in c.failure_reasons()
 
 
+@pytest.mark.integration     # compares with OpenCV's own map: cv2 takes half a second to import
 def test_video_uses_a_fixed_range_and_black_invalid_pixels(tmp_path):
+    import cv2
     c = make_check('depthCamera', tmp_path, record=False)
     near = np.full((10, 10), 2500, np.uint16)      # 2.5 m: the middle of the 0-5 m range
     mixed = near.copy()
@@ -100,7 +103,7 @@ def colour(check, depth, kind):
 def test_one_valid_pixel_anywhere_is_not_an_all_zero_frame(tmp_path):
     a = np.zeros((120, 160), np.uint16)
     a[57, 93] = 1200                               # outside the every-4th-pixel sample
-    c = feed(make_check('depthCamera', tmp_path, record=False), [image_msg(a, '16UC1')] * 3)
+    c = feed(make_check('depthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
     assert c.values['frames_all_zero'] == 0
     assert not any('depth all zero' in r or 'no valid pixel' in r for r in c.failure_reasons())
 
@@ -109,7 +112,7 @@ def test_big_endian_and_padded_rows_are_read_right(tmp_path):
     a = np.full((120, 160), 1500, np.uint16)
     padded = np.zeros((120, 170), '>u2')
     padded[:, :160] = a
-    msg = image_msg(padded, '16UC1', width=160)
+    msg = image(padded, '16UC1', width=160)
     msg.is_bigendian = 1
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), [msg] * 3)
     assert c.failure_reasons() == [] and c.values['depth_m']['median'] == 1.5

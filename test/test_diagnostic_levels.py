@@ -1,9 +1,16 @@
 """Unit: the pure mapping of a sensor's state or result to its /diagnostics status
-(diagnostics.result_status / waiting_status), without a master."""
+(diagnostics.result_status / waiting_status / live_status), without a master."""
+import os
+
 from diagnostic_msgs.msg import DiagnosticStatus
 
+import fake_pepper as fake
 from pepper_interface_tests.outputs import diagnostics as D
+from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, INTERRUPTED, PASS, SKIPPED, SensorResult
+from pepper_interface_tests.runner import SensorRun
+from pepper_interface_tests.sensors.base import RunContext
 
 
 def result(verdict, **kw):
@@ -62,3 +69,27 @@ def test_waiting_and_node_name():
     assert s.level == D.STALE and s.message == 'waiting to start'
     assert D.base_node_name('/sensorTest_4242_1700000000123') == 'sensorTest'
     assert D.base_node_name('/my_tester') == 'my_tester'
+
+
+def listening_back_sonar(tmp_path, rate, seconds=2.0):
+    """A back-sonar SensorRun (robot expectations: 4-16 Hz) fed `rate` Hz for `seconds`."""
+    t0, ros0 = 5000.0, 1.7e9
+    path = os.path.join(settings.package_dir(), 'config', 'sensorExpectations.yaml')
+    plan = SensorPlan(catalog.SENSORS['backSonar'], '/t', settings.read_expectations(path, 'robot')['backSonar'])
+    run = SensorRun(plan, RunContext(str(tmp_path), 'robot', Options()), t0, wait=2.0, duration=3.0)
+    run.begin(t0)
+    waiting = D.live_status(run, t0 + 1.0, '/t', 'sensor_msgs/Range')
+    for i in range(int(rate * seconds)):
+        t = t0 + 0.05 + i / rate
+        run.feed_raw('sensor_msgs/Range', fake.serialized(fake.sonar(i, ros0 + t - t0)), t, ros0 + t - t0)
+    return waiting, D.live_status(run, t0 + seconds + 0.1, '/t', 'sensor_msgs/Range')
+
+
+def test_live_status_waits_then_listens_and_warns_on_a_rate_outside_the_band(tmp_path):
+    waiting, good = listening_back_sonar(tmp_path, 10.0)
+    assert waiting.level == D.STALE and waiting.message == 'waiting for the first message (1.0 s of 2.0 s)'
+    assert good.level == D.OK and good.message == 'listening, 20 msgs, 10.0 Hz'
+    assert dict(good.values)['state'] == 'listening' and dict(good.values)['problems so far'] == ''
+    _, slow = listening_back_sonar(tmp_path, 2.0)
+    assert slow.level == D.WARN
+    assert slow.message == 'listening, 4 msgs, 2.0 Hz; so far: rate 2.00 Hz outside the expected 4-16 Hz'

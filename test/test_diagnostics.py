@@ -109,7 +109,7 @@ def test_no_diagnostics_option_publishes_nothing(module_master, tmp_path):
     try:
         proc = sensor_test(module_master, ['--sensors', 'backSonar', '--duration', '2.5', '--no-diagnostics',
                                            '--no-history', '--no-report', '--output-dir', str(tmp_path)])
-        time.sleep(0.3)
+        time.sleep(0.3)    # time for a /diagnostics message, which must not come
     finally:
         stop(pubs)
         arrays = arrays_of(listener)

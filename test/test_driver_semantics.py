@@ -6,8 +6,6 @@ the same through sensorTest with real rospy publishers (test/driver_publisher.py
 Sources: ros-naoqi/naoqi_driver src/converters/{sonar,laser,imu}.cpp, src/event/audio.cpp;
 awesomebytes/pepper_virtual (simulation_that_works) pepper_gazebo_plugin/scripts/laser_publisher.py.
 """
-import io
-import math
 import os
 import subprocess
 import sys
@@ -18,8 +16,8 @@ import numpy as np
 import pytest
 import rosbag
 import soundfile
-from sensor_msgs.msg import LaserScan
 
+from fake_pepper import MIC_TONES, audio_buffer, serialized, sim_laser, stock_audio_buffer
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -28,10 +26,8 @@ from pepper_interface_tests.sensors.base import RunContext
 from pepper_interface_tests.sources.naoqi_msgs import (
     AUDIO_BUFFER_DEFINITION,
     AUDIO_BUFFER_TYPE,
-    CHANNEL_NAMES,
-    audio_buffer_class,
 )
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_for_publishers, wait_registered
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PKG = settings.package_dir()
@@ -40,16 +36,9 @@ ROBOT = settings.read_expectations(EXPECT, 'robot')
 SIM = settings.read_expectations(EXPECT, 'simulator')
 T0, R0 = 5000.0, 1700000000.0
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
-TONES = {'rearLeft': 500.0, 'rearRight': 1000.0, 'frontLeft': 1500.0, 'frontRight': 2500.0}
 NB = 17     # 8192-sample buffers in 2.9 s of a 3 s window
 AUDIO_CONN = {'type': AUDIO_BUFFER_TYPE, 'message_definition': AUDIO_BUFFER_DEFINITION,
               'callerid': '/naoqi_driver'}
-
-
-def ser(msg):
-    buff = io.BytesIO()
-    msg.serialize(buff)
-    return buff.getvalue()
 
 
 def run_of(name, tmp_path, platform_expect, expect=None, record=False):
@@ -65,36 +54,16 @@ def feed(run, msgs, rate, type_name=None, conn=None):
         t = T0 + 0.05 + i / rate
         if hasattr(m, 'header'):
             m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
-        run.feed_raw(type_name or run.sensor.msg_type, ser(m), t, R0 + (t - T0), conn)
+        run.feed_raw(type_name or run.sensor.msg_type, serialized(m), t, R0 + (t - T0), conn)
     return run.close(T0 + 3.0, 'window ended')
 
 
 # ------------------------------------------------------------------ messages as the drivers build them
 
 def sim_scan(returns=True, i=0):
-    """laser_publisher.py:427-434: 61 x 8 slots of NaN over +-120 deg, filled where a point is;
-    the model's Gaussian noise (sd 0.01 m, pepperGazeboCPU.xacro) moves the returns per scan."""
-    n, half = 488, math.radians(120.0)
-    m = LaserScan(angle_min=-half, angle_max=half, angle_increment=2 * half / n, range_min=0.1, range_max=7.0)
-    r = [float('nan')] * n
-    if returns:
-        for k in range(150, 190):
-            r[k] = 1.5 + 0.01 * (k % 9) + 0.005 * math.sin(1.7 * i + k)
-        r[300] = 9.0      # a return beyond range_max: real
-    m.ranges = r
-    m.header.frame_id = 'base_footprint'
-    return m
-
-
-def audio_buffer(i, cmap=(3, 5, 0, 2), dead=None, samples=8192, frequency=48000):
-    """event/audio.cpp:170-180: interleaved int16, frequency, channelMap."""
-    t = (np.arange(samples) + i * samples) / 48000.0
-    cols = [np.zeros(samples, np.int16) if CHANNEL_NAMES[c] == dead
-            else (3000 * np.sin(2 * np.pi * TONES.get(CHANNEL_NAMES[c], 700.0) * t)).astype(np.int16) for c in cmap]
-    m = audio_buffer_class()()
-    m.frequency, m.channelMap = frequency, bytes(cmap)
-    m.data = np.stack(cols, axis=1).reshape(-1).tolist()
-    return m
+    """The simulator's scan (fake_pepper.sim_laser) with 40 returns and one beyond range_max
+    (real), or without a single return."""
+    return sim_laser(i, returns=range(150, 190) if returns else (), beyond=(300,) if returns else ())
 
 
 # ------------------------------------------------------------------ simulator laser
@@ -124,7 +93,7 @@ def test_robot_layout_is_not_applied_to_the_simulator(tmp_path):
 
 def test_audio_buffer_decoded_from_its_definition_passes(tmp_path):
     run = run_of('microphone', tmp_path, ROBOT, record=True)
-    r = feed(run, [audio_buffer(i) for i in range(NB)], rate=48000 / 8192.0, type_name=AUDIO_BUFFER_TYPE,
+    r = feed(run, [stock_audio_buffer(i) for i in range(NB)], rate=48000 / 8192.0, type_name=AUDIO_BUFFER_TYPE,
              conn=AUDIO_CONN)
     assert r.verdict == PASS, r.reasons
     assert r.received_type == AUDIO_BUFFER_TYPE
@@ -134,23 +103,23 @@ def test_audio_buffer_decoded_from_its_definition_passes(tmp_path):
     assert data.shape == (NB * 8192, 4) and rate == 48000
     for i, name in enumerate(CHANNELS):   # rearLeft, rearRight, frontLeft, frontRight
         spectrum = np.abs(np.fft.rfft(data[:, i].astype(float)))
-        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - TONES[name]) < 5, name
+        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - MIC_TONES[name]) < 5, name
 
 
 @pytest.mark.parametrize('cmap', [(3, 5, 0, 2), (0, 2, 5, 3), (2, 3, 0, 5)])
 def test_a_dead_microphone_is_named_by_the_channel_map(tmp_path, cmap):
     run = run_of('microphone', tmp_path, ROBOT)
-    r = feed(run, [audio_buffer(i, cmap=cmap, dead='rearRight') for i in range(NB)], rate=48000 / 8192.0,
+    r = feed(run, [stock_audio_buffer(i, cmap=cmap, dead='rearRight') for i in range(NB)], rate=48000 / 8192.0,
              type_name=AUDIO_BUFFER_TYPE, conn=AUDIO_CONN)
     assert r.verdict == FAIL
     assert r.reasons == ['microphone rearRight is silent: all samples are zero'], r.reasons
 
 
 @pytest.mark.parametrize('build, words', [
-    (lambda i: audio_buffer(i, cmap=(0, 2, 1, 4)), "channelMap [0, 2, 1, 4] (frontLeft, frontRight, "
+    (lambda i: stock_audio_buffer(i, cmap=(0, 2, 1, 4)), "channelMap [0, 2, 1, 4] (frontLeft, frontRight, "
                                                    "frontCenter, rearCenter) is not Pepper's four microphones"),
-    (lambda i: audio_buffer(i, cmap=(3, 3, 0, 2)), "is not Pepper's four microphones"),
-    (lambda i: audio_buffer(i, frequency=16000), 'AudioBuffer frequency 16000 Hz, expected sample_rate 48000 Hz'),
+    (lambda i: stock_audio_buffer(i, cmap=(3, 3, 0, 2)), "is not Pepper's four microphones"),
+    (lambda i: stock_audio_buffer(i, frequency=16000), 'AudioBuffer frequency 16000 Hz, expected sample_rate 48000 Hz'),
 ])
 def test_audio_buffer_layout_faults(tmp_path, build, words):
     r = feed(run_of('microphone', tmp_path, ROBOT), [build(i) for i in range(NB)], rate=48000 / 8192.0,
@@ -161,10 +130,8 @@ def test_audio_buffer_layout_faults(tmp_path, build, words):
 
 def test_audio_rate_band_follows_the_buffer_size(tmp_path):
     """4096 samples per buffer (the CSSR bridge) -> 11.7 Hz; 2 Hz is too slow for that."""
-    from pepper_interface_tests.msg import AudioCustomMsg
-
     def custom(i):
-        return AudioCustomMsg(*[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
+        return audio_buffer(channels=[[1000 + i % 7, -1000] * 2048] * 4)     # buffers differ, as real ones
     r = feed(run_of('microphone', tmp_path, ROBOT), [custom(i) for i in range(30)], rate=48000 / 4096.0)
     assert r.verdict == PASS, r.reasons
     assert r.expected_rate_hz == [5.86, 17.58]
@@ -178,7 +145,8 @@ def test_two_publishers_on_the_audio_topic_fail_naming_both(tmp_path):
     for i in range(34):
         t = T0 + 0.05 + i / 11.7
         caller = '/naoqi_driver' if i % 2 else '/naoqiAudioPublisher'
-        run.feed_raw(AUDIO_BUFFER_TYPE, ser(audio_buffer(i, samples=4096)), t, R0, dict(AUDIO_CONN, callerid=caller))
+        m = stock_audio_buffer(i, samples=4096)
+        run.feed_raw(AUDIO_BUFFER_TYPE, serialized(m), t, R0, dict(AUDIO_CONN, callerid=caller))
     r = run.close(T0 + 3.0, 'window ended')
     assert r.verdict == FAIL
     assert any(x.startswith('2 publishers deliver on /t: /naoqiAudioPublisher, /naoqi_driver (two audio '
@@ -191,7 +159,7 @@ def test_audio_buffer_bag_is_decoded_without_naoqi_bridge_msgs(tmp_path):
     with rosbag.Bag(bag, 'w') as b:
         for i in range(30):
             t = genpy.Time.from_sec(R0 + i * 8192 / 48000.0)
-            m = audio_buffer(i, cmap=(2, 0, 5, 3), dead='frontLeft')
+            m = stock_audio_buffer(i, cmap=(2, 0, 5, 3), dead='frontLeft')
             m.header.stamp = t
             b.write('/naoqi_driver/audio', m, t)
     topics = tmp_path / 'topics.dat'
@@ -250,7 +218,7 @@ def test_healthy_robot_as_naoqi_driver_publishes_it_passes(master, tmp_path):
         publish(master, procs, 'imu', '/d/imu', '--node', 'imu_pub')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--channel-map', '0,5,3,2',
                 '--node', 'naoqi_driver')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/d/sonar/front', '/d/laser', '/d/imu', '/d/audio'])
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, ROBOT_TOPICS), SENSORS)
     finally:
         for p in procs:
@@ -264,7 +232,7 @@ def test_healthy_robot_as_naoqi_driver_publishes_it_passes(master, tmp_path):
     assert data.shape[1] == 4
     for i, name in enumerate(CHANNELS):
         spectrum = np.abs(np.fft.rfft(data[:, i].astype(float)))
-        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - TONES[name]) < 5, name
+        assert abs(np.fft.rfftfreq(len(data), 1 / 48000.0)[np.argmax(spectrum)] - MIC_TONES[name]) < 5, name
 
 
 def test_real_faults_fail_naming_the_sensor_and_channel(master, tmp_path):
@@ -276,7 +244,7 @@ def test_real_faults_fail_naming_the_sensor_and_channel(master, tmp_path):
         publish(master, procs, 'imu', '/d/imu', '--fault', 'nan_attitude', '--node', 'imu_pub')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--channel-map', '2,0,3,5',
                 '--fault', 'dead:frontRight', '--node', 'naoqi_driver')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/d/sonar/front', '/d/laser', '/d/imu', '/d/audio'])
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, ROBOT_TOPICS), SENSORS)
     finally:
         for p in procs:
@@ -294,7 +262,7 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
     topics = _topics(tmp_path, {'Laser': '/pepper/laser_2', 'FrontSonar': '/pepper/laser_none'})
     try:
         publish(master, procs, 'sim_laser', '/pepper/laser_2', '--rate', 6.25, '--node', 'laser_publisher')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/pepper/laser_2'])
         done, res = sensor_test(master, tmp_path, topics, ['laser'], platform='simulator')
     finally:
         for p in procs:
@@ -304,7 +272,7 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
     try:
         publish(master, procs, 'sim_laser', '/pepper/laser_2', '--rate', 6.25, '--fault', 'no_returns',
                 '--node', 'laser_publisher')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/pepper/laser_2'])
         done, res = sensor_test(master, tmp_path, topics, ['laser'], platform='simulator')
     finally:
         for p in procs:
@@ -313,7 +281,7 @@ def test_simulator_laser_live_with_and_without_returns(master, tmp_path):
     assert any(r.startswith('scan without a single valid return') for r in res['laser']['reasons'])
 
 
-def test_two_audio_bridges_live_fail_naming_both_and_levels_read_audio_buffer(master, tmp_path):
+def test_two_audio_bridges_live_fail_naming_both_and_levels_read_stock_audio_buffer(master, tmp_path):
     """Two nodes publishing AudioBuffer on one topic (e.g. the fork's bridge and stock audio):
     the microphone fails naming both; the speech check's LevelMonitor reads AudioBuffer too."""
     procs = []
@@ -322,7 +290,7 @@ def test_two_audio_bridges_live_fail_naming_both_and_levels_read_audio_buffer(ma
     try:
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqi_driver')
         publish(master, procs, 'audio_buffer', '/d/audio', '--rate', 48000 / 8192.0, '--node', 'naoqiAudioPublisher')
-        time.sleep(1.5)
+        wait_registered(master, [('/d/audio', '/naoqi_driver'), ('/d/audio', '/naoqiAudioPublisher')])
         probe = subprocess.run([sys.executable, os.path.join(HERE, 'media_level_probe.py'), '/d/audio', '3',
                                 str(loud_file)], env=master.env(), capture_output=True, text=True, timeout=60)
         done, res = sensor_test(master, tmp_path, _topics(tmp_path, {'Microphone': '/d/audio'}), ['microphone'])

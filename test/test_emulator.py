@@ -17,7 +17,8 @@ import time
 import psutil
 import pytest
 
-from rosmaster import kill_group, script, spawn
+from fake_pepper import BLIND, JOINTS, WHEELS
+from rosmaster import kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LISTEN = [sys.executable, os.path.join(HERE, 'emu_listen.py')]
@@ -69,12 +70,6 @@ SIMULATOR = {
     '/pepper/odom': ('nav_msgs/Odometry', 20, 'odom', dict(child='base_footprint')),
 }
 AUDIO_BUFFER_MD5 = '50f300aa63f3c1b2f3d3173329165316'    # naoqi_bridge_msgs/AudioBuffer
-JOINTS = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch', 'LShoulderPitch',
-          'LShoulderRoll', 'LElbowYaw', 'LElbowRoll', 'LWristYaw', 'LHand', 'RShoulderPitch',
-          'RShoulderRoll', 'RElbowYaw', 'RElbowRoll', 'RWristYaw', 'RHand', 'WheelFL', 'WheelFR',
-          'WheelB']
-BLIND = list(range(15, 23)) + list(range(38, 46))
-WHEELS = ['WheelFL', 'WheelFR', 'WheelB']
 
 
 # ---------------------------------------------------------------- helpers
@@ -432,9 +427,7 @@ def test_faults(module_master, tmp_path, faults, check):
     with Emulator(module_master, tmp_path, '_audio:=direct', '_realsense:=true',
                   '_camera_resolution:=QVGA', '_faults:=' + faults) as emu:
         # listen from the moment the emulator is up, so die_after can be timed
-        deadline = time.time() + 30
-        while 'publishers up' not in emu.output() and time.time() < deadline:
-            time.sleep(0.05)
+        wait_until(lambda: 'publishers up' in emu.output(), 30, emu.output)
         start = time.time()
         got = listen(module_master, topics, 6.0)
         log = emu.output()
@@ -554,7 +547,7 @@ def test_speech_without_naoqi_endpoint_warns_once(module_master, tmp_path):
     with Emulator(module_master, tmp_path, '_naoqi_url:=' + url) as emu:
         got = listen(module_master, [NS + '/laser'], 3.0, '--speech', 'one', '--speech-at', '0.5')
         got2 = listen(module_master, [NS + '/laser'], 3.0, '--speech', 'two', '--speech-at', '0.5')
-        time.sleep(1.0)
+        time.sleep(1.0)    # time for a second "not reachable", which must not come
         log = emu.output()
     assert log.count('not reachable') == 1, log
     assert url in log

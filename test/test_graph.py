@@ -7,6 +7,7 @@ import time
 import pytest
 import rosgraph
 
+from rosmaster import wait_registered
 from test_sensor_test_cli import (
     Publishers,
     Running,
@@ -55,7 +56,7 @@ def test_two_runs_on_one_master_both_complete(module_master, pubs, tmp_path):
 def test_a_second_node_with_the_same_fixed_name_is_named_as_the_cause(module_master, pubs, tmp_path):
     a = run(module_master, pubs, tmp_path / 'a', '--mode', 'sequential', '__name:=sensorTest', duration=20)
     a.wait_for('start  backSonar')
-    time.sleep(1.0)
+    wait_registered(module_master, subscribed=[topic_of(PREFIX, 'backSonar')], subscriber='sensorTest')
     b = run(module_master, pubs, tmp_path / 'b', '--node-name', 'sensorTest', duration=2)
     ra = a.finish(60)
     rb = b.finish(60)
@@ -118,13 +119,13 @@ def test_a_master_stalled_for_3_seconds_does_not_end_the_run(master, tmp_path):
         r = Running(['--topics', topics, '--sensors', 'backSonar', '--duration', '8', '--wait', '3',
                      '--no-report', '--output-dir', str(out)], master.env(), out)
         r.wait_for('start  backSonar')
-        time.sleep(1.0)
+        wait_registered(master, subscribed=[topic_of(PREFIX, 'backSonar')], subscriber='sensorTest')
         stalled = child_pids(master.proc.pid)          # rosmaster and rosout
         assert stalled
         for pid in stalled:
             os.kill(pid, signal.SIGSTOP)
         try:
-            time.sleep(3.0)
+            time.sleep(3.0)     # the stall under test
         finally:
             for pid in stalled:
                 os.kill(pid, signal.SIGCONT)

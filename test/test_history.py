@@ -11,7 +11,7 @@ import time
 import pytest
 
 from report_helpers import printed_path, sensor_test, start_publishers, stop
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_until
 
 BACK, LASER = '/naoqi_driver/sonar/back', '/naoqi_driver/laser'
 
@@ -138,7 +138,7 @@ def test_interrupted_run_is_kept_and_published(module_master, tmp_path):
         deadline = time.monotonic() + 30
         while 'start  backSonar' not in line and time.monotonic() < deadline:
             line = proc.stdout.readline()
-        time.sleep(2.0)
+        time.sleep(2.0)    # 2 s into the run, then Ctrl-C
         rc = kill_group(proc, signal.SIGINT, timeout=60)
         stdout = line + proc.stdout.read()
         proc.stdout.close()
@@ -334,9 +334,7 @@ def test_open_prints_the_latest_report_and_never_blocks(two_runs, tmp_path):
     took = time.monotonic() - t0
     assert p.returncode == 0 and p.stdout == report + '\n', p.stderr
     assert took < 10, took
-    deadline = time.monotonic() + 10
-    while not (log.exists() and log.read_text()) and time.monotonic() < deadline:
-        time.sleep(0.1)
+    wait_until(lambda: log.exists() and log.read_text(), 10, 'the stand-in xdg-open never ran')
     pid, opened = log.read_text().split()
     os.kill(int(pid), signal.SIGTERM)                        # the stand-in browser this test made
     assert opened == report

@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from rosmaster import ROOT, free_port, kill_group, script, spawn
+from rosmaster import ROOT, free_port, kill_group, script, spawn, wait_until
 
 LAUNCH = os.path.join(ROOT, 'launch')
 EMULATOR = os.path.join(LAUNCH, 'pepperEmulator.launch')
@@ -294,15 +294,6 @@ def test_simulator_launch_switches(tmp_path):
 
 # ---------------------------------------------------------------- real runs
 
-def _wait_for(predicate, timeout):
-    deadline = time.time() + timeout
-    while time.time() < deadline:
-        if predicate():
-            return True
-        time.sleep(0.2)
-    return False
-
-
 LAUNCH_TOPICS = {NS + '/camera/front/image_raw': 'sensor_msgs/Image',
                  NS + '/camera/depth/image_raw': 'sensor_msgs/Image',
                  NS + '/laser': 'sensor_msgs/LaserScan', NS + '/sonar/back': 'sensor_msgs/Range',
@@ -366,11 +357,11 @@ def test_emulator_launch_run_test_ends_the_launch(master, tmp_path):
                         'duration:=3', 'output_dir:=%s' % out_dir], master.env(), stdout=log,
                        stderr=subprocess.STDOUT)
         try:
-            ended = _wait_for(lambda: launch.poll() is not None, 120)
+            wait_until(lambda: launch.poll() is not None, 120,
+                       lambda: 'the launch did not end with sensorTest\n' + log_path.read_text(), every=0.2)
         finally:
             kill_group(launch)
     text = log_path.read_text()
-    assert ended, 'the launch did not end with sensorTest\n' + text
     assert 'sensorTest' in text and os.path.isdir(out_dir) and os.listdir(out_dir), text
     assert 'sensorTest: finished with exit code 0: ending the launch' in text, text
     assert 'REQUIRED process' not in text and 'has died' not in text, text

@@ -21,7 +21,7 @@ from pepper_interface_tests.emulator.audio_source import (
     expected_counter,
     find_counter_start,
 )
-from rosmaster import script
+from rosmaster import script, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PERIOD = 4096 / 48000.0
@@ -120,10 +120,7 @@ def test_audio_source_beeps_without_espeak(monkeypatch, tmp_path):
     monkeypatch.setenv('PATH', str(tmp_path))  # a real PATH where espeak-ng does not exist
     src = AudioSource(pattern='tones', silent_channels=('rearLeft', 'rearRight', 'frontLeft'))
     src.say('anything')
-    deadline = time.time() + 10
-    while not src.speaking or src._rendering:
-        assert time.time() < deadline
-        time.sleep(0.01)
+    wait_until(lambda: src.speaking and not src._rendering, 10, 'the beep was never rendered', every=0.01)
     beeps = src.read(int(0.65 * 48000))[:, 3]
     assert abs(dominant_hz(beeps, 48000) - 1000) < 10
     env = np.abs(beeps.astype(float)).reshape(-1, 480).max(axis=1)  # 10 ms windows

@@ -14,7 +14,7 @@ from media_tools import Publishers, load_results, pattern, topics_file, video_in
 from pepper_interface_tests.media import playback, recording
 from pepper_interface_tests.media.recording import VideoRecorder, WavWriter
 from pepper_interface_tests.media.viewer import Viewer
-from rosmaster import script, spawn
+from rosmaster import script, spawn, wait_until
 
 
 def record(path, frames, rate, **kw):
@@ -33,7 +33,7 @@ def ffprobe_stream(path, entries='codec_name,pix_fmt'):
 def test_rate_is_measured_every_frame_is_written_and_the_file_appears_on_close(tmp_path):
     path = tmp_path / 'frontCameraOutput.mp4'
     rec = record(path, [pattern(160, 120, i) for i in range(36)], rate=12.0)
-    time.sleep(0.5)
+    wait_until(lambda: os.path.exists(rec.tmp_path), 20, 'no %s while recording' % rec.tmp_path)
     assert not path.exists()                       # written under a temporary name until close
     summary = rec.close()
     frames, w, h, fps = video_info(str(path))
@@ -102,11 +102,9 @@ def test_an_encoder_that_dies_is_reported_and_the_rest_counted(tmp_path):
     rec = VideoRecorder(str(tmp_path / 'bottomCameraOutput.mp4'))
     for i in range(20):
         rec.add(pattern(160, 120, i), i / 10.0)
-    deadline = time.time() + 20
-    while rec._proc is None and time.time() < deadline:     # ffmpeg starts after ~1 s of frames
-        time.sleep(0.05)
+    wait_until(lambda: rec._proc is not None, 20, 'ffmpeg never started')   # after ~1 s of frames
     os.killpg(rec._proc.pid, signal.SIGKILL)      # a real encoder crash
-    time.sleep(0.3)
+    wait_until(lambda: rec._proc.poll() is not None, 10, 'the killed encoder still runs')
     for i in range(20, 60):
         rec.add(pattern(160, 120, i), i / 10.0)
     summary = rec.close()
@@ -283,7 +281,7 @@ def test_recordings_are_finished_when_sensor_test_is_interrupted(module_master, 
             lines.append(line)
             if 'start  microphone' in line or not line:
                 break
-        time.sleep(4.0)
+        time.sleep(4.0)    # 4 s of recording before Ctrl-C
         os.killpg(proc.pid, signal.SIGINT)
         rest, _ = proc.communicate(timeout=60)
     assert proc.returncode == 130, ''.join(lines) + rest

@@ -100,3 +100,24 @@ def test_atomic_write_failing_midway_keeps_the_old_file(tmp_path):
     with open(path) as f:
         assert f.read() == 'old'
     assert os.listdir(str(tmp_path)) == ['out.json']
+
+
+def test_printable_shows_control_characters_and_keeps_the_rest():
+    """results.printable, the one escaping rule of the terminal, the .dat, JUnit and the report."""
+    assert R.printable('Sonar\x01\x1b[31mRED\x1b[0m\x07') == 'Sonar\\x01\\x1b[31mRED\\x1b[0m\\x07'
+    assert R.printable('a\x7fb\x85c\u2028d\ud800e') == 'a\\x7fb\\x85c\\u2028d\\ud800e'
+    assert R.printable('two\nlines\tand a tab') == 'two\\nlines\\tand a tab'
+    assert R.printable('two\nlines', one_line=False) == 'two\nlines'
+    assert R.printable('<script> & "é 漢"') == '<script> & "é 漢"'       # markup is the writers' job
+    assert R.printable('x' * 30, limit=10) == 'x' * 10 + '... (20 more characters)'
+
+
+def test_dat_block_holds_no_control_character_and_one_string_per_line():
+    r = run_with('bad ' + HOSTILE + '\nsecond line').sensors[0]
+    r.fields = [('Frame id', HOSTILE), ('Range', 'x' * 5000)]
+    block = files.dat_block(r)
+    lines = block.rstrip('\n').split('\n')
+    assert not any(c in block for c in '\x00\x1b\x07\x85\ud800\ufffe')
+    assert 'Frame id: a\\x00b\\x1b[31mred\\x07 ]]> <script>' in block
+    assert lines[-1].startswith('[RESULT] FAIL: bad a\\x00b') and lines[-1].endswith('\\nsecond line')
+    assert '(3000 more characters)' in block          # FILE_LIMIT per robot string

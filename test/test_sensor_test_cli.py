@@ -14,9 +14,11 @@ import threading
 import time
 import xml.etree.ElementTree as ET
 
+import psutil
 import pytest
 import rosgraph
 
+import rosmaster
 from rosmaster import Master, kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -52,19 +54,8 @@ def write_topics(path, prefix, names):
 
 
 def wait_registered(master, topics=(), subscribed=(), timeout=START_LIMIT):
-    """Until every topic has a publisher (and every `subscribed` topic a subscriber)."""
-    m = rosgraph.Master('/test_sensor_test_cli', master_uri=master.uri)
-    deadline = time.time() + timeout
-    while True:
-        pubs, subs, _ = m.getSystemState()
-        pubs = {t for t, nodes in pubs if nodes}
-        subs = {t for t, nodes in subs if any('core_publisher' in n for n in nodes)}
-        if set(topics) <= pubs and set(subscribed) <= subs:
-            return
-        if time.time() > deadline:
-            raise AssertionError('publishers did not register: %s %s'
-                                 % (sorted(set(topics) - pubs), sorted(set(subscribed) - subs)))
-        time.sleep(0.2)
+    """Until every topic has a publisher (and every `subscribed` topic a core_publisher subscriber)."""
+    rosmaster.wait_registered(master, topics, subscribed, subscriber='core_publisher', timeout=timeout)
 
 
 def sonar_and_laser(master, tmp, prefix, extra_topics=()):
@@ -199,17 +190,7 @@ class Running:
 
 def child_pids(pid):
     """Processes whose parent is `pid` (roscore's rosmaster and rosout run in their own groups)."""
-    out = []
-    for entry in os.listdir('/proc'):
-        if entry.isdigit():
-            try:
-                with open('/proc/%s/stat' % entry) as f:
-                    ppid = int(f.read().rsplit(')', 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-            if ppid == pid:
-                out.append(int(entry))
-    return out
+    return [child.pid for child in psutil.Process(pid).children()]
 
 
 def sensor_test(master, out_dir, *args, timeout=90):
@@ -372,7 +353,7 @@ def test_no_publisher_wrong_type_dying_publisher_and_no_listener(module_master, 
                        '--duration', '3', '--wait', '2', '--output-dir', str(tmp_path / 'out')],
                       module_master.env(), tmp_path / 'out')
         run.wait_for('start  laser')
-        time.sleep(1.0)
+        time.sleep(1.0)    # 1 s into the laser's window
         pubs.procs['laser'].kill()          # the laser driver crashes 1 s into its window
         r = run.finish()
     assert r.rc == 1, r
@@ -591,7 +572,7 @@ def test_interrupted_mid_run(module_master, good, tmp_path, sig):
     run = Running(['--topics', good.topics, '--sensors', 'backSonar,laser', '--mode', 'sequential',
                    '--duration', '30', '--wait', '2', '--output-dir', str(out)], module_master.env(), out)
     run.wait_for('start  backSonar')
-    time.sleep(2.0)
+    time.sleep(2.0)    # 2 s of listening before the signal
     sent = time.monotonic()
     run.proc.send_signal(sig)
     r = run.finish(30)
@@ -622,7 +603,7 @@ def test_master_killed_mid_run(master, tmp_path):
                        '--sensors', 'backSonar,laser', '--duration', '30', '--wait', '2',
                        '--output-dir', str(out)], master.env(), out)
         run.wait_for('start  backSonar')
-        time.sleep(1.5)
+        time.sleep(1.5)    # 1.5 s into the window
         doomed = child_pids(master.proc.pid)            # rosmaster and rosout
         assert doomed
         for pid in doomed:

@@ -653,3 +653,12 @@ def test_rerun_failed_reads_the_latest_run_of_the_output_folder(files):
     assert 'nothing to re-run' in error_of(files.options(rerun_failed=True)).message
     write(path, '{"sensors": "laser"}')
     assert 'is not a sensorTest result' in error_of(files.options(rerun_failed=True)).message
+
+
+def test_package_dir_is_found_next_to_the_module_without_rospkg(monkeypatch):
+    """From a source checkout the package's folder is found from the module's own path, not by
+    asking rospkg to crawl the ROS package path (slow, and wrong when another copy is on it)."""
+    from pepper_interface_tests.plan.settings import package_dir
+    repo = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+    monkeypatch.setenv('ROS_PACKAGE_PATH', '/nonexistent')   # rospkg could find nothing
+    assert os.path.realpath(package_dir()) == repo

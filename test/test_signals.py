@@ -11,7 +11,7 @@ import time
 
 import pytest
 
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_until
 from test_sensor_test_cli import (
     Result,
     Running,
@@ -62,9 +62,9 @@ def test_second_ctrl_c_within_50_ms_never_cuts_the_final_write(module_master, pu
     out = tmp_path / 'out'
     run = start(module_master, pubs, out)
     run.wait_for('start  backSonar')
-    time.sleep(1.5)
+    time.sleep(1.5)    # 1.5 s into the window: Ctrl-C mid-listening
     run.proc.send_signal(signal.SIGINT)
-    time.sleep(0.03)
+    time.sleep(0.03)    # the second Ctrl-C within 50 ms (under test)
     run.proc.send_signal(signal.SIGINT)
     r = run.finish(30)
     assert r.rc == 130, r
@@ -80,11 +80,11 @@ def test_third_interrupt_quits_at_once(module_master, pubs, tmp_path):
     out = tmp_path / 'out'
     run = start(module_master, pubs, out, pause='final-write:20')
     run.wait_for('start  backSonar')
-    time.sleep(1.0)
+    time.sleep(1.0)    # mid-window
     run.proc.send_signal(signal.SIGINT)
     wait_err(run, '[test-pause] final-write')
     run.proc.send_signal(signal.SIGINT)
-    time.sleep(0.5)
+    time.sleep(0.5)    # the second interrupt had its chance to cut the write
     assert run.proc.poll() is None          # the second one did not cut the write short
     sent = time.monotonic()
     run.proc.send_signal(signal.SIGINT)
@@ -110,11 +110,9 @@ def test_sighup_is_treated_like_sigterm_and_finishes_recordings(module_master, t
         run = Running(['--topics', topics, '--sensors', 'frontCamera', '--duration', '30', '--wait', '10',
                        '--no-report', '--no-show', '--no-history', '--output-dir', str(out)], env, out)
         run.wait_for('start  frontCamera')
-        deadline = time.monotonic() + 20
-        while not any(n.endswith('.writing.mp4') for n in os.listdir(str(out))):
-            assert time.monotonic() < deadline, os.listdir(str(out))
-            time.sleep(0.1)
-        time.sleep(1.5)
+        wait_until(lambda: any(n.endswith('.writing.mp4') for n in os.listdir(str(out))), 20,
+                   lambda: 'no video being written: %s' % os.listdir(str(out)))
+        time.sleep(1.5)     # 1.5 s of video in the file when the signal comes
         run.proc.send_signal(signal.SIGHUP)
         r = run.finish(30)
     finally:
@@ -194,7 +192,7 @@ def test_a_window_cut_short_is_interrupted_not_failed(module_master, pubs, tmp_p
     out = tmp_path / 'out'
     run = start(module_master, pubs, out, '--mode', 'parallel', sensors=['backSonar', 'frontSonar'])
     run.wait_for('start  frontSonar')
-    time.sleep(1.0)
+    time.sleep(1.0)    # 1 s into both windows
     run.proc.send_signal(signal.SIGINT)
     r = run.finish(30)
     assert r.rc == 130, r
@@ -233,7 +231,7 @@ def test_a_broken_pipe_never_stops_the_results(module_master, pubs, tmp_path, th
     proc.stdout.close()           # the reader exits
     proc.stderr.close()
     if then == 'ctrl_c':
-        time.sleep(1.0)
+        time.sleep(1.0)    # a moment into the window
         proc.send_signal(signal.SIGINT)
     try:
         proc.wait(60)

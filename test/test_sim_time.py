@@ -11,7 +11,7 @@ import time
 import pytest
 
 from pepper_interface_tests.stats import StreamStats
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_for_publishers
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -44,10 +44,10 @@ def test_simulator_rates_on_the_sim_clock(master, tmp_path, rtf):
     out = tmp_path / 'out'
     try:
         _spawn(master, procs, 'clock', '/clock', '--rtf', rtf, '--node', 'gazebo')
-        time.sleep(1.5)    # /use_sim_time set and /clock running before any node starts
+        wait_for_publishers(master, ['/clock'])    # it sets /use_sim_time before it registers
         _spawn(master, procs, 'sim_sonar', '/pepper/sonar_front', '--rate', 20, '--node', 'sonar_front')
         _spawn(master, procs, 'sim_laser', '/pepper/laser_2', '--rate', 6.25, '--node', 'laser_publisher')
-        time.sleep(1.5)
+        wait_for_publishers(master, ['/pepper/sonar_front', '/pepper/laser_2'])
         started = time.monotonic()
         done = subprocess.run(script('sensorTest') + [
             '--topics', str(topics), '--sensors', 'frontSonar,laser', '--platform', 'simulator',
@@ -86,7 +86,7 @@ def test_use_sim_time_without_clock_is_named(master, tmp_path):
     out = tmp_path / 'out'
     try:
         _spawn(master, procs, 'sonar', '/d/sonar/front', '--rate', 10, '--node', 'sonar_front')
-        time.sleep(1.5)              # the publisher runs on wall time, stamps ~1.8e9 s
+        wait_for_publishers(master, ['/d/sonar/front'])   # started on wall time: stamps ~1.8e9 s
         rosgraph.Master('/test', master_uri=master.uri).setParam('/use_sim_time', True)
         done = subprocess.run(script('sensorTest') + [
             '--topics', str(topics), '--sensors', 'frontSonar', '--duration', '2', '--wait', '4',

@@ -10,7 +10,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tools/env.sh
-export PYTHONDONTWRITEBYTECODE=1
+# bytecode, and pytest's rewritten test modules, cached under build/ (out of the tree): without
+# a cache every run recompiles and re-rewrites the tests (a second of the unit tier)
+unset PYTHONDONTWRITEBYTECODE
+export PYTHONPYCACHEPREFIX="$PWD/build/pycache"
 export ROS_HOME="${ROS_HOME:-$PWD/build/ros_home}"
 mkdir -p "$ROS_HOME"
 gates=1

@@ -16,7 +16,6 @@ all cameras at their nominal rates: see docs/emulator.md for the measured cost.
 import math
 from typing import Sequence, Tuple, Union
 
-import cv2
 import numpy as np
 
 # ---------------------------------------------------------------- world
@@ -90,6 +89,7 @@ def raycast(x: float, y: float, angles: Union[np.ndarray, Sequence[float]], t: f
 # ---------------------------------------------------------------- colour images
 
 def _hsv_colour(h: float, s: int = 200, v: int = 220) -> Tuple[int, ...]:
+    import cv2  # OpenCV takes half a second to import: only where the emulator draws
     px = np.uint8([[[int(h) % 180, s, v]]])  # type: ignore[arg-type]  # numpy accepts nested lists
     return tuple(int(c) for c in cv2.cvtColor(px, cv2.COLOR_HSV2RGB)[0, 0])
 
@@ -98,6 +98,7 @@ class _Panorama:
     """A 360-degree strip of the room for one view size, panned by the robot's heading."""
 
     def __init__(self, width: int, height: int, hfov: float, floor_view: bool = False) -> None:
+        import cv2  # OpenCV takes half a second to import: only where the emulator draws
         self.width, self.height = width, height
         self.full = max(int(round(width * 2 * math.pi / hfov)), width + 1)
         # the gradients change in bands of rows (like a lightly compressed video): flat bands
@@ -152,6 +153,7 @@ class ColourCamera:
         self.hue = {'front': 0, 'bottom': 45, 'realsense': 90, 'stereo': 130}.get(view, 0)
 
     def render(self, t: float, shift: int = 0, disparity_scale: float = 0.0) -> np.ndarray:
+        import cv2  # OpenCV takes half a second to import: only where the emulator draws
         x, y, yaw = robot_pose(t)
         img = self.pano.view(yaw, shift)
         w, h = self.width, self.height
@@ -229,6 +231,7 @@ class DepthCamera:
         self.n_invalid = max(1, width * height // 300)
 
     def render(self, t: float) -> np.ndarray:
+        import cv2  # OpenCV takes half a second to import: only where the emulator draws
         x, y, yaw = robot_pose(t)
         dist = raycast(x, y, yaw + self.col_angles, t)
         wall_mm = (dist * self.cos_cols * 1000.0).astype(np.float32)[None, :]

@@ -303,7 +303,12 @@ class Mapping(dict):
         self.lines: Dict[Any, int] = {}
 
 
-class _Loader(yaml.SafeLoader):
+# libyaml's loader when PyYAML has it (Debian's and Ubuntu's do): about ten times faster than the
+# pure-Python one, with the same marks (line numbers) for the error messages.
+_SafeLoader = getattr(yaml, 'CSafeLoader', yaml.SafeLoader)
+
+
+class _Loader(_SafeLoader):  # type: ignore[misc,valid-type]
     path: Optional[str] = None
 
 

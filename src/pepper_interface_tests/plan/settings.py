@@ -25,8 +25,8 @@ CONFIG_KEYS = ('platform', 'robottopics', 'simulatortopics', 'mode')
 
 def package_dir() -> str:
     """The package's own directory (source checkout or installed share directory)."""
-    here = os.path.dirname(os.path.realpath(__file__))
-    candidate = os.path.normpath(os.path.join(here, '..', '..'))
+    here = os.path.dirname(os.path.realpath(__file__))      # <package>/src/pepper_interface_tests/plan
+    candidate = os.path.normpath(os.path.join(here, '..', '..', '..'))
     if os.path.isdir(os.path.join(candidate, 'config')):
         return candidate
     import rospkg
