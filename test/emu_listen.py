@@ -191,6 +191,12 @@ def main():
         subs.append(rospy.Subscriber(topic, cls, rec.callback, queue_size=50, buff_size=2 ** 24))
     speech_pub = rospy.Publisher(args.speech_topic, String, queue_size=1, latch=True) \
         if args.speech else None
+    # the window opens once every subscriber is connected to its publishers (a loaded machine
+    # can take a second or more), so counts and --speech-at are measured on a flowing stream
+    connect_by = time.time() + min(args.wait, 10.0)
+    awaited = [sub for sub in subs if sub.name not in args.absent]
+    while time.time() < connect_by and not all(sub.get_num_connections() for sub in awaited):
+        time.sleep(0.02)
     start = time.time()
     spoke_at = None
     while time.time() - start < args.duration:
