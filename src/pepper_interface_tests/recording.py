@@ -61,6 +61,9 @@ CRF = '28'
 F_SETPIPE_SZ = 1031       # fcntl.F_SETPIPE_SZ (Python >= 3.10 names it)
 PIPE_BYTES = 1 << 20      # at most /proc/sys/fs/pipe-max-size (1 MB by default)
 CHANNELS = {'gray': 1, 'rgb24': 3, 'bgr24': 3, 'bgra': 4, 'rgba': 4, 'bgr0': 4}
+# planar 4:2:0 frames (the video's own format: ffmpeg converts nothing) are 2-D uint8 arrays of
+# shape (h * 3 / 2, w), even w and h: the Y plane, then U and V (w/2 x h/2 each), as OpenCV's I420
+YUV420P = 'yuv420p'
 
 
 def _cv2():
@@ -75,9 +78,32 @@ def _pix_fmt(frame):
     return 'bgr24' if frame.shape[2] == 3 else 'bgra'
 
 
+def frame_size(frame, pix_fmt):
+    """(width, height) of a frame in one of CHANNELS' formats or yuv420p."""
+    if pix_fmt == YUV420P:
+        return frame.shape[1], frame.shape[0] * 2 // 3
+    return frame.shape[1], frame.shape[0]
+
+
+def _yuv420p_to_rgb(frame):
+    """RGB of a yuv420p frame (BT.601, limited range, as swscale writes it; chroma repeated);
+    numpy only, for the few frames that need it (JPEGs, a resize)."""
+    w, h = frame_size(frame, YUV420P)
+    flat = frame.reshape(-1)
+    y = flat[:w * h].reshape(h, w).astype(np.float32) - 16.0
+    chroma = flat[w * h:].reshape(2, h // 2, w // 2).astype(np.float32) - 128.0
+    u, v = (np.repeat(np.repeat(c, 2, axis=0), 2, axis=1) for c in chroma)
+    y *= 255.0 / 219.0
+    rgb = np.dstack([y + 1.596027 * v, y - 0.391762 * u - 0.812968 * v, y + 2.017232 * u])
+    return np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+
+
 def to_rgb(frame, pix_fmt):
-    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats."""
+    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats
+    (a new array for gray and yuv420p)."""
     frame = np.asarray(frame)
+    if pix_fmt == YUV420P:
+        return _yuv420p_to_rgb(frame)
     if pix_fmt == 'gray':
         grey = frame.reshape(frame.shape[:2])
         return np.dstack([grey, grey, grey])
@@ -94,7 +120,8 @@ def to_bgr(frame, pix_fmt):
 def _from_bgr(bgr, pix_fmt):
     cv2 = _cv2()
     code = {'gray': cv2.COLOR_BGR2GRAY, 'rgb24': cv2.COLOR_BGR2RGB, 'rgba': cv2.COLOR_BGR2RGBA,
-            'bgra': cv2.COLOR_BGR2BGRA, 'bgr0': cv2.COLOR_BGR2BGRA}.get(pix_fmt)
+            'bgra': cv2.COLOR_BGR2BGRA, 'bgr0': cv2.COLOR_BGR2BGRA,
+            YUV420P: cv2.COLOR_BGR2YUV_I420}.get(pix_fmt)
     return bgr if code is None else cv2.cvtColor(bgr, code)
 
 
@@ -274,7 +301,7 @@ class VideoRecorder:
 
     def _open(self):
         first, pix_fmt = self._prepared(self._buffer[0][0], self._buffer[0][2])
-        self.size = (first.shape[1], first.shape[0])
+        self.size = frame_size(first, pix_fmt)
         self.pix_fmt = pix_fmt
         fps = _rate([t for _, t, _ in self._buffer]) or self.fallback_fps
         self.fps = round(min(max(fps, 0.5), self.max_fps), 3)
@@ -312,7 +339,7 @@ class VideoRecorder:
     def _fit(self, frame, pix_fmt):
         """(frame in the file's size and pixel format, whether it was resized)."""
         frame, pix_fmt = self._prepared(frame, pix_fmt)
-        same_size = (frame.shape[1], frame.shape[0]) == self.size
+        same_size = frame_size(frame, pix_fmt) == self.size
         if same_size and pix_fmt == self.pix_fmt:
             return frame, False
         bgr = to_bgr(frame, pix_fmt)
