@@ -15,7 +15,8 @@ VideoRecorder
     session, so a Ctrl-C sent to sensorTest's process group does not cut the file short:
     sensorTest closes the pipe once every queued frame is written and ffmpeg finishes the file.
     `prepare(frame, pix_fmt)` (optional, e.g. the depth colour map) turns a queued frame into
-    (uint8 array, pix_fmt) in the writer thread.
+    (uint8 array, pix_fmt) in the writer thread; `preview` (default: `prepare`) does the same
+    for the first and last frame (the JPEG artifacts).
   * Frame rate: the writer buffers the first second of frames (at least 3 frames, at most
     16 frames or 3 s) and starts ffmpeg at the rate measured from their receive times (the
     mean of the middle half of the intervals: a late first frame or a burst at start-up does
@@ -174,7 +175,8 @@ def _wait_cpu(proc, timeout):
 class VideoRecorder:
     """One H.264 mp4 file per camera, encoded by one ffmpeg process; see the module docstring."""
 
-    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None):
+    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None,
+                 preview=None):
         self.path = path
         self.tmp_path = os.path.join(os.path.dirname(path) or '.',
                                      '.' + os.path.basename(path)[:-4] + '.writing.mp4')
@@ -182,6 +184,7 @@ class VideoRecorder:
         self.max_fps = float(max_fps)     # a burst at the start must not pass for the rate
         self.queue_bytes = queue_bytes
         self.prepare = prepare
+        self.preview = preview or prepare
         self._queue: Any = None       # queue.Queue of frames, made on the first frame
         self._thread = None
         self._lock = threading.Lock()
@@ -268,7 +271,7 @@ class VideoRecorder:
     def _prepared_item(self, item):
         if item is None:
             return None
-        return self._prepared(*item)
+        return self.preview(*item) if self.preview is not None else item
 
     # ---- writer thread -----------------------------------------------------------------
     def _run(self):

@@ -80,6 +80,7 @@ class ImageCheck(Check):
     buff_size = 1 << 18
     queue_seconds = 2.0
     prepare_frame: Any = None   # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
+    colour_map: Any = None      # the same for the JPEGs of the first and last frame (default: prepare_frame)
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
@@ -92,7 +93,8 @@ class ImageCheck(Check):
         if self.recording:
             self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
                                           fallback_fps=self.expect.nominal or 10.0,
-                                          max_fps=float(rate[1]), prepare=self.prepare_frame)
+                                          max_fps=float(rate[1]), prepare=self.prepare_frame,
+                                          preview=self.colour_map)
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
         self.sizes = {}             # (w, h, encoding) -> count, when it changes
