@@ -102,7 +102,7 @@ def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_pa
     shows the live view's colours; an odd size falls back to BGR0 (and is padded)."""
     rng = np.random.default_rng(3)
     frames = []
-    for i in range(8):
+    for _ in range(8):
         mm = np.repeat(np.repeat(rng.integers(300, 6000, (60, 80)), 2, 0), 2, 1).astype(np.uint16)
         mm[:20] = 0                                # invalid rows: black
         frames.append(mm)

@@ -7,7 +7,7 @@ VideoRecorder
     thread per recorder feeds the frames to its ffmpeg, so a slow encoder never holds up
     reception. The queue is bounded (about 32 MB of frames, at least 8); a frame that does not
     fit is not recorded and counted (`dropped`), never lost silently.
-  * Encoding: `ffmpeg -f rawvideo -pix_fmt <rgb24|bgr24|gray|bgra|rgba|bgr0> -s WxH -r <rate>
+  * Encoding: `ffmpeg -f rawvideo -pix_fmt <rgb24|bgr24|gray|bgra|rgba|bgr0|yuv420p> -s WxH -r <rate>
     -i pipe:0 -c:v libx264 -preset ultrafast -crf 28 -threads 1 -sws_flags neighbor
     -pix_fmt yuv420p -movflags +faststart`:
     H.264 that plays in browsers, every frame written, colour conversion done by ffmpeg

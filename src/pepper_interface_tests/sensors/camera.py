@@ -25,7 +25,7 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 import math
 import os
 import struct
-from typing import Any
+from typing import Any, List
 
 import numpy as np
 
@@ -83,7 +83,7 @@ M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
 MALLOC_SETTINGS = ((M_MMAP_THRESHOLD, 32 << 20),    # glibc's maximum: no mmap of its own per frame
                    (M_TRIM_THRESHOLD, 16 << 20),    # the main heap keeps up to 16 MB free
                    (M_TOP_PAD, 8 << 20))            # each arena keeps 8 MB free (a few frames)
-_malloc_tuned = []
+_malloc_tuned: List[bool] = []
 
 
 def keep_freed_memory():
