@@ -4,6 +4,7 @@ import os
 
 import cv2
 import numpy as np
+import pytest
 
 from media_tools import Publishers, explain, image_msg, make_check, sensor_test, video_info
 from pepper_interface_tests.recording import to_bgr
@@ -97,6 +98,7 @@ def colour(check, depth, kind):
     return to_bgr(*check.prepare_frame(depth, kind))
 
 
+@pytest.mark.integration          # ffmpeg encodes the video
 def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_path):
     """The video is fed planar yuv420p made in Python (ffmpeg converts nothing): decoded, it
     shows the live view's colours; an odd size falls back to BGR0 (and is padded)."""
