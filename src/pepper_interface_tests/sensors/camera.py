@@ -105,7 +105,8 @@ class ImageCheck(Check):
     # rospy's recv() size (bytes read per call). Measured on this machine with the benchmark's
     # streams (docs/media.md, "Benchmark"): 256 KB and 64 KB cost the same, 1 MB about 35 % more
     # CPU per receive thread and the often-quoted 2**24 about 50 % more: a recv() buffer above
-    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call.
+    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call. With
+    # MALLOC_SETTINGS (no such threshold below 32 MB) 1 MB was measured again: no better.
     buff_size = 1 << 18
     queue_seconds = 2.0
     prepare_frame: Any = None   # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer

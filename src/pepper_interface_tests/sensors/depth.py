@@ -26,9 +26,9 @@ min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
 Video: depth mapped to 8 bits over the fixed range `video_range` [m, m] of the sensor
 (default 0-5 m, the same for every frame, not normalised per frame), colour-mapped with
 the JET map (near = blue, far = red; MATLAB's formula, as OpenCV's COLORMAP_JET); invalid
-pixels are black. For millimetre depth this is one table look-up per pixel (65,536 entries,
-each a packed BGR0 pixel) done in the video writer's thread; ffmpeg converts BGR0 to the
-video's YUV (recording.py).
+pixels are black. The video's frames are made as planar yuv420p in the video writer's thread
+(table look-ups: Y per pixel, U and V per 2x2 block; ffmpeg converts nothing), the live view
+and the JPEGs get the same colours as packed BGR0 (colour_map).
 """
 import math
 
