@@ -24,6 +24,35 @@ def good(n, w=160, h=120):
     return [image(pattern(w, h, i), 'rgb8') for i in range(n)]
 
 
+MALLOC_PROBE = """
+import ctypes, sys
+class MallInfo2(ctypes.Structure):
+    _fields_ = [(n, ctypes.c_size_t) for n in ('arena', 'ordblks', 'smblks', 'hblks', 'hblkhd', 'usmblks',
+                                              'fsmblks', 'uordblks', 'fordblks', 'keepcost')]
+libc = ctypes.CDLL(None)
+libc.mallinfo2.restype = MallInfo2
+from pepper_interface_tests.sensors import camera
+if sys.argv[1] == 'tuned':
+    camera.keep_freed_memory()
+before = libc.mallinfo2().hblks
+frame = bytearray(921600)               # a 640x480 rgb8 frame's bytes
+print(libc.mallinfo2().hblks - before)
+"""
+
+
+@pytest.mark.integration          # fresh Python processes: the setting is per process
+def test_image_checks_keep_frame_sized_buffers_in_the_heap():
+    """keep_freed_memory (called by every image check) stops glibc from giving a frame its own
+    mmap, which is unmapped on free and faulted in again for the next message."""
+    def mmapped(mode):
+        out = subprocess.run([sys.executable, '-c', MALLOC_PROBE, mode], capture_output=True, text=True,
+                             timeout=60)
+        assert out.returncode == 0, out.stderr
+        return int(out.stdout.strip())
+    assert mmapped('default') == 1          # glibc's default: a chunk of its own, mapped afresh
+    assert mmapped('tuned') == 0
+
+
 def test_good_frames_pass_with_the_spec_fields_and_measured_values(tmp_path):
     c = feed(make_check('frontCamera', tmp_path, record=False), good(12))
     assert c.failure_reasons() == [] and c.warning_reasons() == []

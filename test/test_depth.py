@@ -100,6 +100,32 @@ def colour(check, depth, kind):
     return to_bgr(*check.prepare_frame(depth, kind))
 
 
+@pytest.mark.integration          # ffmpeg encodes the video
+def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_path):
+    """The video is fed planar yuv420p made in Python (ffmpeg converts nothing): decoded, it
+    shows the live view's colours; an odd size falls back to BGR0 (and is padded)."""
+    rng = np.random.default_rng(3)
+    frames = []
+    for _ in range(8):
+        mm = np.repeat(np.repeat(rng.integers(300, 6000, (60, 80)), 2, 0), 2, 1).astype(np.uint16)
+        mm[:20] = 0                                # invalid rows: black
+        frames.append(mm)
+    c = make_check('depthCamera', tmp_path)
+    assert c.prepare_frame(frames[0], 'depth_mm')[1] == 'yuv420p'
+    assert c.prepare_frame(frames[0][:119, :159], 'depth_mm')[1] == 'bgr0'
+    c = feed(c, [image(f, '16UC1') for f in frames])
+    video = c.values['video']
+    assert video['frames_written'] == 8 and (video['width'], video['height']) == (160, 120), video
+    import cv2
+    cap = cv2.VideoCapture(os.path.join(str(tmp_path), 'out', 'depthCameraOutput.mp4'))
+    ok, decoded = cap.read()
+    assert ok and decoded.shape == (120, 160, 3)
+    want = to_bgr(*c.colour_map(frames[0], 'depth_mm')).astype(int)
+    # H.264 at crf 28 on random 2x2 blocks: close, not exact; black stays black
+    assert np.abs(decoded.astype(int) - want).mean() < 12, np.abs(decoded.astype(int) - want).mean()
+    assert decoded[:18].max() < 40
+
+
 def test_one_valid_pixel_anywhere_is_not_an_all_zero_frame(tmp_path):
     a = np.zeros((120, 160), np.uint16)
     a[57, 93] = 1200                               # outside the every-4th-pixel sample

@@ -82,6 +82,20 @@ def test_rate_is_corrected_when_the_stream_slows_down(tmp_path):
     assert any('frame rate corrected' in n for n in rec.notes)
 
 
+def test_a_late_first_frame_and_a_start_up_burst_do_not_set_the_rate(tmp_path):
+    """Seen in the benchmark: the first frames arrive late and then together; (n - 1) / span
+    over the first 16 frames read 32.8 fps for a 30 fps stream and cost a remux pass."""
+    path = tmp_path / 'frontCameraOutput.mp4'
+    rec = VideoRecorder(str(path), max_fps=40.0)
+    times = [0.12, 0.125, 0.13] + [i / 30.0 for i in range(4, 241)]   # frames 0-3 late, 0-2 together
+    for i, t in enumerate(times):
+        rec.add(pattern(96, 64, i), t)
+    summary = rec.close()
+    assert abs(rec.fps - 30.0) < 0.3, rec.fps                    # the rate ffmpeg was started with
+    assert not any('frame rate corrected' in n for n in rec.notes), rec.notes
+    assert summary['frames_written'] == 240 and video_info(str(path))[0] == 240
+
+
 def test_odd_sizes_are_padded_to_even_for_h264(tmp_path):
     rec = record(tmp_path / 'odd.mp4', [pattern(161, 121, i) for i in range(12)], rate=10.0)
     summary = rec.close()

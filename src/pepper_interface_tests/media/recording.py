@@ -7,7 +7,7 @@ VideoRecorder
     thread per recorder feeds the frames to its ffmpeg, so a slow encoder never holds up
     reception. The queue is bounded (about 32 MB of frames, at least 8); a frame that does not
     fit is not recorded and counted (`dropped`), never lost silently.
-  * Encoding: `ffmpeg -f rawvideo -pix_fmt <rgb24|bgr24|gray|bgra|rgba|bgr0> -s WxH -r <rate>
+  * Encoding: `ffmpeg -f rawvideo -pix_fmt <rgb24|bgr24|gray|bgra|rgba|bgr0|yuv420p> -s WxH -r <rate>
     -i pipe:0 -c:v libx264 -preset ultrafast -crf 28 -threads 1 -sws_flags neighbor
     -pix_fmt yuv420p -movflags +faststart`:
     H.264 that plays in browsers, every frame written, colour conversion done by ffmpeg
@@ -15,9 +15,12 @@ VideoRecorder
     session, so a Ctrl-C sent to sensorTest's process group does not cut the file short:
     sensorTest closes the pipe once every queued frame is written and ffmpeg finishes the file.
     `prepare(frame, pix_fmt)` (optional, e.g. the depth colour map) turns a queued frame into
-    (uint8 array, pix_fmt) in the writer thread.
+    (uint8 array, pix_fmt) in the writer thread; `preview` (default: `prepare`) does the same
+    for the first and last frame (the JPEG artifacts).
   * Frame rate: the writer buffers the first second of frames (at least 3 frames, at most
-    16 frames or 3 s) and starts ffmpeg at the rate measured from their receive times. When
+    16 frames or 3 s) and starts ffmpeg at the rate measured from their receive times (the
+    mean of the middle half of the intervals: a late first frame or a burst at start-up does
+    not count). When
     the recording ends, the rate over the whole recording is measured again; if it differs from
     the file's rate by more than 5 %, the file is remuxed with ffmpeg (`-itsscale`, stream copy,
     no re-encoding) so that it plays at the measured rate.
@@ -61,6 +64,9 @@ CRF = '28'
 F_SETPIPE_SZ = 1031       # fcntl.F_SETPIPE_SZ (Python >= 3.10 names it)
 PIPE_BYTES = 1 << 20      # at most /proc/sys/fs/pipe-max-size (1 MB by default)
 CHANNELS = {'gray': 1, 'rgb24': 3, 'bgr24': 3, 'bgra': 4, 'rgba': 4, 'bgr0': 4}
+# planar 4:2:0 frames (the video's own format: ffmpeg converts nothing) are 2-D uint8 arrays of
+# shape (h * 3 / 2, w), even w and h: the Y plane, then U and V (w/2 x h/2 each), as OpenCV's I420
+YUV420P = 'yuv420p'
 
 
 def _cv2():
@@ -75,9 +81,32 @@ def _pix_fmt(frame):
     return 'bgr24' if frame.shape[2] == 3 else 'bgra'
 
 
+def frame_size(frame, pix_fmt):
+    """(width, height) of a frame in one of CHANNELS' formats or yuv420p."""
+    if pix_fmt == YUV420P:
+        return frame.shape[1], frame.shape[0] * 2 // 3
+    return frame.shape[1], frame.shape[0]
+
+
+def _yuv420p_to_rgb(frame):
+    """RGB of a yuv420p frame (BT.601, limited range, as swscale writes it; chroma repeated);
+    numpy only, for the few frames that need it (JPEGs, a resize)."""
+    w, h = frame_size(frame, YUV420P)
+    flat = frame.reshape(-1)
+    y = flat[:w * h].reshape(h, w).astype(np.float32) - 16.0
+    chroma = flat[w * h:].reshape(2, h // 2, w // 2).astype(np.float32) - 128.0
+    u, v = (np.repeat(np.repeat(c, 2, axis=0), 2, axis=1) for c in chroma)
+    y *= 255.0 / 219.0
+    rgb = np.dstack([y + 1.596027 * v, y - 0.391762 * u - 0.812968 * v, y + 2.017232 * u])
+    return np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
+
+
 def to_rgb(frame, pix_fmt):
-    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats."""
+    """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats
+    (a new array for gray and yuv420p)."""
     frame = np.asarray(frame)
+    if pix_fmt == YUV420P:
+        return _yuv420p_to_rgb(frame)
     if pix_fmt == 'gray':
         grey = frame.reshape(frame.shape[:2])
         return np.dstack([grey, grey, grey])
@@ -94,7 +123,8 @@ def to_bgr(frame, pix_fmt):
 def _from_bgr(bgr, pix_fmt):
     cv2 = _cv2()
     code = {'gray': cv2.COLOR_BGR2GRAY, 'rgb24': cv2.COLOR_BGR2RGB, 'rgba': cv2.COLOR_BGR2RGBA,
-            'bgra': cv2.COLOR_BGR2BGRA, 'bgr0': cv2.COLOR_BGR2BGRA}.get(pix_fmt)
+            'bgra': cv2.COLOR_BGR2BGRA, 'bgr0': cv2.COLOR_BGR2BGRA,
+            YUV420P: cv2.COLOR_BGR2YUV_I420}.get(pix_fmt)
     return bgr if code is None else cv2.cvtColor(bgr, code)
 
 
@@ -109,6 +139,20 @@ def ffprobe_frames(path):
         return int(out.stdout.strip().split(',')[0])
     except ValueError:
         return None
+
+
+def _start_rate(times):
+    """Frame rate from the first frames' receive times: the mean of the middle half of the
+    intervals. At start-up the first frames often arrive late and then in a burst (the
+    subscriber's connection and the process's first callbacks), which made (n - 1) / span
+    read 32-33 fps for a 30 fps stream in the benchmark (more than REMUX_TOLERANCE: an
+    extra ffmpeg pass per video at the end); the middle half ignores such outliers and is
+    the plain mean for a regular stream."""
+    gaps = sorted(b - a for a, b in zip(times, times[1:]))
+    if len(gaps) >= 4:
+        gaps = gaps[len(gaps) // 4:len(gaps) - len(gaps) // 4]
+    mean = sum(gaps) / len(gaps) if gaps else 0.0
+    return 1.0 / mean if mean > 0 else None
 
 
 def _wait_cpu(proc, timeout):
@@ -131,7 +175,8 @@ def _wait_cpu(proc, timeout):
 class VideoRecorder:
     """One H.264 mp4 file per camera, encoded by one ffmpeg process; see the module docstring."""
 
-    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None):
+    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None,
+                 preview=None):
         self.path = path
         self.tmp_path = os.path.join(os.path.dirname(path) or '.',
                                      '.' + os.path.basename(path)[:-4] + '.writing.mp4')
@@ -139,6 +184,7 @@ class VideoRecorder:
         self.max_fps = float(max_fps)     # a burst at the start must not pass for the rate
         self.queue_bytes = queue_bytes
         self.prepare = prepare
+        self.preview = preview or prepare
         self._queue: Any = None       # queue.Queue of frames, made on the first frame
         self._thread = None
         self._lock = threading.Lock()
@@ -225,7 +271,7 @@ class VideoRecorder:
     def _prepared_item(self, item):
         if item is None:
             return None
-        return self._prepared(*item)
+        return self.preview(*item) if self.preview is not None else item
 
     # ---- writer thread -----------------------------------------------------------------
     def _run(self):
@@ -274,9 +320,9 @@ class VideoRecorder:
 
     def _open(self):
         first, pix_fmt = self._prepared(self._buffer[0][0], self._buffer[0][2])
-        self.size = (first.shape[1], first.shape[0])
+        self.size = frame_size(first, pix_fmt)
         self.pix_fmt = pix_fmt
-        fps = _rate([t for _, t, _ in self._buffer]) or self.fallback_fps
+        fps = _start_rate([t for _, t, _ in self._buffer]) or self.fallback_fps
         self.fps = round(min(max(fps, 0.5), self.max_fps), 3)
         os.makedirs(os.path.dirname(self.path) or '.', exist_ok=True)
         for stale in (self.path, self.tmp_path):
@@ -312,7 +358,7 @@ class VideoRecorder:
     def _fit(self, frame, pix_fmt):
         """(frame in the file's size and pixel format, whether it was resized)."""
         frame, pix_fmt = self._prepared(frame, pix_fmt)
-        same_size = (frame.shape[1], frame.shape[0]) == self.size
+        same_size = frame_size(frame, pix_fmt) == self.size
         if same_size and pix_fmt == self.pix_fmt:
             return frame, False
         bgr = to_bgr(frame, pix_fmt)

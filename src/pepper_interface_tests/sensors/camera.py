@@ -25,7 +25,7 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 import math
 import os
 import struct
-from typing import Any
+from typing import Any, List
 
 import numpy as np
 
@@ -71,18 +71,50 @@ def bytes_per_pixel(encoding):
         return None
 
 
+# glibc malloc settings (mallopt) for a process that receives image streams. rospy allocates
+# fresh buffers for every message (the recv() chunks, the message's bytes); with glibc's
+# defaults a freed frame-sized buffer goes back to the kernel (an mmap of its own, or the free
+# top of a thread's arena beyond its small pad) and the next message faults its pages in
+# again. Measured with the benchmark (docs/media.md): 347,000 page faults and 1.36 s of system
+# CPU per recording round, about 67,000 and 0.94 s with these settings (sensorTest -0.4 to
+# -0.5 s, with recording on or off); with a 64 MB pad the saving is the same but sensorTest's
+# peak RSS grew by 30 MB, with 8 MB it did not.
+M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
+MALLOC_SETTINGS = ((M_MMAP_THRESHOLD, 32 << 20),    # glibc's maximum: no mmap of its own per frame
+                   (M_TRIM_THRESHOLD, 16 << 20),    # the main heap keeps up to 16 MB free
+                   (M_TOP_PAD, 8 << 20))            # each arena keeps 8 MB free (a few frames)
+_malloc_tuned: List[bool] = []
+
+
+def keep_freed_memory():
+    """Apply MALLOC_SETTINGS once per process; nothing where the C library is not glibc."""
+    if _malloc_tuned:
+        return
+    _malloc_tuned.append(True)
+    try:
+        import ctypes
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError):
+        return
+    for param, value in MALLOC_SETTINGS:
+        mallopt(param, value)
+
+
 class ImageCheck(Check):
     """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
     # rospy's recv() size (bytes read per call). Measured on this machine with the benchmark's
     # streams (docs/media.md, "Benchmark"): 256 KB and 64 KB cost the same, 1 MB about 35 % more
     # CPU per receive thread and the often-quoted 2**24 about 50 % more: a recv() buffer above
-    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call.
+    # glibc's mmap threshold is mapped, page-faulted and unmapped afresh on every call. With
+    # MALLOC_SETTINGS (no such threshold below 32 MB) 1 MB was measured again: no better.
     buff_size = 1 << 18
     queue_seconds = 2.0
     prepare_frame: Any = None   # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
+    colour_map: Any = None      # the same for the JPEGs of the first and last frame (default: prepare_frame)
 
     def __init__(self, plan, ctx):
         super().__init__(plan, ctx)
+        keep_freed_memory()
         rate = self.expect.rate or (1.0, 35.0)   # no band: size the queue for 35 fps
         self.queue_size = max(10, int(round(float(rate[1]) * self.queue_seconds)))
         self.bridge = None
@@ -92,7 +124,8 @@ class ImageCheck(Check):
         if self.recording:
             self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
                                           fallback_fps=self.expect.nominal or 10.0,
-                                          max_fps=float(rate[1]), prepare=self.prepare_frame)
+                                          max_fps=float(rate[1]), prepare=self.prepare_frame,
+                                          preview=self.colour_map)
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
         self.sizes = {}             # (w, h, encoding) -> count, when it changes
