@@ -42,7 +42,7 @@ import sys
 import tempfile
 import threading
 import time
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Sequence
 
 import numpy as np
 
@@ -78,7 +78,7 @@ def _frames(encoding, w, h):
     return out
 
 
-def publish(seconds, wait, subscribers=1):
+def publish(seconds: float, wait: float, subscribers: int = 1) -> int:
     """Publisher process: wait for `subscribers` subscriptions per topic, publish for `seconds`,
     report counts."""
     import rospy
@@ -410,7 +410,7 @@ def _print_profile(path, top=15):
         print('    %5.1f%%  %s' % (100.0 * n / total, fr))
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     tmp = tempfile.mkdtemp(prefix='sensorTestBenchmark-')
     topics = os.path.join(tmp, 'benchTopics.dat')
     inputs = os.path.join(tmp, 'benchInput.ini')
@@ -507,7 +507,7 @@ def _table(results, published, out_dir, target, record=True):
     return rows, ok
 
 
-def main(argv=None):
+def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(prog='sensorTestBenchmark', description=__doc__.split('\n\n')[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog=__doc__.split('\n\n', 1)[1])

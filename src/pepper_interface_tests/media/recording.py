@@ -43,7 +43,7 @@ import subprocess
 import tempfile
 import threading
 import time
-from typing import Any
+from typing import IO, Any, Callable, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -67,6 +67,8 @@ CHANNELS = {'gray': 1, 'rgb24': 3, 'bgr24': 3, 'bgra': 4, 'rgba': 4, 'bgr0': 4}
 # planar 4:2:0 frames (the video's own format: ffmpeg converts nothing) are 2-D uint8 arrays of
 # shape (h * 3 / 2, w), even w and h: the Y plane, then U and V (w/2 x h/2 each), as OpenCV's I420
 YUV420P = 'yuv420p'
+# (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt): VideoRecorder's `prepare` and `preview`
+Prepare = Callable[[np.ndarray, Optional[str]], Tuple[np.ndarray, str]]
 
 
 def _cv2():
@@ -81,7 +83,7 @@ def _pix_fmt(frame):
     return 'bgr24' if frame.shape[2] == 3 else 'bgra'
 
 
-def frame_size(frame, pix_fmt):
+def frame_size(frame: np.ndarray, pix_fmt: Optional[str]) -> Tuple[int, int]:
     """(width, height) of a frame in one of CHANNELS' formats or yuv420p."""
     if pix_fmt == YUV420P:
         return frame.shape[1], frame.shape[0] * 2 // 3
@@ -101,7 +103,7 @@ def _yuv420p_to_rgb(frame):
     return np.clip(np.rint(rgb), 0, 255).astype(np.uint8)
 
 
-def to_rgb(frame, pix_fmt):
+def to_rgb(frame: np.ndarray, pix_fmt: Optional[str]) -> np.ndarray:
     """An RGB view (numpy only: no OpenCV import) of a frame in one of CHANNELS' formats
     (a new array for gray and yuv420p)."""
     frame = np.asarray(frame)
@@ -115,7 +117,7 @@ def to_rgb(frame, pix_fmt):
     return frame[:, :, 2::-1]        # bgr24, bgra, bgr0
 
 
-def to_bgr(frame, pix_fmt):
+def to_bgr(frame: np.ndarray, pix_fmt: Optional[str]) -> np.ndarray:
     """A contiguous BGR copy of a frame (JPEGs, the live view, resizing); numpy only."""
     return np.ascontiguousarray(to_rgb(frame, pix_fmt)[:, :, ::-1])
 
@@ -128,7 +130,7 @@ def _from_bgr(bgr, pix_fmt):
     return bgr if code is None else cv2.cvtColor(bgr, code)
 
 
-def ffprobe_frames(path):
+def ffprobe_frames(path: str) -> Optional[int]:
     """Number of video frames in `path`, counted by decoding with ffprobe (None if unknown)."""
     if not shutil.which('ffprobe'):
         return None
@@ -175,8 +177,9 @@ def _wait_cpu(proc, timeout):
 class VideoRecorder:
     """One H.264 mp4 file per camera, encoded by one ffmpeg process; see the module docstring."""
 
-    def __init__(self, path, fallback_fps=10.0, max_fps=240.0, queue_bytes=QUEUE_BYTES, prepare=None,
-                 preview=None):
+    def __init__(self, path: str, fallback_fps: float = 10.0, max_fps: float = 240.0,
+                 queue_bytes: int = QUEUE_BYTES, prepare: Optional[Prepare] = None,
+                 preview: Optional[Prepare] = None) -> None:
         self.path = path
         self.tmp_path = os.path.join(os.path.dirname(path) or '.',
                                      '.' + os.path.basename(path)[:-4] + '.writing.mp4')
@@ -186,33 +189,35 @@ class VideoRecorder:
         self.prepare = prepare
         self.preview = preview or prepare
         self._queue: Any = None       # queue.Queue of frames, made on the first frame
-        self._thread = None
+        self._thread: Optional[threading.Thread] = None
         self._lock = threading.Lock()
         self._closed = False
         self._proc: Any = None       # the ffmpeg process (subprocess.Popen)
-        self._stderr = None          # its error output (a temporary file)
-        self._buffer = []            # (frame, t, pix_fmt) before ffmpeg is started
-        self._times = []             # receive times of the written frames
-        self.size = None             # (width, height) of the file
-        self.pix_fmt = None          # pixel format fed to ffmpeg
-        self.codec = None
+        self._stderr: Optional[IO[str]] = None     # its error output (a temporary file)
+        # (frame, t, pix_fmt) before ffmpeg is started
+        self._buffer: List[Tuple[np.ndarray, float, Optional[str]]] = []
+        self._times: List[float] = []              # receive times of the written frames
+        self.size: Optional[Tuple[int, int]] = None    # (width, height) of the file
+        self.pix_fmt: Optional[str] = None         # pixel format fed to ffmpeg
+        self.codec: Optional[str] = None
         self.fps: Any = None         # rate the file was opened with (float)
-        self.final_fps = None        # rate of the finished file
+        self.final_fps: Optional[float] = None     # rate of the finished file
         self.received = 0
         self.written = 0
         self.dropped = 0
         self.resized = 0
         self.late = 0
-        self.error = None
-        self.notes = []
-        self.encode_seconds = None   # end of the recording -> file finished (wall)
-        self.encoder_cpu = None      # CPU seconds ffmpeg used (user + system)
-        self.writer_cpu = None       # CPU seconds of the writer thread (this process)
-        self._first = None           # (frame, pix_fmt) of the first and last frame queued
-        self._last = None
+        self.error: Optional[str] = None
+        self.notes: List[str] = []
+        self.encode_seconds: Optional[float] = None    # end of the recording -> file finished (wall)
+        self.encoder_cpu: Optional[float] = None       # CPU seconds ffmpeg used (user + system)
+        self.writer_cpu: Optional[float] = None        # CPU seconds of the writer thread (this process)
+        # (frame, pix_fmt) of the first and last frame queued
+        self._first: Optional[Tuple[np.ndarray, Optional[str]]] = None
+        self._last: Optional[Tuple[np.ndarray, Optional[str]]] = None
 
     # ---- subscriber side -------------------------------------------------------------
-    def add(self, frame, t, pix_fmt=None):
+    def add(self, frame: np.ndarray, t: float, pix_fmt: Optional[str] = None) -> None:
         """Queue one uint8 frame (h, w[, c]) received at `t` seconds; `pix_fmt` one of CHANNELS
         (default: grey, BGR or BGRA by shape), or anything `prepare` understands.
         The frame must not change afterwards (views over message bytes never do).
@@ -238,7 +243,7 @@ class VideoRecorder:
             except queue.Full:
                 self.dropped += 1
 
-    def close(self, timeout=60.0):
+    def close(self, timeout: float = 60.0) -> Dict[str, Any]:
         """Finish the file (drain the queue, end ffmpeg, fix the rate, rename). Idempotent."""
         with self._lock:
             if self._closed:
@@ -256,16 +261,16 @@ class VideoRecorder:
         return self.summary()
 
     @property
-    def closed(self):
+    def closed(self) -> bool:
         return self._closed
 
     @property
-    def first_frame(self):
+    def first_frame(self) -> Optional[Tuple[np.ndarray, Optional[str]]]:
         """(frame, pix_fmt) of the first frame queued (for the JPEG artifact), or None."""
         return self._prepared_item(self._first)
 
     @property
-    def last_frame(self):
+    def last_frame(self) -> Optional[Tuple[np.ndarray, Optional[str]]]:
         return self._prepared_item(self._last)
 
     def _prepared_item(self, item):
@@ -442,7 +447,7 @@ class VideoRecorder:
         return True
 
     # ---- results ------------------------------------------------------------------------
-    def summary(self):
+    def summary(self) -> Dict[str, Any]:
         return {'file': os.path.basename(self.path) if os.path.exists(self.path) and self.written else None,
                 'codec': self.codec, 'fps': self.final_fps or self.fps,
                 'width': self.size[0] if self.size else None,
@@ -454,7 +459,7 @@ class VideoRecorder:
                 'writer_cpu_s': round(self.writer_cpu, 3) if self.writer_cpu is not None else None}
 
 
-def save_jpeg(path, image, pix_fmt='bgr24', quality=90):
+def save_jpeg(path: str, image: np.ndarray, pix_fmt: Optional[str] = 'bgr24', quality: int = 90) -> bool:
     """Write one image (BGR by default, or any of CHANNELS' formats) as JPEG; True on success
     (never raises). Pillow (which matplotlib needs anyway) is used when present: importing it
     costs 4 MB, importing OpenCV about 100 MB of memory."""
@@ -475,7 +480,7 @@ def save_jpeg(path, image, pix_fmt='bgr24', quality=90):
 class WavWriter:
     """Incremental PCM WAV file (soundfile), opened on the first write, renamed on close."""
 
-    def __init__(self, path, samplerate, channels, subtype='PCM_16'):
+    def __init__(self, path: str, samplerate: float, channels: int, subtype: str = 'PCM_16') -> None:
         self.path = path
         self.tmp_path = os.path.join(os.path.dirname(path) or '.',
                                      '.' + os.path.basename(path)[:-4] + '.writing.wav')
@@ -483,12 +488,12 @@ class WavWriter:
         self.channels = int(channels)
         self.subtype = subtype
         self.frames = 0
-        self.error = None
-        self._file = None
+        self.error: Optional[str] = None
+        self._file: Any = None       # soundfile.SoundFile (no type information), opened on the first write
         self._closed = False
         self._lock = threading.Lock()
 
-    def write(self, samples):
+    def write(self, samples: np.ndarray) -> None:
         """Append int16 samples, shape (n, channels) or (n,) for one channel."""
         with self._lock:
             if self._closed or self.error:
@@ -507,7 +512,7 @@ class WavWriter:
             except Exception as e:
                 self.error = 'cannot write %s: %s' % (os.path.basename(self.path), e)
 
-    def close(self):
+    def close(self) -> None:
         with self._lock:
             if self._closed:
                 return
@@ -520,9 +525,9 @@ class WavWriter:
                     self.error = 'cannot finish %s: %s' % (os.path.basename(self.path), e)
 
     @property
-    def written(self):
+    def written(self) -> bool:
         return self._closed and self._file is not None and self.error is None
 
     @property
-    def seconds(self):
+    def seconds(self) -> float:
         return self.frames / float(self.samplerate)

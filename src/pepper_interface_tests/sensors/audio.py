@@ -333,7 +333,7 @@ class AudioCheck(Check):
 
     def _report_files(self):
         self.values['mic_mode'] = self.mode
-        files = collections.OrderedDict()
+        files: Dict[str, Dict[str, Any]] = collections.OrderedDict()
         for name, w in self.writers.items():
             if w.error:
                 self.warn(w.error)

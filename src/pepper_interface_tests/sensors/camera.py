@@ -25,12 +25,19 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 import math
 import os
 import struct
-from typing import Any, List
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
 from ..media.recording import VideoRecorder, save_jpeg, to_bgr
 from .base import Acc, Check, TrailingRun, fmt
+
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import CameraExpect, ImageExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
 
 # bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)
 BYTES_PER_PIXEL = {
@@ -60,7 +67,7 @@ def _string(view, pos):
     return end, bytes(view[pos + 4:end]).decode('utf-8', 'replace')
 
 
-def bytes_per_pixel(encoding):
+def bytes_per_pixel(encoding: str) -> Optional[int]:
     if encoding in BYTES_PER_PIXEL:
         return BYTES_PER_PIXEL[encoding]
     try:
@@ -86,7 +93,7 @@ MALLOC_SETTINGS = ((M_MMAP_THRESHOLD, 32 << 20),    # glibc's maximum: no mmap o
 _malloc_tuned: List[bool] = []
 
 
-def keep_freed_memory():
+def keep_freed_memory() -> None:
     """Apply MALLOC_SETTINGS once per process; nothing where the C library is not glibc."""
     if _malloc_tuned:
         return
@@ -102,6 +109,7 @@ def keep_freed_memory():
 
 class ImageCheck(Check):
     """What colour and depth cameras share: layout checks, recording, viewer, artifacts."""
+    expect: 'ImageExpect'
     # rospy's recv() size (bytes read per call). Measured on this machine with the benchmark's
     # streams (docs/media.md, "Benchmark"): 256 KB and 64 KB cost the same, 1 MB about 35 % more
     # CPU per receive thread and the often-quoted 2**24 about 50 % more: a recv() buffer above
@@ -112,25 +120,27 @@ class ImageCheck(Check):
     prepare_frame: Any = None   # (frame, pix_fmt) -> (uint8 frame, ffmpeg pix_fmt), in the video writer
     colour_map: Any = None      # the same for the JPEGs of the first and last frame (default: prepare_frame)
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         keep_freed_memory()
         rate = self.expect.rate or (1.0, 35.0)   # no band: size the queue for 35 fps
         self.queue_size = max(10, int(round(float(rate[1]) * self.queue_seconds)))
         self.bridge = None
-        self.geometry = None        # (width, height, encoding, step) of the first message
-        self.recording = getattr(ctx.options, 'record', None) is not False and bool(plan.sensor.video)
-        self.recorder = None
-        if self.recording:
-            self.recorder = VideoRecorder(os.path.join(ctx.output_dir, plan.sensor.video),
+        # (width, height, encoding, step) of the first message
+        self.geometry: Optional[Tuple[int, int, str, int]] = None
+        video = plan.sensor.video
+        self.recording = getattr(ctx.options, 'record', None) is not False and bool(video)
+        self.recorder: Optional[VideoRecorder] = None
+        if self.recording and video:
+            self.recorder = VideoRecorder(os.path.join(ctx.output_dir, video),
                                           fallback_fps=self.expect.nominal or 10.0,
                                           max_fps=float(rate[1]), prepare=self.prepare_frame,
                                           preview=self.colour_map)
         self.viewer = ctx.services.get('viewer')
         self.converted = 0
-        self.sizes = {}             # (w, h, encoding) -> count, when it changes
+        self.sizes: Dict[Tuple[int, int, str], int] = {}   # (w, h, encoding) -> count, when it changes
 
-    def decode(self, buff):
+    def decode(self, buff: bytes) -> 'genpy.Message':
         """sensor_msgs/Image from its serialized bytes with `data` a memoryview into `buff`:
         genpy's deserialize copies the pixels (about 0.1-0.2 ms for a 640x480 frame), this
         does not. The wire format is ROS's (header, height, width, encoding, is_bigendian,
@@ -150,11 +160,11 @@ class ImageCheck(Check):
         msg.data = view[pos + 9:pos + 9 + length]
         return msg
 
-    def fields(self, msg):
+    def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Image Width', msg.width), ('Image Height', msg.height),
                 ('Encoding', msg.encoding), ('Step', msg.step)]
 
-    def start(self):
+    def start(self) -> None:
         # cv_bridge (and OpenCV) are imported only for an encoding that is not read in place
         # (RAW_FORMATS, depth.DTYPES): they cost more CPU to import than a window of checks
         # a video of an earlier run must not pass for this one's
@@ -162,7 +172,7 @@ class ImageCheck(Check):
             os.unlink(self.recorder.path)
 
     # ---- per message ---------------------------------------------------------------------
-    def check_layout(self, msg):
+    def check_layout(self, msg: 'genpy.Message') -> bool:
         """Counted failures for a message whose bytes do not match its declared geometry.
         Returns False when the message cannot be converted."""
         key = (msg.width, msg.height, msg.encoding)
@@ -202,7 +212,7 @@ class ImageCheck(Check):
             self.bridge = CvBridge()
         return self.bridge
 
-    def convert(self, msg, desired):
+    def convert(self, msg: 'genpy.Message', desired: str) -> Optional[np.ndarray]:
         """cv_bridge conversion; None (and a counted failure) when it fails."""
         try:
             image = self._bridge().imgmsg_to_cv2(msg, desired)
@@ -213,7 +223,7 @@ class ImageCheck(Check):
         self.converted += 1
         return image
 
-    def pixels(self, msg):
+    def pixels(self, msg: 'genpy.Message') -> Tuple[Optional[np.ndarray], Optional[str]]:
         """(uint8 array (h, w, channels), ffmpeg pixel format): a view over the message's bytes
         for the 8-bit encodings, else cv_bridge's BGR conversion; (None, None) when it fails."""
         raw = RAW_FORMATS.get(msg.encoding)
@@ -225,14 +235,14 @@ class ImageCheck(Check):
         self.converted += 1
         return rows[:, :msg.width * channels].reshape(msg.height, msg.width, channels), pix_fmt
 
-    def show_and_record(self, frame, t, pix_fmt='bgr24'):
+    def show_and_record(self, frame: np.ndarray, t: float, pix_fmt: str = 'bgr24') -> None:
         if self.viewer is not None:
             self.viewer.post(self.plan.name, to_bgr(frame, pix_fmt))
         if self.recorder is not None:
             self.recorder.add(frame, t, pix_fmt)
 
     # ---- end -----------------------------------------------------------------------------
-    def finish_media(self):
+    def finish_media(self) -> None:
         """Close the recorder, write JPEG artifacts, report the recording."""
         if self.geometry:
             w, h, enc, step = self.geometry
@@ -272,8 +282,9 @@ class ImageCheck(Check):
 
 class CameraCheck(ImageCheck):
     family = 'camera'
+    expect: 'CameraExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.stereo = self.expect.stereo
         self.min_brightness = self.expect.min_brightness
@@ -282,7 +293,8 @@ class CameraCheck(ImageCheck):
         self.bad_share = self.expect.bad_frame_share
         self.brightness, self.spread = Acc(), Acc()
         self.black = self.constant = 0
-        self.last_image = None      # (geometry, data) of the previous frame
+        # (geometry, data) of the previous frame
+        self.last_image: Optional[Tuple[Tuple[int, int, str, int], np.ndarray]] = None
         self.run = 1
         self.longest_run = 0
         self.longest_run_at = None
@@ -292,16 +304,16 @@ class CameraCheck(ImageCheck):
         self.same_halves = 0
         self.series['brightness'] = []
 
-    def settled(self):
+    def settled(self) -> bool:
         return self.count >= self.frozen_frames + 1
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
             return
         if self.stereo and msg.width % 2:
             self.failures.add('stereo_odd', 'stereo width %d is odd: not two views side by side' % msg.width)
         image, pix_fmt = self.pixels(msg)
-        if image is None:
+        if image is None or pix_fmt is None:     # both None: not converted
             return
         colour = image[:, :, :3] if image.shape[2] == 4 else image     # alpha is not brightness
         # integer sums (exact; no BLAS call, whose thread pool would spin on every frame)
@@ -352,7 +364,7 @@ class CameraCheck(ImageCheck):
             self.longest_run, self.longest_run_at = self.run, round(t, 2)
             self.longest_run_from = self.run_from
 
-    def finish(self):
+    def finish(self) -> None:
         self.finish_media()
         n = self.converted
         self.values['brightness_mean'] = self.brightness.as_dict(2)

@@ -31,6 +31,7 @@ pixels are black. The video's frames are made as planar yuv420p in the video wri
 and the JPEGs get the same colours as packed BGR0 (colour_map).
 """
 import math
+from typing import TYPE_CHECKING, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -38,13 +39,20 @@ from ..media.recording import YUV420P, to_bgr
 from .base import Acc, StuckRun, TrailingRun, fmt
 from .camera import SERIES_MAX, ImageCheck
 
+if TYPE_CHECKING:
+    import genpy
+
+    from ..plan.expectations import DepthExpect
+    from ..plan.settings import SensorPlan
+    from .base import RunContext
+
 MM_ENCODINGS = ('16UC1', 'mono16')
 M_ENCODINGS = ('32FC1',)
 STRIDE = 4        # statistics sample every 4th row and column
 DTYPES = {'16UC1': 'u2', 'mono16': 'u2', '32FC1': 'f4'}
 
 
-def jet_table():
+def jet_table() -> np.ndarray:
     """0..255 -> packed little-endian BGR0 pixel of the JET colour map (MATLAB's classic
     piecewise-linear jet, which OpenCV's COLORMAP_JET samples: dark blue, blue, cyan, yellow,
     red, dark red), computed with numpy so that recording depth does not import OpenCV."""
@@ -57,7 +65,7 @@ def jet_table():
     return (b | (g << 8) | (r << 16)).astype('<u4')
 
 
-def yuv_tables(bgr0):
+def yuv_tables(bgr0: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
     """Packed BGR0 pixels -> (Y, packed U | V << 8) in BT.601 limited range, the conversion
     swscale applies to RGB by default (so the video's colours are those ffmpeg would make)."""
     b, g, r = ((bgr0 >> shift) & 0xff for shift in (0, 8, 16))
@@ -70,34 +78,35 @@ def yuv_tables(bgr0):
 
 class DepthCheck(ImageCheck):
     family = 'depth'
+    expect: 'DepthExpect'
 
-    def __init__(self, plan, ctx):
+    def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         lo, hi = self.expect.video_range
         self.video_range = (float(lo), float(hi))
         self.min_valid_share = self.expect.min_valid_share
         self.median_range = self.expect.median_range
         self.share = Acc()
-        self.medians = []
+        self.medians: List[float] = []
         self.lo = Acc()
         self.hi = Acc()
         self.all_zero = 0
         self.stuck = StuckRun(self.expect.frozen_frames)
-        self.last_data = None
+        self.last_data: Optional[np.ndarray] = None     # the previous image's bytes
         self.zero_run = TrailingRun()
         self.single = 0             # frames whose sampled valid pixels hold one value
         self.outside = 0            # frames mostly outside physical_range
         self.physical = self.expect.physical_range
-        self._lut = None            # millimetres -> packed BGR0 pixel (uint32)
-        self._jet = None            # 0..255 -> packed BGR0 pixel
-        self._yuv = {}              # 'mm' / 'index' -> (Y table, packed U|V table)
+        self._lut: Optional[np.ndarray] = None     # millimetres -> packed BGR0 pixel (uint32)
+        self._jet: Optional[np.ndarray] = None     # 0..255 -> packed BGR0 pixel
+        self._yuv: Dict[str, Tuple[np.ndarray, np.ndarray]] = {}   # 'mm' / 'index' -> (Y table, packed U|V table)
         self.series['median_depth_m'] = []
         self.series['valid_share'] = []
 
-    def settled(self):
+    def settled(self) -> bool:
         return self.count >= 5
 
-    def on_message(self, msg, t):
+    def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
             return
         if msg.encoding in MM_ENCODINGS:
@@ -166,7 +175,7 @@ class DepthCheck(ImageCheck):
         self.last_data = data
         self.stuck.add(self.stuck.last if same else t, t)
 
-    def depth_view(self, msg):
+    def depth_view(self, msg: 'genpy.Message') -> Optional[np.ndarray]:
         """The depth image as a numpy view over the message's bytes (cv_bridge for anything
         unusual); None (and a counted failure) when it cannot be read."""
         code = DTYPES.get(msg.encoding)
@@ -207,7 +216,7 @@ class DepthCheck(ImageCheck):
         index[invalid] = 0
         return index
 
-    def colour_map(self, depth, kind):
+    def colour_map(self, depth: np.ndarray, kind: str) -> Tuple[np.ndarray, str]:
         """Depth -> (BGR0 uint8 frame, 'bgr0') for the live view (and the video of an odd
         size): fixed range video_range to 0..255, JET colour map, invalid pixels black."""
         if self._millimetres(depth, kind):
@@ -217,7 +226,7 @@ class DepthCheck(ImageCheck):
                              self._grey_index(depth, kind))
         return packed.view(np.uint8).reshape(packed.shape + (4,)), 'bgr0'
 
-    def prepare_frame(self, depth, kind):
+    def prepare_frame(self, depth: np.ndarray, kind: str) -> Tuple[np.ndarray, str]:
         """Depth -> the video's frame, in the video writer's thread: the colours of colour_map
         written straight as planar yuv420p (Y from every pixel, U and V from every 2nd row and
         column, as swscale's point sampling): about 0.4 ms for 640x480 and 40 % of the bytes
@@ -242,7 +251,7 @@ class DepthCheck(ImageCheck):
         out[w * h + q:].reshape(h // 2, w // 2)[...] = uv[:, 1::2]
         return out.reshape(h * 3 // 2, w), YUV420P
 
-    def finish(self):
+    def finish(self) -> None:
         self.finish_media()
         self.values['video_range_m'] = list(self.video_range)
         self.values['frames_all_zero'] = self.all_zero
