@@ -26,6 +26,7 @@ def test_help_describes_every_option():
         words = ' '.join(block.split()).split(' ', 1)
         assert len(words) == 2 and len(words[1]) > 15, (option, block)
     assert 'exit codes:' in p.stdout and 'examples:' in p.stdout
+    assert max(len(line) for line in p.stdout.splitlines()) <= 80, 'wider than the terminal (COLUMNS=80)'
 
 
 def test_list_faults_is_a_table_of_every_fault():

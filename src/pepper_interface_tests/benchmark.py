@@ -46,6 +46,7 @@ from typing import Any, Dict, List, Optional, Sequence
 
 import numpy as np
 
+from .outputs.terminal import HelpFormatter
 from .rosmaster import MasterError, PrivateMaster, stop_group
 
 STREAMS = [
@@ -509,7 +510,7 @@ def _table(results, published, out_dir, target, record=True):
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     p = argparse.ArgumentParser(prog='sensorTestBenchmark', description=__doc__.split('\n\n')[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                formatter_class=HelpFormatter,
                                 epilog=__doc__.split('\n\n', 1)[1])
     p.add_argument('--duration', type=float, default=15.0, help='sensorTest --duration (default 15)')
     p.add_argument('--publish', type=float, default=None, help='seconds of publishing (default 10)')

@@ -18,6 +18,7 @@ import time
 from typing import Callable, Dict, List, Optional
 
 from . import interrupts, results
+from .outputs.terminal import HelpFormatter
 from .plan import options, settings
 from .plan.options import Options
 from .plan.settings import ConfigError, TestPlan
@@ -27,12 +28,13 @@ from .sources import Source
 EPILOG = '''examples:
   rosrun pepper_interface_tests sensorTest
   rosrun pepper_interface_tests sensorTest --mode parallel --quick
-  rosrun pepper_interface_tests sensorTest --sensors laser,frontSonar --duration 5
-  rosrun pepper_interface_tests sensorTest --platform simulator --output-dir /tmp/run1
+  rosrun pepper_interface_tests sensorTest --sensors laser,frontSonar
+  rosrun pepper_interface_tests sensorTest --platform simulator --duration 5
   rosrun pepper_interface_tests sensorTest --bag recorded.bag
-  rosrun pepper_interface_tests sensorTest _mode:=parallel _duration:=3   (private ROS params)
-exit codes: 0 all passed, 1 a sensor failed (also when no sensor topic has a publisher at all:
-  said once, within --wait), 2 could not start, 3 a results file not written, 130 interrupted'''
+  rosrun pepper_interface_tests sensorTest _mode:=parallel _duration:=3
+      (options as private ROS params)
+''' + ('exit codes: 0 all passed, 1 a sensor failed (also when no sensor topic has a publisher at all: '
+       'said once, within --wait), 2 could not start, 3 a results file not written, 130 interrupted')
 
 
 class _Parser(argparse.ArgumentParser):
@@ -44,7 +46,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog='sensorTest', description='Check every sensor of a Pepper robot and report '
-                'a verdict per sensor.', epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+                'a verdict per sensor.', epilog=EPILOG, formatter_class=HelpFormatter)
     options.add_arguments(p)
     return p
 

@@ -35,6 +35,7 @@ from .outputs.history import (
 )
 from .outputs.history_format import format_compare, format_list, width
 from .outputs.history_prune import prune
+from .outputs.terminal import HelpFormatter
 
 REPORT_FILE = 'sensorTestReport.html'      # = report.REPORT_FILE (not imported: no matplotlib here)
 EXIT_NOTHING = 1
@@ -184,11 +185,11 @@ def build_parser() -> argparse.ArgumentParser:
     where = _Parser(add_help=False)
     where.add_argument('--output-dir', metavar='DIR', default=argparse.SUPPRESS,
                        help='the output folder sensorTest wrote to (default: sensorTest\'s default)')
-    p = _Parser(prog='sensorTestHistory', formatter_class=argparse.RawDescriptionHelpFormatter,
+    p = _Parser(prog='sensorTestHistory', formatter_class=HelpFormatter,
                 description='List, compare, open and prune past sensorTest runs kept in '
                             '<output dir>/runs/, and print the sensors that failed.',
                 epilog='run ids: an exact id (20260121-091500), a unique prefix, "latest", or -1, -2, ...\n'
-                       'exit codes: 0 done; 1 failed: no sensor failed, prune: a folder could not be\n'
+                       'exit codes: 0 done; 1 failed: no sensor failed, prune: a folder could not be '
                        'deleted; 2 unknown run id, no runs, or bad usage')
     p.add_argument('--output-dir', metavar='DIR', help='the output folder sensorTest wrote to '
                    '(default: sensorTest\'s default); also accepted after the command')

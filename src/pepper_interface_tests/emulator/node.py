@@ -37,6 +37,7 @@ import rosgraph
 import rospy
 from std_msgs.msg import String
 
+from ..outputs.terminal import HelpFormatter
 from ..plan import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
@@ -149,11 +150,11 @@ def _parser() -> argparse.ArgumentParser:
         'publishes every sensor topic as the real drivers do, optionally with injected faults. '
         'Each option overrides the private '
         'ROS param of the same name (~profile, ...); launch: pepperEmulator.launch.',
-        epilog='examples:\n  rosrun pepper_interface_tests pepperEmulator --profile robot-stock '
-               '--head xtion\n  rosrun pepper_interface_tests pepperEmulator --audio direct '
-               '--faults "laser:nan;microphone:silent_channel=rearRight"\n'
+        epilog='examples:\n  rosrun pepper_interface_tests pepperEmulator --profile simulator\n'
+               '  rosrun pepper_interface_tests pepperEmulator --head xtion --audio direct\n'
+               '  rosrun pepper_interface_tests pepperEmulator --faults "laser:nan;imu:nan"\n'
                'exit codes: 0 after a normal shutdown, 2 when it could not start (bad option or '
-               'param, no master)', formatter_class=argparse.RawDescriptionHelpFormatter)
+               'param, no master)', formatter_class=HelpFormatter)
     p.add_argument('--profile', choices=PROFILES, help='robot: naoqi_driver as the CSSR4Africa fork '
                    'runs it; robot-stock: stock naoqi_driver (AudioBuffer); simulator: the awesomebytes '
                    'Gazebo Pepper on sim time (default robot)')

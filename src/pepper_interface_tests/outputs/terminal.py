@@ -6,6 +6,7 @@ Strings from the robot go through results.printable: control characters (ANSI es
 shown escaped and each reason is cut to REASON_LIMIT characters. A broken stdout or stderr
 (`| head` that exited, `| tee` killed by the same Ctrl-C, a closed ssh session) never stops the
 run: see protect_std_streams."""
+import argparse
 import os
 import shutil
 import sys
@@ -94,6 +95,20 @@ def protect_std_streams() -> None:
 
 def _reasons(texts: Sequence[str]) -> str:
     return '; '.join(printable(t, REASON_LIMIT) for t in texts)
+
+
+class HelpFormatter(argparse.RawDescriptionHelpFormatter):
+    """--help of every program: the description's and epilog's own line breaks are kept (one
+    example per line), and a line wider than the terminal wraps, continued under itself."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        lines = []
+        for line in text.splitlines():
+            lead = ' ' * (len(line) - len(line.lstrip(' ')))
+            lines.append(textwrap.fill(line, width, initial_indent=indent,
+                                       subsequent_indent=indent + lead + '  ', break_long_words=False,
+                                       break_on_hyphens=False) if line.strip() else '')
+        return '\n'.join(lines)
 
 
 def columns(fallback: int = 120, minimum: int = 20) -> int:
