@@ -220,6 +220,19 @@ def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
                                                    for k in range(61)]) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert r.values['beyond_advertised_max'] == 45 * N and r.values['invalid_beams'] == 0
+    # the report's scan plot draws each beam as judged here: 5 m beams are returns, not invalid
+    kinds = r.series['last_scan']['kinds']
+    assert kinds.count('return') == 45 and kinds.count('blind') == 16, kinds
+
+
+def test_laser_last_scan_kinds_follow_the_verdict(tmp_path):
+    """Per beam of the last scan: a return, a blind slot, no return (+inf) or invalid (below
+    range_min) - what the report's polar plot colours, so it never calls a return invalid."""
+    ranges = [-1.0 if k in BLIND else 2.0 for k in range(61)]
+    ranges[0], ranges[1], ranges[2] = float('inf'), 0.01, 4.5
+    r = judged('laser', tmp_path, [laser(i, ranges=list(ranges)) for i in range(N)])
+    kinds = r.series['last_scan']['kinds']
+    assert kinds[:3] == ['no return', 'invalid', 'return'] and kinds[15] == 'blind', kinds
 
 
 def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):

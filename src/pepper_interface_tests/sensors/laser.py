@@ -43,6 +43,10 @@ if TYPE_CHECKING:
     from .base import RunContext
 
 
+# what one beam of a scan is, as the check judges it (the report's scan plot shows the same)
+RETURN, BLIND, NO_RETURN, INVALID = 'return', 'blind', 'no return', 'invalid'
+
+
 def blind_indices(slots: Optional[Tuple[Tuple[int, int], ...]]) -> Set[int]:
     out: Set[int] = set()
     for first, last in slots or ():
@@ -66,6 +70,7 @@ class LaserCheck(Check):
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
         # (angle_min, angle_increment, ranges, range_min, range_max, blind value) of the last scan
+        self.last_kinds: List[str] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
         self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
         self.stuck = StuckRun(self.expect.stuck_scans)
 
@@ -109,32 +114,42 @@ class LaserCheck(Check):
                           msg.range_max, self.expect.blind_value)
 
     def _judge_beams(self, ranges, lo, hi):
+        """Counts each beam by its kind (RETURN, BLIND, NO_RETURN, INVALID; the report's scan plot
+        shows the last scan's kinds, so it agrees with the verdict) -> the number of returns."""
         blind = self.expect.blind_value
-        returns = 0
+        kinds = []
         layout = None    # first slot of the blind layout that holds a reading
         for k, r in enumerate(ranges):
             if self.slots is not None and k in self.blind_set:
                 if blind is not None and r == blind:
                     self.blind += 1
-                elif layout is None:
-                    layout = (k, r)
+                    kinds.append(BLIND)
+                else:
+                    if layout is None:
+                        layout = (k, r)
+                    kinds.append(INVALID)
                 continue
             if self.slots is None and blind is not None and r == blind:
                 self.blind += 1
+                kinds.append(BLIND)
             elif (self.nan_no_return and math.isnan(r)) or r == math.inf:
                 self.no_return += 1
+                kinds.append(NO_RETURN)
             elif r == -math.inf or (math.isfinite(r) and r >= lo):
-                returns += 1
+                kinds.append(RETURN)
                 if math.isfinite(r):
                     self.valid.add(r)
                     if r > hi:
                         self.beyond += 1
             else:
                 self.invalid += 1
+                kinds.append(INVALID)
+        self.last_kinds = kinds
         if layout is not None:
             self.failures.add('layout', 'the driver\'s blind slots %s do not all hold %s (the '
                               'scan does not follow naoqi_driver\'s layout)'
                               % (fmt(self.slots), fmt(blind)), 'slot %d = %s' % (layout[0], fmt(layout[1])))
+        returns = kinds.count(RETURN)
         if not returns:
             self.failures.add('empty', 'scan without a single valid return (every slot blind, '
                               'NaN or invalid)')
@@ -154,7 +169,8 @@ class LaserCheck(Check):
             a0, inc, ranges, lo, hi, blind = self.last_scan
             self.series['last_scan'] = {'angle_min': a0, 'angle_increment': inc,
                                         'ranges': [r if math.isfinite(r) else None for r in ranges],
-                                        'range_min': lo, 'range_max': hi, 'blind_value': blind}
+                                        'range_min': lo, 'range_max': hi, 'blind_value': blind,
+                                        'kinds': list(self.last_kinds)}
         if self.count:
             self.notes.append('Valid ranges: %s; invalid beams %.1f%% (%d of %d), blind beams %d, '
                               'no-return beams %d'

@@ -3,8 +3,9 @@
 Figures use the Agg canvas directly (no pyplot state, no display). Sizes are chosen for a
 1400-px-wide browser window at 100 % zoom: pages are about 1350 px wide inside their margins,
 so the widest figure is 13 in x 100 dpi = 1300 px and is shown at its natural size, where
-11 pt text is about 15 px, as large as the page's own text. `bbox_inches='tight'` keeps
-legends placed outside the axes inside the image.
+11 pt text is about 15 px, as large as the page's own text. Constrained layout keeps labels
+inside the image; only the laser's polar plot, whose legend sits outside its axes, takes the
+second drawing pass of `bbox_inches='tight'`.
 """
 import base64
 import io
@@ -35,9 +36,15 @@ def figure(w: float, h: float, **kw: Any) -> 'Figure':
     return Figure(figsize=(w, h), dpi=DPI, layout='constrained', **kw)
 
 
-def uri(fig: 'Figure') -> str:
+def uri(fig: 'Figure', tight: bool = False) -> str:
+    """The figure as a PNG data: URI. Constrained layout fits what is inside the figure;
+    `tight` (a second drawing pass, as costly as the first) is for a legend placed outside the
+    axes, which constrained layout does not make room for on a polar plot."""
     buf = io.BytesIO()
-    fig.savefig(buf, format='png', dpi=DPI, bbox_inches='tight', pad_inches=0.08)
+    if tight:
+        fig.savefig(buf, format='png', dpi=DPI, bbox_inches='tight', pad_inches=0.08)
+    else:
+        fig.savefig(buf, format='png', dpi=DPI)
     return 'data:image/png;base64,' + base64.b64encode(buf.getvalue()).decode('ascii')
 
 
@@ -99,14 +106,23 @@ def range_over_time(s: 'Series', lo: Optional[float], hi: Optional[float]) -> st
 
 
 def laser_scan(scan: 'LaserScanValues') -> str:
+    """The last scan, each beam drawn as the check judged it (returns at their distance, also
+    beyond the advertised range_max: naoqi_driver does not clip; see docs/checks.md)."""
     import numpy as np
+
+    from ...sensors.laser import BLIND, INVALID, NO_RETURN, RETURN
     angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
     rng = np.array(scan.ranges, dtype=float)
-    blind = scan.blind_value
-    is_blind = np.array([blind is not None and v == blind for v in scan.ranges], dtype=bool)
-    valid = np.isfinite(rng) & (rng >= scan.range_min) & (rng <= scan.range_max) & ~is_blind
-    invalid = ~valid & ~is_blind
-    hi = scan.range_max
+    if scan.kinds is not None:
+        kinds = np.array(scan.kinds)
+    else:       # a run written before the check recorded its kinds: the advertised limits
+        blind = scan.blind_value
+        kinds = np.where(np.isfinite(rng) & (rng >= scan.range_min) & (rng <= scan.range_max), RETURN, INVALID)
+        if blind is not None:
+            kinds[rng == blind] = BLIND
+    returns = (kinds == RETURN) & np.isfinite(rng)
+    far = float(rng[returns].max()) if returns.any() else 0.0
+    edge = max(scan.range_max, far) * 1.05        # beams without a distance are drawn here
     fig = figure(8, 5.2)
     ax = fig.add_subplot(projection='polar')
     ax.set_theta_zero_location('N')      # forward (x) up, left (+y) to the left, as in ROS
@@ -114,19 +130,25 @@ def laser_scan(scan: 'LaserScanValues') -> str:
     if len(angles) and math.degrees(angles.max() - angles.min()) < 359:
         ax.set_thetamin(math.degrees(angles.min()))
         ax.set_thetamax(math.degrees(angles.max()))
-    ax.plot(angles[valid], rng[valid], '.', color=BLUE, ms=6, label='valid (%d)' % valid.sum())
-    if blind is not None and is_blind.any():
-        ax.plot(angles[is_blind], np.full(is_blind.sum(), hi), 'x', color=GREY, ms=6,
-                label='blind beams = %g (%d)' % (blind, is_blind.sum()))
-    if invalid.any():
-        ax.plot(angles[invalid], np.full(invalid.sum(), hi), 'x', color=RED, ms=7,
-                label='invalid: NaN, inf or outside\n[%g, %g] m (%d)' % (scan.range_min, hi, invalid.sum()))
-    ax.set_rmax(hi * 1.05)
+    ax.plot(angles[returns], rng[returns], '.', color=BLUE, ms=6, label='returns (%d)' % (kinds == RETURN).sum())
+    for kind, colour, marker, label in (
+            (BLIND, GREY, 'x', 'blind beams = %s' % ('%g' % scan.blind_value if scan.blind_value is not None else '?')),
+            (NO_RETURN, AMBER, 'o', 'no return (+inf, or NaN on the simulator)'),
+            (INVALID, RED, 'x', 'invalid: below range_min %g m, NaN' % scan.range_min)):
+        mask = kinds == kind
+        if mask.any():
+            ax.plot(angles[mask], np.full(mask.sum(), edge), marker, color=colour, ms=7 if kind == INVALID else 6,
+                    mfc='none' if marker == 'o' else colour, label='%s (%d)' % (label, mask.sum()))
+    if len(angles) and scan.range_max < edge:
+        arc = np.linspace(angles.min(), angles.max(), 90)
+        ax.plot(arc, np.full(90, scan.range_max), ':', color=AMBER, lw=0.9,
+                label='advertised range_max %g m' % scan.range_max)
+    ax.set_rmax(edge * 1.02)
     ax.set_rmin(0)
     ax.plot([0], [0], marker='^', color='k', ms=7)
     ax.legend(loc='center left', bbox_to_anchor=(1.02, 0.5), frameon=False)
     ax.set_title('last scan (m); forward is up')
-    return uri(fig)
+    return uri(fig, tight=True)
 
 
 def brightness(s: 'Series') -> str:

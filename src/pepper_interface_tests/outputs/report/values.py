@@ -79,6 +79,7 @@ class LaserScanValues:
     range_min: float
     range_max: float
     blind_value: Optional[float] = None
+    kinds: Optional[List[str]] = None   # per beam, as the check judged it (sensors/laser.py); None: older run
 
 
 @dataclass
