@@ -267,8 +267,9 @@ class SensorRun:
             # a window cut short is not judged: what it found so far is reported as warnings,
             # never as a failure of the robot ("no message within 0.0 s", "only 2 messages")
             warnings = ['before the interrupt: ' + r for r in reasons] + warnings
+            n = check.count if check.active else s.count    # the count the result reports
             reasons = ['interrupted after %.1f s of the %.1f s window (%d message%s)'
-                       % (elapsed, self.window, s.count, '' if s.count == 1 else 's')]
+                       % (elapsed, self.window, n, '' if n == 1 else 's')]
             verdict = INTERRUPTED
         band = check.rate_band()
         summary = s.summary()
