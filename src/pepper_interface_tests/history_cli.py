@@ -30,12 +30,12 @@ from .outputs.history import (
     RunInfo,
     compare,
     list_runs,
-    not_passed,
     resolve,
 )
 from .outputs.history_format import format_compare, format_list, width
 from .outputs.history_prune import prune
 from .outputs.terminal import HelpFormatter
+from .results import not_passed
 
 REPORT_FILE = 'sensorTestReport.html'      # = report.REPORT_FILE (not imported: no matplotlib here)
 EXIT_NOTHING = 1

@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, TextIO, T
 
 from .. import results
 from ..observer import RunObserver
-from ..results import PASSING, malformed, not_passed  # noqa: F401 (sensorTestHistory reads them here)
+from ..results import malformed
 from . import files
 from .atomicfile import write_atomic
 

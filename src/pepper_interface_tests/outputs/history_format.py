@@ -5,7 +5,8 @@ import textwrap
 from typing import Any, Collection, Dict, List, Optional, Sequence, Tuple
 
 from .. import results
-from .history import PASSING, RATE_FLAG, RUNS_DIR, RunInfo
+from ..results import PASSING
+from .history import RATE_FLAG, RUNS_DIR, RunInfo
 from .terminal import columns
 
 
