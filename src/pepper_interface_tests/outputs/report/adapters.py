@@ -7,7 +7,7 @@ here is deleted and nothing else changes.
 """
 import math
 import re
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, Optional
 
 from ...results import RunResult, SensorResult, printable
 from .values import (
@@ -38,20 +38,13 @@ def _range(r: SensorResult, run: RunResult) -> RangeValues:
                        number(limits.get('Maximum range value')))
 
 
-def _kinds(kinds: Any, n: int) -> Optional[List[str]]:
-    """The check's per-beam kinds when they fit the scan (a run's JSON may be older or edited)."""
-    if isinstance(kinds, list) and len(kinds) == n and all(isinstance(k, str) for k in kinds):
-        return kinds
-    return None
-
-
 def _laser(r: SensorResult, run: RunResult) -> Optional[LaserScanValues]:
     s = mapping(r.series.get('last_scan'))
     try:
         return LaserScanValues(float(s['angle_min']), float(s['angle_increment']),
                                [float('nan') if v is None else float(v) for v in s['ranges']],
                                float(s['range_min']), float(s['range_max']), number(s.get('blind_value')),
-                               _kinds(s.get('kinds'), len(s['ranges'])))
+                               [str(k) for k in s['kinds']])
     except (KeyError, TypeError, ValueError):
         return None
 

@@ -113,13 +113,7 @@ def laser_scan(scan: 'LaserScanValues') -> str:
     from ...sensors.laser import BLIND, INVALID, NO_RETURN, RETURN
     angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
     rng = np.array(scan.ranges, dtype=float)
-    if scan.kinds is not None:
-        kinds = np.array(scan.kinds)
-    else:       # a run written before the check recorded its kinds: the advertised limits
-        blind = scan.blind_value
-        kinds = np.where(np.isfinite(rng) & (rng >= scan.range_min) & (rng <= scan.range_max), RETURN, INVALID)
-        if blind is not None:
-            kinds[rng == blind] = BLIND
+    kinds = np.array(scan.kinds)
     returns = (kinds == RETURN) & np.isfinite(rng)
     far = float(rng[returns].max()) if returns.any() else 0.0
     edge = max(scan.range_max, far) * 1.05        # beams without a distance are drawn here

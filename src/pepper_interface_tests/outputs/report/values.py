@@ -78,8 +78,8 @@ class LaserScanValues:
     ranges: List[float]
     range_min: float
     range_max: float
-    blind_value: Optional[float] = None
-    kinds: Optional[List[str]] = None   # per beam, as the check judged it (sensors/laser.py); None: older run
+    blind_value: Optional[float]
+    kinds: List[str]        # per beam, as the check judged it (sensors/laser.py)
 
 
 @dataclass
