@@ -251,6 +251,7 @@ class SensorRun:
     def _judge(self, now, reason, lookup):
         s, check, e = self.stats, self.check, self.expect
         elapsed = now - self.t0
+        messages = check.count if check.active else s.count     # an active check counts its own
         reasons: List[str] = []
         warnings: List[str] = []
         topic = self.plan.topic
@@ -267,9 +268,8 @@ class SensorRun:
             # a window cut short is not judged: what it found so far is reported as warnings,
             # never as a failure of the robot ("no message within 0.0 s", "only 2 messages")
             warnings = ['before the interrupt: ' + r for r in reasons] + warnings
-            n = check.count if check.active else s.count    # the count the result reports
             reasons = ['interrupted after %.1f s of the %.1f s window (%d message%s)'
-                       % (elapsed, self.window, n, '' if n == 1 else 's')]
+                       % (elapsed, self.window, messages, '' if messages == 1 else 's')]
             verdict = INTERRUPTED
         band = check.rate_band()
         summary = s.summary()
@@ -286,7 +286,7 @@ class SensorRun:
         return SensorResult(
             name=self.sensor.name, title=self.sensor.title, topic=topic,
             msg_type=self.sensor.msg_type, verdict=verdict, reasons=reasons, warnings=warnings,
-            notes=notes, messages=check.count if check.active else s.count, rate_hz=summary['rate_hz'],
+            notes=notes, messages=messages, rate_hz=summary['rate_hz'],
             stamp_rate_hz=summary['stamp_rate_hz'],
             expected_rate_hz=list(band) if band and not check.active else None,
             nominal_rate_hz=e.nominal,
