@@ -16,7 +16,7 @@ from test_sensor_test_cli import (
     Publishers,
     Running,
     assert_outputs_complete,
-    sonar_and_laser,
+    sonar_and_laser_fixture,
     write_topics,
 )
 
@@ -25,12 +25,7 @@ PREFIX = '/disk'
 NAMES = ['backSonar', 'laser']
 
 
-@pytest.fixture(scope='module')
-def pubs(module_master, tmp_path_factory):
-    tmp = tmp_path_factory.mktemp('disk')
-    p = sonar_and_laser(module_master, tmp, PREFIX)
-    yield p
-    p.stop()
+pubs = sonar_and_laser_fixture(PREFIX)
 
 
 @pytest.fixture

@@ -4,7 +4,6 @@ import os
 import signal
 import time
 
-import pytest
 import rosgraph
 
 from rosmaster import wait_registered
@@ -13,7 +12,7 @@ from test_sensor_test_cli import (
     Running,
     assert_outputs_complete,
     child_pids,
-    sonar_and_laser,
+    sonar_and_laser_fixture,
     topic_of,
     write_topics,
 )
@@ -22,12 +21,7 @@ PREFIX = '/graph'
 NAMES = ['backSonar', 'laser']
 
 
-@pytest.fixture(scope='module')
-def pubs(module_master, tmp_path_factory):
-    tmp = tmp_path_factory.mktemp('graph')
-    p = sonar_and_laser(module_master, tmp, PREFIX)
-    yield p
-    p.stop()
+pubs = sonar_and_laser_fixture(PREFIX)
 
 
 def run(master, pubs, out, *args, duration=3, sensors=NAMES):

@@ -58,6 +58,16 @@ def wait_registered(master, topics=(), subscribed=(), timeout=START_LIMIT):
     rosmaster.wait_registered(master, topics, subscribed, subscriber='core_publisher', timeout=timeout)
 
 
+def sonar_and_laser_fixture(prefix, extra_topics=()):
+    """A module-scoped `pubs` fixture: sonar_and_laser under `prefix`, stopped after the module."""
+    @pytest.fixture(scope='module')
+    def pubs(module_master, tmp_path_factory):
+        p = sonar_and_laser(module_master, tmp_path_factory.mktemp(prefix.strip('/')), prefix, extra_topics)
+        yield p
+        p.stop()
+    return pubs
+
+
 def sonar_and_laser(master, tmp, prefix, extra_topics=()):
     """Publishers of a good back sonar and laser under `prefix`, and a topics file naming them
     (plus `extra_topics`, sensors nobody publishes) as `.topics`; stop() them when done."""

@@ -16,7 +16,7 @@ from test_sensor_test_cli import (
     Result,
     Running,
     assert_outputs_complete,
-    sonar_and_laser,
+    sonar_and_laser_fixture,
 )
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -24,12 +24,7 @@ PREFIX = '/sig'
 NAMES = ['backSonar', 'laser']
 
 
-@pytest.fixture(scope='module')
-def pubs(module_master, tmp_path_factory):
-    tmp = tmp_path_factory.mktemp('sig')
-    p = sonar_and_laser(module_master, tmp, PREFIX, ['frontSonar'])
-    yield p
-    p.stop()
+pubs = sonar_and_laser_fixture(PREFIX, ['frontSonar'])
 
 
 def start(master, pubs, out, *args, pause=None, sensors=NAMES, duration=30):
