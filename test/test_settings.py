@@ -477,6 +477,14 @@ def test_header_notes_tell_each_window(files):
     assert not any('listens' in n for n in together.notes)
 
 
+def test_mic_mode_is_read_as_its_canonical_word(files):
+    """--mic-mode Sequential: the check and the run header both see 'sequential' (the header
+    used to say 8 s while the check, comparing the raw word, listened together for 2 s)."""
+    plan = load_plan(files.options(mic_mode='Sequential', duration=2.0))
+    assert plan.options.mic_mode == 'sequential'
+    assert any(n.startswith('microphone listens 8 s') for n in plan.notes)
+
+
 def test_simulator_skips_what_the_simulator_lacks(files):
     sim_names = [n for n in ALL if catalog.SENSORS[n].simulator]
     write(files.sim, topics_text(sim_names, prefix='/sim'))   # no topics for the others

@@ -13,9 +13,10 @@ The rules (README "Options", `--cameras`, `--require-heard`, `--mic-mode`):
   effect and the header says so.
 Every choice that leaves something out is said in `notes` (printed under the run header).
 """
-from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple
+from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple, cast
 
 from . import catalog
+from .expectations import SpeechExpect
 from .textfile import ConfigError
 
 if TYPE_CHECKING:   # settings imports this module
@@ -161,13 +162,13 @@ def window_notes(plan: 'TestPlan') -> List[str]:
     notes: List[str] = []
     names = {p.name: p for p in plan.active}
     mode = plan.options.mic_mode or 'together'
-    if 'microphone' in names and mode.lower() == 'sequential':
+    if 'microphone' in names and mode == 'sequential':
         notes.append('microphone listens %g s: --mic-mode sequential, each of the 4 microphones '
                      'for %g s' % (round(4 * plan.duration, 1), round(plan.duration, 1)))
     speech = names.get('speech')
     if speech is not None and not plan.options.bag:
-        e = speech.expect
-        wait, after = getattr(e, 'subscriber_wait', 3.0), getattr(e, 'listen_after', 4.0)
+        e = cast(SpeechExpect, speech.expect)
+        wait, after = e.subscriber_wait, e.listen_after
         if 'microphone' in names:
             notes.append('speech: one sentence (up to %g s waiting for a subscriber), then the '
                          'microphones listen %g s for it' % (wait, after))

@@ -193,8 +193,8 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
     cameras = choice(options.cameras, CAMERA_CHOICES, 'cameras') if options.cameras else None
     duration = positive_seconds(options.duration if options.duration is not None else 10.0, 'duration')
     wait = positive_seconds(options.wait if options.wait is not None else 5.0, 'wait')
-    if options.mic_mode is not None:
-        choice(options.mic_mode, MIC_MODES, 'mic_mode')
+    if options.mic_mode is not None:    # the check and the run header read the canonical word
+        options = replace(options, mic_mode=choice(options.mic_mode, MIC_MODES, 'mic_mode'))
 
     if options.topics:
         topics_path = os.path.abspath(os.path.expanduser(options.topics))
