@@ -252,7 +252,9 @@ def simulator_profile(path: Optional[str] = None) -> Profile:
         # update_rate 6.25 (pepperGazeboCPU.xacro:778-871, 0.3..7.0 m, noise mean 0.01 sd 0.01)
         SensorSpec('laser', 'laser', t('laser'), 6.25, 'base_footprint',
                    range_min=0.1, range_max=7.0, layout='gazebo', noise=0.01),
-        # joint_state_controller of pepper_control: velocity and effort of every joint
+        # joint_state_controller of pepper_control (pepper_virtual pepper_control/config/
+        # pepper_trajectory_control.yaml:3-5, publish_rate 50): velocity and effort of every joint
+        # with a transmission (pepper_robot pepperTransmission.xacro)
         SensorSpec('jointState', 'joints', t('jointState'), 50.0, layout='gazebo'),
         # pepperGazeboCPU.xacro:741-765: odometryRate 20, odom -> robotBaseFrame base_footprint
         SensorSpec('odometry', 'odometry', t('odometry'), 20.0, 'odom',

@@ -1,7 +1,7 @@
 """Microphones: AudioCustomMsg (int16[] rearLeft, rearRight, frontLeft, frontRight; the
 CSSR4Africa naoqi_driver fork, msg/AudioCustomMsg.msg) or naoqi_bridge_msgs/AudioBuffer (stock
 naoqi_driver: interleaved int16 `data`, `frequency` 48000, `channelMap`;
-ros-naoqi/naoqi_driver src/event/audio.cpp:170-180).
+ros-naoqi/naoqi_driver src/event/audio.cpp:175-186).
 
 Channel order everywhere (WAV channels, reports) is NAOqi's:
 0 rearLeft, 1 rearRight, 2 frontLeft, 3 frontRight. An AudioBuffer is de-interleaved and each
