@@ -47,6 +47,8 @@ from typing import Any, Dict, List, Optional, Sequence
 import numpy as np
 
 from .outputs.terminal import HelpFormatter
+from .plan.settings import package_dir
+from .results import JSON_FILE
 from .rosmaster import MasterError, PrivateMaster, stop_group
 
 STREAMS = [
@@ -263,12 +265,8 @@ def _wait_subscribed(uri, prefix, topics, timeout):
 
 
 def _sensor_test_script():
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    path = os.path.join(root, 'scripts', 'sensorTest')
-    if not os.path.exists(path):
-        import rospkg
-        path = os.path.join(rospkg.RosPack().get_path('pepper_interface_tests'), 'scripts', 'sensorTest')
-    return root, path
+    root = package_dir()
+    return root, os.path.join(root, 'scripts', 'sensorTest')
 
 
 def _round(args, tmp, master, files, mode, label):
@@ -335,7 +333,7 @@ def _round(args, tmp, master, files, mode, label):
             return {'error': 'publisher: ' + published['error']}
         if usage is None or hz_usage is None:
             return {'error': 'sensorTest or rostopic hz did not end; logs in %s' % tmp}
-        results_path = os.path.join(out_dir, 'sensorTestResults.json')
+        results_path = os.path.join(out_dir, JSON_FILE)
         if not os.path.exists(results_path):
             return {'error': 'sensorTest wrote no results (exit %s); log: %s' % (code, log.name)}
         with open(results_path) as f:

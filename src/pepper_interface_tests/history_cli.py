@@ -35,9 +35,8 @@ from .outputs.history import (
 from .outputs.history_format import format_compare, format_list, width
 from .outputs.history_prune import prune
 from .outputs.terminal import HelpFormatter
-from .results import not_passed
+from .results import REPORT_FILE, not_passed
 
-REPORT_FILE = 'sensorTestReport.html'      # = report.REPORT_FILE (not imported: no matplotlib here)
 EXIT_NOTHING = 1
 
 

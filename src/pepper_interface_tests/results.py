@@ -30,10 +30,10 @@ class Verdict(str, Enum):
 
 
 PASS, FAIL, SKIPPED, INTERRUPTED = Verdict.PASS, Verdict.FAIL, Verdict.SKIPPED, Verdict.INTERRUPTED
-VERDICTS = tuple(Verdict)
 OUTPUT_FILE = 'sensorTestOutput.dat'
 JSON_FILE = 'sensorTestResults.json'
 JUNIT_FILE = 'sensorTestResults.xml'
+REPORT_FILE = 'sensorTestReport.html'
 SCHEMA_VERSION = 1
 
 EXIT_PASS, EXIT_FAIL, EXIT_CANNOT_START, EXIT_INTERRUPTED = 0, 1, 2, 130

@@ -73,8 +73,8 @@ class SensorRun:
         self.wait = wait
         self.window = self.check.window(duration)
         self.lock = threading.Lock()
-        self.cls = message_class(self.sensor.msg_type)
-        self.classes = {self.sensor.msg_type: self.cls}   # type name -> class (audio: several)
+        # type name -> class (audio: several)
+        self.classes = {self.sensor.msg_type: message_class(self.sensor.msg_type)}
         self.publishers: List[str] = []   # caller ids of the nodes whose messages arrived, in order
         self.received_type: Optional[str] = None
         self.sim_clock: Optional[Callable[[], float]] = None   # simulation time (s) under /use_sim_time
@@ -89,7 +89,6 @@ class SensorRun:
         self.result: Optional[SensorResult] = None
         self.header_issues = Tally()
         self.wrong_types: Dict[str, int] = {}   # type name -> count
-        self.bad_messages = 0
         self.connections_seen = 0
         self.publisher_lost_at: Optional[float] = None
         self.end_reason = ''
@@ -100,6 +99,16 @@ class SensorRun:
         if self.t0 is None:
             raise RuntimeError('the window of %s has not begun: call begin() first' % self.sensor.name)
         return self.t0
+
+    @property
+    def count(self) -> int:
+        """Messages so far: an active check (speech) counts its own, a listening one its topic's."""
+        return self.check.count if self.check.active else self.stats.count
+
+    def problems_so_far(self) -> List[str]:
+        """A running window's provisional problems (bad headers, its check's failures so far),
+        as the terminal and /diagnostics show them; the caller holds `lock`."""
+        return self.header_issues.reasons(self.count) + self.check.failure_reasons()
 
     @property
     def topic(self) -> str:
@@ -163,7 +172,6 @@ class SensorRun:
                 decode = self.decode or self._class_for(type_name, conn)().deserialize
                 msg = decode(buff)
             except Exception as e:  # a corrupt message is a finding, not a crash
-                self.bad_messages += 1
                 self.header_issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
                 return
             header = getattr(msg, 'header', None)
@@ -251,7 +259,7 @@ class SensorRun:
     def _judge(self, now, reason, lookup):
         s, check, e = self.stats, self.check, self.expect
         elapsed = now - self.t0
-        messages = check.count if check.active else s.count     # an active check counts its own
+        messages = self.count
         reasons: List[str] = []
         warnings: List[str] = []
         topic = self.plan.topic
@@ -577,7 +585,7 @@ class Runner:
                 # an interrupt whose exception was swallowed (by a C library, a broad except)
                 self.signals.raise_pending()
                 self.source.sleep(TICK)
-        except Terminated:
+        except interrupts.Terminated:
             self.interrupt(self.signals.reason() if self.signals.pending else 'terminated (SIGTERM)')
         except KeyboardInterrupt:
             self.interrupt(self.signals.reason() if self.signals.pending else 'interrupted by Ctrl-C')
@@ -648,16 +656,3 @@ class Runner:
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)
-
-
-Terminated = interrupts.Terminated   # SIGTERM / SIGHUP: ends the run like Ctrl-C
-
-
-def describe(result: SensorResult) -> str:
-    """One line for the terminal."""
-    text = '%-22s %-7s %5d msgs' % (result.name, result.verdict, result.messages)
-    if result.rate_hz is not None:
-        text += ' %7s Hz' % fmt(result.rate_hz, 2)
-    if result.reasons:
-        text += '  ' + '; '.join(result.reasons)
-    return text

@@ -15,8 +15,9 @@ import os
 import signal
 import sys
 
+from ..results import EXIT_INTERRUPTED
+
 EXIT_FILE_ENV = 'PEPPER_SENSORTEST_EXIT_FILE'
-EXIT_INTERRUPTED = 130
 
 
 def _is_roslaunch(pid):

@@ -16,9 +16,8 @@ import sys
 import tempfile
 from typing import List, Optional, Sequence
 
+from ..results import EXIT_CANNOT_START, EXIT_INTERRUPTED
 from .end import EXIT_FILE_ENV
-
-EXIT_CANNOT_START, EXIT_INTERRUPTED = 2, 130
 
 
 def resolve(launch: str) -> Optional[str]:

@@ -82,10 +82,10 @@ def live_status(sensor_run: 'SensorRun', now: float, topic: Optional[str], msg_t
         check = sensor_run.check
         stats = sensor_run.stats
         elapsed = now - sensor_run.t0
-        count = check.count if check.active else stats.count
+        count = sensor_run.count
         rate = stats.rate if not check.active else None
         stamp_rate = stats.stamp_rate if not check.active else None
-        problems = sensor_run.header_issues.reasons(count) + check.failure_reasons()
+        problems = sensor_run.problems_so_far()
     window = sensor_run.window
     if band and rate is not None and count >= 3 and not (band[0] <= rate <= band[1]):
         problems.insert(0, 'rate %.2f Hz outside the expected %g-%g Hz' % (rate, band[0], band[1]))

@@ -155,9 +155,7 @@ class LatestRun(RunObserver):
             s.write('run %s kept in %s; latest run also in %s (%d files)\n'
                     % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
             s.flush()
-        except OSError as e:
-            write_error(run, 'latest run in %s' % self.folder.base, e)
-        except Exception as e:   # never lose the run over the copies, but say so
+        except Exception as e:   # a full disk, or anything else: never lose the run over the copies, say so
             write_error(run, 'latest run in %s' % self.folder.base, e)
 
 

@@ -64,12 +64,7 @@ def format_list(runs: Sequence[RunInfo], base: str) -> str:
         rows.append((r.run_id, (d.get('start') or '-').replace('.', ' '), d.get('platform') or '-',
                      d.get('mode') or '-', 'live' if source == 'live' else 'bag', str(p), str(f), str(s),
                      failed or '-'))
-    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
-    lines = []
-    for row in rows:
-        cells = [row[i].rjust(widths[i]) if 5 <= i <= 7 else row[i].ljust(widths[i])
-                 for i in range(len(widths))]
-        lines.append('  '.join(cells + [row[-1]]).rstrip())
+    lines = _table(rows, right=(5, 6, 7))
     lines.append('%d run%s in %s' % (len(runs), '' if len(runs) == 1 else 's', os.path.join(base, RUNS_DIR)))
     return '\n'.join(lines) + '\n'
 

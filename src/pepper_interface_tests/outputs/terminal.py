@@ -131,10 +131,7 @@ def _troubled(run: 'SensorRun') -> bool:
     """A running sensor with a provisional problem (wrong type, bad header, its check's
     failures so far): the same question /diagnostics asks (diagnostics.live_status)."""
     with run.lock:
-        if run.wrong_types:
-            return True
-        count = run.check.count if run.check.active else run.stats.count
-        return bool(run.header_issues.reasons(count) or run.check.failure_reasons())
+        return bool(run.wrong_types or run.problems_so_far())
 
 
 def progress_text(runs: Sequence['SensorRun'], now: float, failed_done: Sequence[str] = (),
@@ -145,8 +142,7 @@ def progress_text(runs: Sequence['SensorRun'], now: float, failed_done: Sequence
     left = max(max(0.0, r.window - (now - (r.t0 if r.t0 is not None else now))) for r in runs)
     if len(runs) == 1 and not failed_done:
         r = runs[0]
-        count = r.check.count if r.check.active else r.stats.count
-        return _fit('  ... %s: %.0f s left, %d %s' % (r.plan.name, left, count,
+        return _fit('  ... %s: %.0f s left, %d %s' % (r.plan.name, left, r.count,
                                                      'sent' if r.check.active else 'msgs'), width)
     silent, failing, receiving = [], list(failed_done), 0
     for r in runs:
@@ -176,7 +172,6 @@ class Terminal(RunObserver):
         self._last_tty = 0.0
         self._status_shown = False
         self._failed: List[str] = []       # sensors that ended with FAIL, for the progress line
-        self.plan: Optional[TestPlan] = None
 
     def _paint(self, text: str, verdict: Verdict) -> str:
         return COLOURS[verdict] + text + RESET if self.colour else text
@@ -193,7 +188,6 @@ class Terminal(RunObserver):
 
     # ------------------------------------------------------------------ observer methods
     def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
-        self.plan = plan
         n = len(plan.sensors)
         width = columns()
         self.line(textwrap.fill(

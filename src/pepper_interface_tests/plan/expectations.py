@@ -20,7 +20,7 @@ import dataclasses
 import difflib
 import math
 from dataclasses import dataclass, field, fields
-from typing import Any, Callable, Dict, List, Optional, Tuple, Type
+from typing import Any, Callable, Dict, Optional, Tuple, Type
 
 import yaml
 
@@ -272,10 +272,6 @@ FAMILIES: Dict[str, Type[Expect]] = {'range': RangeExpect, 'laser': LaserExpect,
 
 def family_of(name: str) -> Type[Expect]:
     return FAMILIES[catalog.SENSORS[name].family]
-
-
-def all_keys() -> List[str]:
-    return sorted({k for cls in FAMILIES.values() for k in cls.field_names()})
 
 
 def default_for(name: str) -> Expect:

@@ -147,7 +147,7 @@ class LiveSource:
     def _master_ok(self):
         return self.watch is None or self.watch.answering
 
-    def _check_master(self, now, force=False):
+    def _check_master(self, force=False):
         if self.watch is None:
             self.watch = MasterWatch()
         reason = self.shutdown_reason
@@ -164,7 +164,7 @@ class LiveSource:
             raise SourceLost(self.watch.lost() or 'the ROS master at %s does not answer' % self.watch.uri)
 
     def attach(self, run: 'SensorRun') -> None:
-        self._check_master(time.monotonic(), force=True)   # registering waits for the master
+        self._check_master(force=True)   # registering waits for the master
         if run.check.active:
             return
 
@@ -190,7 +190,7 @@ class LiveSource:
             threading.Thread(target=sub.unregister, daemon=True, name='unregister').start()
 
     def poll(self, run: 'SensorRun', now: float) -> None:
-        self._check_master(now)
+        self._check_master()
         sub = self.subs.get(run)
         if sub is not None and now - self._last_conn.get(run, 0.0) >= 0.25:
             self._last_conn[run] = now

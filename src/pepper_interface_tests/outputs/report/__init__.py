@@ -25,14 +25,13 @@ import time
 from typing import TYPE_CHECKING, Optional, TextIO
 
 from ...observer import RunObserver
-from ...results import RunResult
+from ...results import REPORT_FILE, RunResult
 from ..atomicfile import write_atomic
-from .files import MAX_EMBED_BYTES, video_codec  # noqa: F401  (public, as before)
+from .files import MAX_EMBED_BYTES
 
 if TYPE_CHECKING:
     from ...plan.settings import TestPlan
 
-REPORT_FILE = 'sensorTestReport.html'
 
 
 class HtmlReport(RunObserver):

@@ -11,7 +11,19 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 from ...plan import catalog
-from ...results import FAIL, PASS, SKIPPED, RunResult, SensorResult, summary_line, timestamp
+from ...results import (
+    FAIL,
+    JSON_FILE,
+    JUNIT_FILE,
+    OUTPUT_FILE,
+    PASS,
+    PASSING,
+    SKIPPED,
+    RunResult,
+    SensorResult,
+    summary_line,
+    timestamp,
+)
 from . import plots, views
 from .adapters import adapt, clean
 from .blocks import KV, Span
@@ -23,7 +35,7 @@ if TYPE_CHECKING:
 
 TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'templates')
 KNOWN = (PASS, FAIL, SKIPPED)
-RESULT_FILES = ('sensorTestResults.json', 'sensorTestResults.xml', 'sensorTestOutput.dat')
+RESULT_FILES = (JSON_FILE, JUNIT_FILE, OUTPUT_FILE)
 
 
 def verdict_class(verdict: str) -> str:
@@ -218,8 +230,7 @@ def header(run: RunResult) -> Dict[str, Any]:
         'counts': [(verdict_class(v), '%d %s' % (counts.get(v, 0), words.get(v, v))) for v in order],
         'interrupted': clean(run.interrupt_reason or 'run interrupted') if run.interrupted else None,
         'failed': [(anchor(r.name), r.name) for r in run.sensors if r.verdict == FAIL],
-        'all_passed': bool(run.sensors) and not run.interrupted and all(r.verdict in (PASS, SKIPPED)
-                                                                         for r in run.sensors),
+        'all_passed': bool(run.sensors) and not run.interrupted and all(r.verdict in PASSING for r in run.sensors),
     }
 
 
