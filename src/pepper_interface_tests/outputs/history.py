@@ -159,6 +159,16 @@ class LatestRun(RunObserver):
             write_error(run, 'latest run in %s' % self.folder.base, e)
 
 
+def read_manifest(base: str) -> Dict[str, Any]:
+    """The output folder's record of the run its latest files came from ({} when none or unreadable)."""
+    try:
+        with open(os.path.join(base, MANIFEST), encoding='utf-8') as f:
+            data = json.load(f)
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
 def publish_latest(folder: RunFolder) -> List[str]:
     """Link (or copy) every file of the run's folder into the output folder; returns the names.
 
@@ -168,11 +178,7 @@ def publish_latest(folder: RunFolder) -> List[str]:
                    if not n.startswith('.') and n != results.OUTPUT_FILE
                    and os.path.isfile(os.path.join(folder.path, n)))
     manifest_path = os.path.join(folder.base, MANIFEST)
-    try:
-        with open(manifest_path, encoding='utf-8') as f:
-            previous = json.load(f).get('files', {})
-    except (OSError, ValueError, AttributeError):
-        previous = {}
+    previous = read_manifest(folder.base).get('files') or {}
     published = {}
     for name in names:
         dst = os.path.join(folder.base, name)

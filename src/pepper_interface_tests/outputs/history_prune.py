@@ -12,14 +12,13 @@ A run is deleted only when every rule lets it go:
 - a folder whose name is not a run id is not sensorTest's: it stays, with a line saying why.
 `--dry-run` prints the same lines with "would delete" and deletes nothing.
 """
-import json
 import os
 import shutil
 import textwrap
 import time
 from typing import List, Optional, Sequence, TextIO, Tuple
 
-from .history import EXIT_OK, ID_FORMAT, MANIFEST, RunInfo
+from .history import EXIT_OK, ID_FORMAT, RunInfo, read_manifest
 
 STILL_GOING = 600.0      # s; a full sequential run writes a file at least every 40 s
 EXIT_PARTIAL = 1
@@ -52,12 +51,8 @@ def _folder_size_and_mtime(path: str) -> Tuple[int, float]:
 
 def _published_run(base: str) -> Optional[str]:
     """The run id whose files the output folder holds, or None."""
-    try:
-        with open(os.path.join(base, MANIFEST), encoding='utf-8') as f:
-            data = json.load(f)
-        return data.get('run_id') if isinstance(data, dict) else None
-    except (OSError, ValueError):
-        return None
+    run_id = read_manifest(base).get('run_id')
+    return run_id if isinstance(run_id, str) else None
 
 
 def _mb(size: float) -> str:
@@ -65,8 +60,9 @@ def _mb(size: float) -> str:
 
 
 def decide(runs: Sequence[RunInfo], base: str, keep: Optional[int] = None, days: Optional[float] = None,
-           now: Optional[float] = None) -> List[Tuple[RunInfo, bool, str, int]]:
-    """[(run, delete, why, size)] for every run, oldest first."""
+           now: Optional[float] = None) -> List[Tuple[RunInfo, bool, str, int, bool]]:
+    """[(run, delete, why, size, by_rule)] for every run, oldest first; by_rule: kept by --keep
+    or --days themselves (not worth a line of its own)."""
     now = time.time() if now is None else now
     published = _published_run(base)
     ours = [r for r in runs if run_start(r.run_id) is not None]
@@ -76,27 +72,27 @@ def decide(runs: Sequence[RunInfo], base: str, keep: Optional[int] = None, days:
         size, mtime = _folder_size_and_mtime(r.path)
         start = run_start(r.run_id)
         if start is None:
-            out.append((r, False, 'kept: not a run id (not a folder sensorTest made)', size))
+            out.append((r, False, 'kept: not a run id (not a folder sensorTest made)', size, False))
             continue
         age_days = (now - start) / 86400.0
         if keep and r.run_id in newest:
-            out.append((r, False, 'kept: one of the %d newest runs' % keep, size))
+            out.append((r, False, 'kept: one of the %d newest runs' % keep, size, True))
             continue
         if days is not None and age_days < days:
-            out.append((r, False, 'kept: %.1f days old (newer than %g days)' % (age_days, days), size))
+            out.append((r, False, 'kept: %.1f days old (newer than %g days)' % (age_days, days), size, True))
             continue
         if r.run_id == published:
             out.append((r, False, 'kept: the output folder\'s latest files (report, JSON, videos) '
-                                  'are this run\'s; delete it by hand if you mean to', size))
+                                  'are this run\'s; delete it by hand if you mean to', size, False))
             continue
         if not r.complete and now - mtime < STILL_GOING:
             out.append((r, False, 'kept: no results yet and files changed %.0f s ago (may still be '
-                                  'going)' % (now - mtime), size))
+                                  'going)' % (now - mtime), size, False))
             continue
         rule = 'not one of the %d newest runs' % keep if keep is not None else ''
         if days is not None:
             rule += ('; ' if rule else '') + '%.1f days old' % age_days
-        out.append((r, True, rule, size))
+        out.append((r, True, rule, size, False))
     return out
 
 
@@ -111,10 +107,10 @@ def prune(runs: Sequence[RunInfo], base: str, keep: Optional[int], days: Optiona
     (the published run, a run maybe still going, a foreign folder), then a total."""
     verb = 'would delete' if dry_run else 'deleted'
     code, freed, deleted, kept = EXIT_OK, 0, 0, 0
-    for run, delete, why, size in decide(runs, base, keep, days):
+    for run, delete, why, size, by_rule in decide(runs, base, keep, days):
         if not delete:
             kept += 1
-            if 'newest runs' not in why and 'days old (newer' not in why:
+            if not by_rule:
                 _line(out, 'keep', run.run_id, why, total)
             continue
         if not dry_run:
