@@ -14,39 +14,17 @@ import subprocess
 import pytest
 
 from pepper_interface_tests.plan import catalog, expectations
-from pepper_interface_tests.plan.settings import ConfigError, Options, load_plan
+from pepper_interface_tests.plan.settings import Options, load_plan
+from plan_files import Files, error_of, write
 from rosmaster import script
 
 ALL = list(catalog.SENSORS)
 
 
-def write(path, text, encoding='utf-8'):
-    with open(str(path), 'wb') as f:
-        f.write(text.encode(encoding) if isinstance(text, str) else text)
-    return str(path)
-
-
 @pytest.fixture
 def files(tmp_path):
-    class Files:
-        config = write(tmp_path / 'config.ini', 'platform robot\nrobotTopics topics.dat\nmode sequential\n')
-        input = write(tmp_path / 'input.ini', ''.join('%s true\n' % n for n in ALL))
-        topics = write(tmp_path / 'topics.dat', ''.join('%s /t/%s\n' % (n, n) for n in ALL))
-        expectations = write(tmp_path / 'expect.yaml', 'defaults:\n  min_messages: 3\n')
-        dir = str(tmp_path)
+    return Files(tmp_path)
 
-        def options(self, **kw):
-            base = dict(config=self.config, input=self.input, expectations=self.expectations,
-                        topics_dir=self.dir, output_dir=os.path.join(self.dir, 'out'))
-            base.update(kw)
-            return Options(**base)
-    return Files()
-
-
-def error_of(options):
-    with pytest.raises(ConfigError) as info:
-        load_plan(options)
-    return info.value
 
 
 def expect_error(files, text):

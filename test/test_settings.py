@@ -12,6 +12,7 @@ import yaml
 from pepper_interface_tests import cli
 from pepper_interface_tests.plan import catalog, options, settings
 from pepper_interface_tests.plan.settings import ConfigError, Options, load_plan
+from plan_files import Files, error_of, topics_text, write
 
 PKG = settings.package_dir()
 SHIPPED_INPUT = os.path.join(PKG, 'config', 'sensorTestInput.ini')
@@ -20,6 +21,11 @@ PEPPER_TOPICS = os.path.join(PKG, 'data', 'pepperTopics.dat')
 SIM_TOPICS = os.path.join(PKG, 'data', 'simulatorTopics.dat')
 
 ALL = list(catalog.SENSORS)
+
+
+@pytest.fixture
+def files(tmp_path):
+    return Files(tmp_path)
 
 # Every spelling the original package's files use (reference: original-sensorTest.md) -> the
 # canonical (input file) name.
@@ -44,45 +50,8 @@ CASE_VARIANTS = (str, str.lower, str.upper, str.swapcase)
 
 # ------------------------------------------------------------------ helpers
 
-def write(path, text):
-    with open(str(path), 'w', encoding='utf-8') as f:
-        f.write(text)
-    return str(path)
-
-
-def topics_text(names=ALL, prefix='/t'):
-    return ''.join('%s %s/%s\n' % (n, prefix, n) for n in names)
-
-
-@pytest.fixture
-def files(tmp_path):
-    """A complete, valid set of files in tmp_path; tests overwrite the one they are about."""
-    class Files:
-        config = write(tmp_path / 'config.ini', 'platform robot\nrobotTopics topics.dat\n'
-                                                'simulatorTopics sim.dat\nmode sequential\n')
-        input = write(tmp_path / 'input.ini', ''.join('%s true\n' % n for n in ALL))
-        topics = write(tmp_path / 'topics.dat', topics_text())
-        sim = write(tmp_path / 'sim.dat', topics_text(prefix='/sim'))
-        expectations = write(tmp_path / 'expect.yaml', 'defaults:\n  min_messages: 3\n')
-        out = str(tmp_path / 'out')
-        dir = str(tmp_path)
-
-        def options(self, **kw):
-            base = dict(config=self.config, input=self.input, expectations=self.expectations,
-                        topics_dir=self.dir, output_dir=self.out)
-            base.update(kw)
-            return Options(**base)
-    return Files()
-
-
 def plan_names(plan):
     return [s.name for s in plan.sensors]
-
-
-def error_of(options):
-    with pytest.raises(ConfigError) as info:
-        load_plan(options)
-    return info.value
 
 
 def enabled_in_file(path):
