@@ -156,7 +156,7 @@ class PrivateMaster:
             if reason is None:
                 return self
             self.attempts.append('port %d: %s' % (self.port, reason))
-            if not any(words in reason for words in PORT_TAKEN + ('not our own',)):
+            if not port_taken([reason]) and 'not our own' not in reason:
                 break
         raise MasterError('roscore did not come up: ' + '; '.join(self.attempts))
 
@@ -177,7 +177,7 @@ class PrivateMaster:
             try:
                 code, _, state = proxy.getSystemState(self.caller)
                 if code == 1 and any(t == '/rosout' for t, _ in state[1]):
-                    if self._is_ours(proxy):
+                    if _master_owner(self.uri, self.proc.pid, self.caller) == 'ours':
                         out.close()
                         return None
                     reason = 'the master on port %d is not our own (another picked it too)' % (
@@ -189,15 +189,6 @@ class PrivateMaster:
         stop_group(self.proc, timeout=2.0)  # a roscore that failed can take 10 s on SIGINT
         out.close()
         return reason
-
-    def _is_ours(self, proxy):
-        """Whether the master answering on our port is a child of our roscore (roslaunch
-        starts rosmaster in a session of its own, so the process group does not tell)."""
-        try:
-            code, _, pid = proxy.getPid(self.caller)
-        except (OSError, xmlrpc.client.Error):
-            return False
-        return self.proc is not None and code == 1 and _descends(pid, self.proc.pid)
 
     def stop(self) -> None:
         stop_group(self.proc, timeout=10.0)
@@ -273,7 +264,7 @@ def port_taken(lines: Iterable[str]) -> bool:
         'Address already in use', 'address in use', 'held by another program'))
 
 
-def _master_pid(uri, timeout=2.0):
+def _master_pid(uri, timeout=2.0, caller='/launch_watch'):
     """The pid of the master at `uri`; None when nothing listens there yet; 'silent' when
     something accepts connections but does not answer as a master within `timeout` s."""
     import http.client
@@ -283,13 +274,22 @@ def _master_pid(uri, timeout=2.0):
             return http.client.HTTPConnection(host, timeout=timeout)
     try:
         proxy: Any = xmlrpc.client.ServerProxy(uri, transport=Transport())
-        code, _, pid = proxy.getPid(
-            '/launch_watch')
+        code, _, pid = proxy.getPid(caller)
         return pid if code == 1 else 'silent'
     except ConnectionRefusedError:
         return None
     except (OSError, xmlrpc.client.Error, http.client.HTTPException):
         return 'silent'
+
+
+def _master_owner(uri, pid, caller='/launch_watch'):
+    """Who answers as the master at `uri`: 'ours' when it is process `pid` or one of its
+    descendants (roslaunch starts rosmaster in a session of its own, so the process group does
+    not tell), 'another' for a ROS master that is not, 'silent' and None as _master_pid."""
+    master = _master_pid(uri, caller=caller)
+    if isinstance(master, int):
+        return 'ours' if _descends(master, pid) else 'another'
+    return master
 
 
 def wait_for_launch(launcher: Union[subprocess.Popen, int], log_path: str, master_uri: str,
@@ -312,12 +312,12 @@ def wait_for_launch(launcher: Union[subprocess.Popen, int], log_path: str, maste
         if 'process has died' in text or port_taken(failure):
             return 'failed', failure
         if not own:
-            master = _master_pid(master_uri)
-            own = isinstance(master, int) and _descends(master, pid)
-            if not own and master is not None and time.monotonic() > start + grace:
+            owner = _master_owner(master_uri, pid)
+            own = owner == 'ours'
+            if not own and owner is not None and time.monotonic() > start + grace:
                 return 'failed', ['port %s is held by another program: %s' % (
                     master_uri.rsplit(':', 1)[-1], 'a ROS master that is not our own'
-                    if isinstance(master, int) else 'it does not answer as a ROS master')]
+                    if owner == 'another' else 'it does not answer as a ROS master')]
         if own:
             try:
                 published = {t for t, _ in rosgraph.Master('/launch_watch',

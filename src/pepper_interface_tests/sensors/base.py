@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, Dict, Hashable, List, Optional, Tuple
 
 if TYPE_CHECKING:
     import genpy
+    import numpy as np
 
     from ..plan.options import Options
     from ..plan.settings import SensorPlan
@@ -238,10 +239,18 @@ class StuckRun:
         self.longest_to: Optional[float] = None
 
     def add(self, key: Hashable, t: float) -> None:
-        if self.run and key == self.last:
+        same = bool(self.run) and key == self.last
+        if not same:
+            self.last = key
+        self.repeat(same, t)
+
+    def repeat(self, same: bool, t: float) -> None:
+        """`add` for a caller that compares the readings itself (images: same_bytes): `same`
+        when this reading is identical to the previous one."""
+        if same and self.run:
             self.run += 1
         else:
-            self.run, self.start, self.last = 1, t, key
+            self.run, self.start = 1, t
         self.last_t = t
         if self.run > self.longest:
             self.longest, self.longest_from, self.longest_to = self.run, self.start, t
@@ -250,14 +259,34 @@ class StuckRun:
         """True when the longest run lasts until the last reading."""
         return self.longest_to == self.last_t and self.run == self.longest
 
+    def reached(self) -> bool:
+        """True when the longest run is at least `limit` readings long."""
+        return self.longest >= self.limit if self.limit else False
+
+    def span(self) -> str:
+        """Where the longest run lies: 'from t = A s to t = B s' or 'from t = A s to the end
+        of the window'."""
+        where = ('to the end of the window' if self.to_end()
+                 else 'to t = %s s' % fmt(self.longest_to, 2))
+        return 'from t = %s s %s' % (fmt(self.longest_from, 2), where)
+
     def finding(self, what: str, key_name: str) -> Optional[str]:
         """'N identical <what> in a row from t = A s to the end of the window (<key_name> L)'."""
         if not self.limit or self.longest < self.limit:
             return None
-        where = ('to the end of the window' if self.to_end()
-                 else 'to t = %s s' % fmt(self.longest_to, 2))
-        return ('%d identical %s in a row from t = %s s %s (%s %d)'
-                % (self.longest, what, fmt(self.longest_from, 2), where, key_name, self.limit))
+        return ('%d identical %s in a row %s (%s %d)'
+                % (self.longest, what, self.span(), key_name, self.limit))
+
+
+def same_bytes(last: Optional['np.ndarray'], data: 'np.ndarray') -> bool:
+    """Whether `data` (an image's bytes as a uint8 array) is byte-for-byte `last` (the previous
+    image's, or None): about 900 bytes spread over the image are compared first (a changing
+    image differs there), and only when they match, every byte. The arrays' own comparison,
+    so that checks without images do not import numpy."""
+    if last is None or len(last) != len(data):
+        return False
+    stride = max(1, len(data) // 900)
+    return bool((last[::stride] == data[::stride]).all()) and bool((last == data).all())
 
 
 class TrailingRun:

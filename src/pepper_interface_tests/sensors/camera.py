@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 import numpy as np
 
 from ..media.recording import VideoRecorder, save_jpeg, to_bgr
-from .base import Acc, Check, TrailingRun, fmt
+from .base import Acc, Check, StuckRun, TrailingRun, fmt, same_bytes
 
 if TYPE_CHECKING:
     import genpy
@@ -295,11 +295,7 @@ class CameraCheck(ImageCheck):
         self.black = self.constant = 0
         # (geometry, data) of the previous frame
         self.last_image: Optional[Tuple[Tuple[int, int, str, int], np.ndarray]] = None
-        self.run = 1
-        self.longest_run = 0
-        self.longest_run_at = None
-        self.frozen_runs = 0
-        self.run_from = self.longest_run_from = None
+        self.stuck = StuckRun(self.frozen_frames)
         self.black_run = TrailingRun()
         self.same_halves = 0
         self.series['brightness'] = []
@@ -342,27 +338,14 @@ class CameraCheck(ImageCheck):
         self.show_and_record(image, t, pix_fmt)
 
     def _frozen(self, msg, t):
-        """Identical = the same geometry and byte-for-byte the same data as the previous frame:
-        about 900 bytes spread over the frame are compared first (a changing image differs
-        there), and only when they match, every byte."""
+        """Identical = the same geometry and byte-for-byte the same data as the previous frame
+        (same_bytes: about 900 bytes spread over the frame first, every byte only when they
+        match)."""
         geometry = (msg.width, msg.height, msg.encoding, msg.step)
         data = np.frombuffer(msg.data, np.uint8)
-        same = False
-        if self.last_image is not None and self.last_image[0] == geometry:
-            last = self.last_image[1]
-            stride = max(1, len(data) // 900)
-            same = len(last) == len(data) and np.array_equal(last[::stride], data[::stride]) \
-                and np.array_equal(last, data)
-        if same:
-            self.run += 1
-            if self.run == self.frozen_frames:
-                self.frozen_runs += 1
-        else:
-            self.run, self.run_from = 1, t
+        last = self.last_image
+        self.stuck.repeat(last is not None and last[0] == geometry and same_bytes(last[1], data), t)
         self.last_image = (geometry, data)
-        if self.run > self.longest_run:
-            self.longest_run, self.longest_run_at = self.run, round(t, 2)
-            self.longest_run_from = self.run_from
 
     def finish(self) -> None:
         self.finish_media()
@@ -371,7 +354,7 @@ class CameraCheck(ImageCheck):
         self.values['brightness_spread'] = self.spread.as_dict(2)
         self.values['frames_black'] = self.black
         self.values['frames_constant'] = self.constant
-        self.values['longest_identical_run'] = self.longest_run
+        self.values['longest_identical_run'] = self.stuck.longest
         if self.stereo and self.geometry:
             w, h = self.geometry[0], self.geometry[1]
             self.values['stereo'] = {'width': w, 'height': h, 'view_width': w // 2, 'view_height': h,
@@ -399,12 +382,8 @@ class CameraCheck(ImageCheck):
                 self.fail(text)
             else:
                 self.warn(text)
-        if self.longest_run >= self.frozen_frames:
-            self.fail('image frozen: %d identical consecutive frames from t = %s s %s (frozen_frames %d)'
-                      % (self.longest_run, fmt(self.longest_run_from or 0.0, 2),
-                         # the current run is the longest and ends at the last frame judged
-                         'to the end of the window' if self.longest_run == self.run
-                         and self.longest_run_at == round(self.black_run.last_t or 0.0, 2)
-                         else 'to t = %s s' % fmt(self.longest_run_at, 2), self.frozen_frames))
-        elif self.longest_run > 1:
-            self.notes.append('Longest run of identical frames: %d' % self.longest_run)
+        if self.stuck.reached():
+            self.fail('image frozen: %d identical consecutive frames %s (frozen_frames %d)'
+                      % (self.stuck.longest, self.stuck.span(), self.frozen_frames))
+        elif self.stuck.longest > 1:
+            self.notes.append('Longest run of identical frames: %d' % self.stuck.longest)

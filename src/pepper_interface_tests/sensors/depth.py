@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Dict, List, Optional, Tuple
 import numpy as np
 
 from ..media.recording import YUV420P, to_bgr
-from .base import Acc, StuckRun, TrailingRun, fmt
+from .base import Acc, StuckRun, TrailingRun, fmt, same_bytes
 from .camera import SERIES_MAX, ImageCheck
 
 if TYPE_CHECKING:
@@ -162,18 +162,12 @@ class DepthCheck(ImageCheck):
             self.recorder.add(depth, t, kind)
 
     def _frozen(self, msg, t):
-        """Identical to the previous image: about 900 sampled bytes first, every byte only when
-        they match (a changing image differs there), as the cameras' frozen test."""
+        """Identical to the previous image (same_bytes, as the cameras' frozen test)."""
         if self.stuck.limit is None:
             return
         data = np.frombuffer(msg.data, np.uint8)
-        last = self.last_data
-        same = False
-        if last is not None and len(last) == len(data):
-            stride = max(1, len(data) // 900)
-            same = np.array_equal(last[::stride], data[::stride]) and np.array_equal(last, data)
+        self.stuck.repeat(same_bytes(self.last_data, data), t)
         self.last_data = data
-        self.stuck.add(self.stuck.last if same else t, t)
 
     def depth_view(self, msg: 'genpy.Message') -> Optional[np.ndarray]:
         """The depth image as a numpy view over the message's bytes (cv_bridge for anything
