@@ -230,7 +230,7 @@ class AudioCheck(Check):
             last = self.last_block
             same = last is not None and last.shape == block.shape and np.array_equal(last, block)
             self.last_block = block
-            self.stuck.add(self.stuck.last if same else t, t)
+            self.stuck.repeat(same, t)
         for i, run in enumerate(self.dying):
             run.add(sq[i] == 0 or dbfs(math.sqrt(sq[i] / n)) < self.silence, t)
         if len(self.series['level_dbfs_rearLeft']) < SERIES_MAX:
