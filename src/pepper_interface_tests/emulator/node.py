@@ -82,13 +82,7 @@ class EmulatorConfig:
             raise settings.ConfigError('~audio_buffer "%s" is not a sample count' % v['audio_buffer'],
                                        fix='give samples per channel, e.g. 4096 or 8192 (0 = default)')
         self.naoqi_url = str(v['naoqi_url'])
-        try:
-            self.rate_factor = float(v['rate_factor'])
-        except (TypeError, ValueError):
-            self.rate_factor = -1.0
-        if not 0 < self.rate_factor < 1000:
-            raise settings.ConfigError('~rate_factor "%s" is not a positive number' % v['rate_factor'],
-                                       fix='give e.g. 1.0 (nominal rates) or 0.5 (half)')
+        self.rate_factor = self._positive(v, 'rate_factor', 'e.g. 1.0 (nominal rates) or 0.5 (half)')
         res = str(v['camera_resolution'] or default_resolution(self.profile)).upper()
         if res not in RESOLUTIONS:
             raise settings.ConfigError('~camera_resolution "%s" is not valid' % v['camera_resolution'],
