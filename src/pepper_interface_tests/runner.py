@@ -21,7 +21,7 @@ from . import interrupts
 from .observer import Observers, RunObserver
 from .plan import catalog
 from .plan.settings import SensorPlan, TestPlan
-from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult
+from .results import FAIL, INTERRUPTED, PASS, SKIPPED, RunResult, SensorResult, Verdict
 from .sensors import check_class
 from .sensors.base import Check, RunContext, Tally, fmt
 from .sources import Source, SourceLost, TopicInfo
@@ -338,9 +338,8 @@ class SensorRun:
             elif publishers is None:
                 out.append('topic %s is not in the bag' % topic)
             elif not publishers:
-                hint = catalog.NO_PUBLISHER_HINTS.get(self.sensor.name)
                 out.append('no publisher on %s (is the driver running, and is the topic name right?%s)'
-                           % (topic, ' Note: ' + hint if hint else ''))
+                           % (topic, no_publisher_note(self.sensor.name)))
             else:
                 out.append('no message on %s within %.1f s although %s publishes it'
                            % (topic, elapsed, ', '.join(publishers)))
@@ -447,11 +446,21 @@ NO_CLOCK = ('/use_sim_time is true but nothing publishes /clock, so ROS time sta
             'or clear a leftover setting with "rosparam set /use_sim_time false" and start again')
 
 
-def skipped_result(plan: SensorPlan, run_start: float, now: float) -> SensorResult:
+def skipped_result(plan: SensorPlan, run_start: float, now: float, verdict: Verdict = SKIPPED,
+                   reasons: Optional[List[str]] = None) -> SensorResult:
+    """The result of a sensor that never listened: skipped by the plan (its skip reason), or
+    ended before its window by `verdict` with `reasons`."""
+    if reasons is None:
+        reasons = [plan.skip_reason] if plan.skip_reason else []
     return SensorResult(name=plan.sensor.name, title=plan.sensor.title, topic=plan.topic,
-                        msg_type=plan.sensor.msg_type, verdict=SKIPPED,
-                        reasons=[plan.skip_reason] if plan.skip_reason else [],
+                        msg_type=plan.sensor.msg_type, verdict=verdict, reasons=reasons,
                         started_at=round(now - run_start, 3), ended_at=round(now - run_start, 3))
+
+
+def no_publisher_note(name: str) -> str:
+    """' Note: ...' for a sensor whose missing publisher has a known cause, else ''."""
+    hint = catalog.NO_PUBLISHER_HINTS.get(name)
+    return ' Note: ' + hint if hint else ''
 
 
 def lanes_for(plan: TestPlan, live: bool = True) -> List[List[SensorPlan]]:
@@ -619,14 +628,10 @@ class Runner:
                             self.source.master_uri)
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:
-                hint = catalog.NO_PUBLISHER_HINTS.get(p.sensor.name)
-                self._done(SensorResult(
-                    name=p.sensor.name, title=p.sensor.title, topic=p.topic,
-                    msg_type=p.sensor.msg_type, verdict=FAIL,
-                    reasons=['no publisher on %s: no sensor topic of this run has a publisher on '
-                             'the ROS master (robot off, another master, driver not started?)%s'
-                             % (p.topic, ' Note: ' + hint if hint else '')],
-                    started_at=round(now - self.start, 3), ended_at=round(now - self.start, 3)))
+                self._done(skipped_result(p, self.start, now, FAIL, [
+                    'no publisher on %s: no sensor topic of this run has a publisher on the ROS master '
+                    '(robot off, another master, driver not started?)%s'
+                    % (p.topic, no_publisher_note(p.sensor.name))]))
                 lane.remove(p)
 
     def interrupt(self, why: str) -> None:
@@ -648,9 +653,8 @@ class Runner:
             for plan in lane:
                 if plan.name in self.results:   # interrupted between starting it and popping it
                     continue
-                r = skipped_result(plan, self.start, now)
-                r.reasons = ['not run: the run was interrupted before it started']
-                self._done(r)
+                self._done(skipped_result(plan, self.start, now, SKIPPED,
+                                          ['not run: the run was interrupted before it started']))
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         self.run.end = self.wall()
