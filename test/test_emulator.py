@@ -3,8 +3,9 @@
 The emulator runs as a subprocess (scripts/pepperEmulator); what it publishes is received by
 test/emu_listen.py (a real rospy node in its own process) and checked against the sensor facts
 of docs (pepper-sensors.md): types, encodings, sizes, frame ids, rates within +-20 %, content
-that changes, the 61-beam laser layout, unit quaternions; then every fault, bad fault strings,
-/speech reaching the microphones, and the bags written by recordTestBags.
+that changes, the 61-beam laser layout (built as laser.cpp builds it), unit quaternions; then
+every fault, bad fault strings, /speech reaching the microphones, and the bags written by
+recordTestBags.
 """
 import json
 import math
