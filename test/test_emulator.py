@@ -3,8 +3,9 @@
 The emulator runs as a subprocess (scripts/pepperEmulator); what it publishes is received by
 test/emu_listen.py (a real rospy node in its own process) and checked against the sensor facts
 of docs (pepper-sensors.md): types, encodings, sizes, frame ids, rates within +-20 %, content
-that changes, the 61-beam laser layout, unit quaternions; then every fault, bad fault strings,
-/speech reaching the microphones, and the bags written by recordTestBags.
+that changes, the 61-beam laser layout (built as laser.cpp builds it), unit quaternions; then
+every fault, bad fault strings, /speech reaching the microphones, and the bags written by
+recordTestBags.
 """
 import json
 import math
@@ -14,10 +15,12 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import psutil
 import pytest
 
 from fake_pepper import BLIND, JOINTS, WHEELS
+from pepper_interface_tests.emulator import scene
 from rosmaster import kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -235,6 +238,53 @@ def check_stream(topic, got, expected, tolerance=0.2, rtf=None):
         if min(min(r[1:]) for r in got['rms']) < 10:
             problems.append('%s: a silent channel' % topic)
     return problems
+
+
+# ---------------------------------------------------------------- the laser's geometry
+
+def _device_point(t, device, ray):
+    """One ray of one laser device, cast from the device's own mounting point: (x, y) in the
+    device's frame, written out here from the world's pose and LASERS."""
+    x, y, yaw = scene.robot_pose(t)
+    sensor_yaw, ox, oy = scene.LASERS[device]
+    wx = x + math.cos(yaw) * ox - math.sin(yaw) * oy
+    wy = y + math.sin(yaw) * ox + math.cos(yaw) * oy
+    r = float(scene.raycast(wx, wy, [yaw + sensor_yaw + ray], t)[0])
+    return r * math.cos(ray), r * math.sin(ray)
+
+
+@pytest.mark.parametrize('t', [0.0, 7.3, 31.0])
+def test_robot_laser_is_built_as_laser_cpp_builds_it(t):
+    """naoqi_driver src/converters/laser.cpp:165-205 transcribed: ALMemory's 90 values (per
+    device Seg01..Seg15 X, Y, left to right), read back as result_value[28-i], [58-i], [88-i],
+    each point rotated and shifted into base_footprint, 8 blind slots (-1.0) between."""
+    rays_left_to_right = scene.LASER_RAYS[::-1]
+    memory = [v for dev in range(3) for ray in rays_left_to_right for v in _device_point(t, dev, ray)]
+    expected, pos = [-1.0] * 61, 0
+    for base, (rot, sx, sy) in ((28, (-1.757, -0.018, -0.090)), (58, (0.0, 0.056, 0.0)),
+                                (88, (1.757, -0.018, 0.090))):
+        for i in range(0, 30, 2):
+            lx, ly = memory[base - i], memory[base - i + 1]
+            bx = lx * math.cos(rot) - ly * math.sin(rot) + sx
+            by = lx * math.sin(rot) + ly * math.cos(rot) + sy
+            expected[pos] = math.hypot(bx, by)
+            pos += 1
+        pos += 8
+    blind = [i in BLIND for i in range(61)]
+    got = scene.laser_ranges(t, blind, 0.0, np.random.default_rng(0))
+    assert np.allclose(got, expected, atol=1e-4), np.round(got - np.asarray(expected), 3)
+
+
+def test_simulator_laser_miss_is_no_point(monkeypatch):
+    """A ray that hits nothing within the Gazebo laser's range gives a NaN point (angle and
+    distance), which laser_publisher.py:464-477 skips: never an infinite one, whose atan2
+    would be a real angle and fill a slot."""
+    monkeypatch.setattr(scene, 'GAZEBO_LASER_MAX', 2.5)      # the room's walls now lie beyond
+    dist, angle = scene.gazebo_laser_points(0.0, 0.0, np.random.default_rng(0))
+    far = np.array([math.hypot(*_device_point(0.0, dev, ray)) + 0.01 > 2.5     # Gazebo's mean 0.01
+                    for dev in range(3) for ray in scene.LASER_RAYS])
+    assert 5 < far.sum() < 45 and not np.isinf(dist).any()
+    assert np.array_equal(np.isnan(angle), far) and np.array_equal(np.isnan(dist), far)
 
 
 # ---------------------------------------------------------------- profiles

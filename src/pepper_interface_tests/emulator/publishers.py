@@ -28,7 +28,6 @@ from .profiles import (
     JOINT_NAMES,
     JOINTS_WITHOUT_VELOCITY,
     LASER_ANGLE,
-    LASER_BEAMS,
     LASER_BLIND_VALUE,
     LASER_INCREMENT,
     SIM_LASER_ANGLE,
@@ -285,11 +284,10 @@ class LaserPublisher(StreamPublisher):
         return LaserScan
 
     def naoqi_ranges(self, t: float) -> Tuple[np.ndarray, float, float, float]:
-        """laser.cpp:165-205: each measured slot is the raw distance of a point in
-        base_footprint, never clipped to range_max; the blind slots keep -1.0 (reset(), :221)."""
-        s = self.spec
-        ranges = scene.laser_ranges(t, -LASER_ANGLE, LASER_INCREMENT, LASER_BEAMS, self.blind,
-                                    s.noise, self.rng)
+        """laser.cpp:165-205: each measured slot is the raw distance of one device's point
+        converted to base_footprint (scene.laser_ranges), never clipped to range_max; the blind
+        slots keep -1.0 (reset(), :221)."""
+        ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng)
         if self.faults.all_blind:
             ranges[:] = LASER_BLIND_VALUE
         return ranges, -LASER_ANGLE, LASER_ANGLE, LASER_INCREMENT
@@ -302,7 +300,7 @@ class LaserPublisher(StreamPublisher):
         ranges = np.full(SIM_LASER_SLOTS, np.nan, dtype=np.float32)
         if not self.faults.no_returns:
             dist, angle = scene.gazebo_laser_points(t, s.noise, self.rng)
-            ok = ~np.isnan(angle)
+            ok = ~np.isnan(angle)       # a ray with no hit: no point (laser_publisher.py:464-477)
             idx = np.clip(((angle[ok] + SIM_LASER_ANGLE) / increment).astype(int), 0,
                           SIM_LASER_SLOTS - 1)
             ranges[idx] = dist[ok]

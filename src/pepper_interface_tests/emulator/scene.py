@@ -251,41 +251,71 @@ class DepthCamera:
 
 # ---------------------------------------------------------------- range sensors
 
-def laser_ranges(t: float, angle_min: float, increment: float, n: int, blind_mask: Union[np.ndarray, Sequence[bool]],
-                 noise: float, rng: np.random.Generator) -> np.ndarray:
-    """naoqi_driver's scan: raw distances from base_footprint (no clipping), -1.0 when blind."""
-    x, y, yaw = robot_pose(t)
-    angles = yaw + angle_min + increment * np.arange(n)
-    d = raycast(x, y, angles, t) + rng.normal(0.0, noise, n)
-    d[np.asarray(blind_mask)] = -1.0
-    return d.astype(np.float32)
-
-
-# Pepper's three laser sensors in base_footprint (ros-naoqi/naoqi_driver
-# src/converters/laser.cpp:170-200): right (-1.757 rad, at -0.018, -0.090), front (0, at
-# 0.056, 0), left (+1.757 rad, at -0.018, +0.090); 15 rays over +-0.5236 rad each
-# (pepperGazeboCPU.xacro:778-871, the simulator's lasers at the same frames).
+# Pepper's three laser devices (right, front, left) as (yaw, x, y) in base_footprint, the static
+# transforms naoqi_driver's converter applies (ros-naoqi/naoqi_driver src/converters/laser.cpp):
+# right rotated by -1.757 rad and shifted by (-0.018, -0.090) (:170-171), front shifted by
+# (0.056, 0) (:185-186), left rotated by +1.757 rad and shifted by (-0.018, +0.090) (:199-200);
+# 15 rays over +-0.5236 rad each, here right to left (pepperGazeboCPU.xacro:778-871, the
+# simulator's lasers at the same frames).
 LASERS = ((-1.757, -0.018, -0.090), (0.0, 0.056, 0.0), (1.757, -0.018, 0.090))
 LASER_RAYS = np.linspace(-0.5235987755982988, 0.5235987755982988, 15)
 GAZEBO_LASER_MIN, GAZEBO_LASER_MAX = 0.3, 7.0
 
 
+def laser_device_points(t: float, bias: float, noise: float,
+                        rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+    """Each device's 15 rays cast from its own position and heading: the points (x, y) in the
+    device's own frame, arrays of shape (3, 15), devices as LASERS, rays as LASER_RAYS. The
+    range along each ray carries `bias` plus Gaussian noise of sd `noise`."""
+    x, y, yaw = robot_pose(t)
+    c, s_ = math.cos(yaw), math.sin(yaw)
+    ranges = np.empty((len(LASERS), LASER_RAYS.size))
+    for k, (sensor_yaw, ox, oy) in enumerate(LASERS):
+        wx, wy = x + c * ox - s_ * oy, y + s_ * ox + c * oy
+        ranges[k] = raycast(wx, wy, yaw + sensor_yaw + LASER_RAYS, t)
+    ranges += bias + rng.normal(0.0, noise, ranges.shape)
+    return ranges * np.cos(LASER_RAYS), ranges * np.sin(LASER_RAYS)
+
+
+def laser_to_base(lx: np.ndarray, ly: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Device-frame points (rows as LASERS) in base_footprint: rotated by the device's yaw, then
+    shifted by its position, as laser.cpp:170-171, 185-186, 199-200 do."""
+    yaws, ox, oy = (np.array(col)[:, None] for col in zip(*LASERS))
+    c, s_ = np.cos(yaws), np.sin(yaws)
+    return lx * c - ly * s_ + ox, lx * s_ + ly * c + oy
+
+
+def laser_ranges(t: float, blind_mask: Union[np.ndarray, Sequence[bool]], noise: float,
+                 rng: np.random.Generator) -> np.ndarray:
+    """naoqi_driver's 61-slot scan, built as laser.cpp:165-205 builds it: ALMemory holds each
+    device's Seg01..Seg15 as X/Y in the device's frame, ordered left to right (:158-161); the
+    driver converts each point to base_footprint and writes its raw distance (no clipping),
+    reversed per device ("segments are internally flipped": Seg15 first, result_value[28-i],
+    [58-i], [88-i] at :168, :183, :197) into the device's 15 slots, 8 blind slots between
+    (:178, :193) that keep -1.0 (reset(), :221)."""
+    lx, ly = laser_device_points(t, 0.0, noise, rng)
+    seg_x, seg_y = lx[:, ::-1], ly[:, ::-1]            # ALMemory's Seg01..Seg15: left to right
+    bx, by = laser_to_base(seg_x, seg_y)
+    dist = np.hypot(bx, by)
+    blind = np.asarray(blind_mask, dtype=bool)
+    slots = np.flatnonzero(~blind).reshape(len(LASERS), LASER_RAYS.size)   # 0-14, 23-37, 46-60
+    d = np.full(blind.size, -1.0)
+    d[slots] = dist[:, ::-1]                           # slot pos <- Seg(15 - pos): 28-i, 58-i, 88-i
+    return d.astype(np.float32)
+
+
 def gazebo_laser_points(t: float, noise: float, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
     """The simulator's 45 laser points as (distance, angle) from base_footprint: each ray's
-    range with Gazebo's noise (mean 0.01, sd `noise`), +inf beyond 7 m (nothing hit)."""
-    x, y, yaw = robot_pose(t)
-    dists, angles = [], []
-    c, s_ = math.cos(yaw), math.sin(yaw)
-    for sensor_yaw, ox, oy in LASERS:
-        wx, wy = x + c * ox - s_ * oy, y + s_ * ox + c * oy
-        local = sensor_yaw + LASER_RAYS
-        r = raycast(wx, wy, yaw + local, t) + 0.01 + rng.normal(0.0, noise, local.size)
-        r = np.where(r > GAZEBO_LASER_MAX, np.inf, r)
-        with np.errstate(invalid='ignore'):
-            px, py = ox + r * np.cos(local), oy + r * np.sin(local)
-            dists.append(np.hypot(px, py))
-            angles.append(np.arctan2(py, px))
-    return np.concatenate(dists), np.concatenate(angles)
+    range with Gazebo's noise (mean 0.01, sd `noise`), moved into base_footprint as
+    laser_publisher.py:308-362 does (do_transform_cloud with each laser's static transform).
+    A ray that hits nothing within 7 m gives no point: NaN here, which pc_to_laser skips
+    (laser_publisher.py:464-477, `if not isnan(angle)` ... "nan, not adding anything to
+    scan"), so its slot stays NaN (an infinite point would give atan2 = +-pi/4, a real slot)."""
+    lx, ly = laser_device_points(t, 0.01, noise, rng)
+    miss = np.hypot(lx, ly) > GAZEBO_LASER_MAX
+    lx, ly = np.where(miss, np.nan, lx), np.where(miss, np.nan, ly)
+    bx, by = laser_to_base(lx, ly)
+    return np.hypot(bx, by).reshape(-1), np.arctan2(by, bx).reshape(-1)
 
 
 def sonar_range(t: float, back: bool, noise: float, rng: np.random.Generator) -> float:
