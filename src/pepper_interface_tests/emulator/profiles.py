@@ -196,6 +196,9 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
                    extra=((torso, 'base_link'),) if torso else ()),
     ]
     if realsense:
+        # realsense2_camera (ros1-legacy) base_realsense_node.cpp: colour RGB8 (:116), depth 16UC1 (:95-96),
+        # aligned depth on aligned_depth_to_color/image_raw (:989) in the colour optical frame (:1918);
+        # 640x480 at 15 fps as the robot launches it (docs/drivers.md)
         sensors += [
             SensorSpec('realsenseRGBCamera', 'camera', t('realsenseRGBCamera'), 15.0,
                        'camera_color_optical_frame', 640, 480, 'rgb8', view='realsense',
