@@ -1,6 +1,6 @@
 """Test helper: a RunResult with real recordings, built in-process for the report tests.
 
-`media_run(folder)` runs the package's real checks (SensorRun from runner.py, the camera,
+`media_run(folder)` runs the package's real checks (SensorRun from sensors/window.py, the camera,
 depth, microphone, laser, sonar, joint, odometry and IMU checks) over serialized ROS messages
 made here, exactly as the runner feeds them from a subscription, but without a ROS master: the
 camera checks write real mp4 files with cv2 (through recording.VideoRecorder) and JPEG frames,
@@ -60,8 +60,8 @@ def media_run(folder, sensors=MEDIA_SENSORS):
 
     from pepper_interface_tests.plan import settings
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
-    from pepper_interface_tests.runner import SensorRun
     from pepper_interface_tests.sensors.base import RunContext
+    from pepper_interface_tests.sensors.window import SensorRun
     rospy.rostime.set_rostime_initialized(True)      # message stamps without a node
     os.makedirs(folder, exist_ok=True)
     plan = settings.load_plan(settings.Options(sensors=tuple(sensors), output_dir=folder, duration=3.0))

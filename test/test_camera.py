@@ -10,6 +10,7 @@ import pytest
 
 from fake_pepper import image, serialized
 from media_tools import HERE, PUBLISHER, Publishers, explain, make_check, pattern, sensor_test, video_codec, video_info
+from pepper_interface_tests.sensors.base import Services
 from rosmaster import kill_group, spawn, wait_registered
 
 
@@ -225,7 +226,7 @@ def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
 def test_frames_are_posted_to_the_viewer_service(tmp_path):
     from pepper_interface_tests.media.viewer import Viewer
     viewer = Viewer()            # not created through Viewer.create: no window is opened here
-    feed(make_check('frontCamera', tmp_path, record=False, services={'viewer': viewer}), good(5))
+    feed(make_check('frontCamera', tmp_path, record=False, services=Services(viewer=viewer)), good(5))
     assert viewer.posted == {'frontCamera': 5}
     assert viewer._latest['frontCamera'].shape == (120, 160, 3)
 

@@ -26,10 +26,12 @@ from pepper_interface_tests.outputs.terminal import Terminal
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS, SKIPPED, RunResult, SensorResult
-from pepper_interface_tests.runner import Runner, SensorRun, lanes_for, message_class
+from pepper_interface_tests.runner import Runner, lanes_for
 from pepper_interface_tests.sensors.base import Acc, RunContext, Tally, fmt
 from pepper_interface_tests.sensors.joint_limits import LIMITS
+from pepper_interface_tests.sensors.window import SensorRun
 from pepper_interface_tests.sources.bag import BagSource
+from pepper_interface_tests.sources.messages import message_class
 from pepper_interface_tests.stats import StreamStats
 
 PKG = settings.package_dir()

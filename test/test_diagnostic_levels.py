@@ -9,8 +9,8 @@ from pepper_interface_tests.outputs import diagnostics as D
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, INTERRUPTED, PASS, SKIPPED, SensorResult
-from pepper_interface_tests.runner import SensorRun
 from pepper_interface_tests.sensors.base import RunContext
+from pepper_interface_tests.sensors.window import SensorRun
 
 
 def result(verdict, **kw):
@@ -78,11 +78,11 @@ def listening_back_sonar(tmp_path, rate, seconds=2.0):
     plan = SensorPlan(catalog.SENSORS['backSonar'], '/t', settings.read_expectations(path, 'robot')['backSonar'])
     run = SensorRun(plan, RunContext(str(tmp_path), 'robot', Options()), t0, wait=2.0, duration=3.0)
     run.begin(t0)
-    waiting = D.live_status(run, t0 + 1.0, '/t', 'sensor_msgs/Range')
+    waiting = D.live_status(run.progress(t0 + 1.0))
     for i in range(int(rate * seconds)):
         t = t0 + 0.05 + i / rate
         run.feed_raw('sensor_msgs/Range', fake.serialized(fake.sonar(i, ros0 + t - t0)), t, ros0 + t - t0)
-    return waiting, D.live_status(run, t0 + seconds + 0.1, '/t', 'sensor_msgs/Range')
+    return waiting, D.live_status(run.progress(t0 + seconds + 0.1))
 
 
 def test_live_status_waits_then_listens_and_warns_on_a_rate_outside_the_band(tmp_path):

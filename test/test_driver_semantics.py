@@ -21,8 +21,8 @@ from fake_pepper import MIC_TONES, audio_buffer, serialized, sim_laser, stock_au
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
-from pepper_interface_tests.runner import SensorRun
 from pepper_interface_tests.sensors.base import RunContext
+from pepper_interface_tests.sensors.window import SensorRun
 from pepper_interface_tests.sources.naoqi_msgs import (
     AUDIO_BUFFER_DEFINITION,
     AUDIO_BUFFER_TYPE,

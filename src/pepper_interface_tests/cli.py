@@ -23,6 +23,7 @@ from .plan import options, settings
 from .plan.options import Options
 from .plan.settings import ConfigError, TestPlan
 from .results import EXIT_CANNOT_START
+from .sensors.families import traits
 from .sources import Source
 
 EPILOG = '''examples:
@@ -162,7 +163,7 @@ def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
     active = []
     for s in plan.sensors:
-        if s.skip_reason is None and s.sensor.family == 'speech':
+        if s.skip_reason is None and traits(s.sensor).live_only:
             s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
         active.append(s)
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
@@ -171,7 +172,9 @@ def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
         from .sources.bag import platform_hint
         other = 'simulator' if plan.platform == 'robot' else 'robot'
         try:
-            hint = platform_hint(plan, source.types, settings.load_plan(
+            listened = [s.topic for s in plan.sensors
+                        if s.skip_reason is None and s.topic is not None and not traits(s.sensor).drives_itself]
+            hint = platform_hint(plan, listened, source.types, settings.load_plan(
                 settings.replace(cli, platform=other, sensors=None, cameras=None, rerun_failed=None)))
         except ConfigError:
             hint = None
@@ -205,7 +208,7 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     plan = settings.replace(plan, output_dir=folder.path)
     ctx = RunContext(plan.output_dir, plan.platform, plan.options)
     if plan.options.debug:
-        ctx.services['debug'] = _debug_line
+        ctx.services.debug = _debug_line
     watchers = observers.observers_for(plan, ctx, source_name, folder)
     runner = Runner(plan, ctx, source, observers=[Terminal()] + watchers, clock=clock,
                     signals=interrupts.POLICY)

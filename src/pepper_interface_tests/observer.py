@@ -4,24 +4,53 @@ The runner calls these methods, in this order, on every observer it was given (o
 the terminal, the results files, the history, /diagnostics, the report, the live view):
 
     run_started(run, plan)      once, before the first window; every output exists after it
-    sensor_started(sensor_run)  a sensor's window opens
-    tick(sensor_runs, now)      every 50 ms while windows are open
+    sensor_started(progress)    a sensor's window opens
+    tick(progresses, now)       every 50 ms while windows are open
     nothing_published(...)      once, when no listened-to topic has any publisher
     sensor_done(result)         a sensor's verdict, as soon as it is known
     run_ended(run)              once, with every verdict (also after an interrupt)
+
+Observers see a running window only as a frozen `Progress` snapshot taken by the runner (never
+the window itself or its lock), and a finished one as its SensorResult.
 
 An observer subclasses RunObserver and overrides what it needs; the others do nothing.
 `Observers` calls one method on each in turn: an observer that raises is named on stderr and
 the others still run (Ctrl-C, a KeyboardInterrupt, still ends the run).
 """
 import sys
-from typing import TYPE_CHECKING, Callable, Iterable, List, Optional
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable, Iterable, List, Optional, Tuple
 
 from .results import RunResult, SensorResult
 
 if TYPE_CHECKING:
     from .plan.settings import TestPlan
-    from .runner import SensorRun
+
+
+@dataclass(frozen=True)
+class Progress:
+    """A running window as it stands at one tick: what the terminal and /diagnostics show."""
+    name: str
+    family: str
+    topic: Optional[str]
+    msg_type: str
+    drives_itself: bool          # the check acts instead of listening (speech: `count` = sent)
+    window: float                # seconds the window lasts
+    wait: float                  # seconds allowed for the first message
+    elapsed: float               # seconds since the window opened (wall clock)
+    count: int                   # messages received (sent, for a check that drives itself)
+    received: int                # messages received on the topic
+    rate: Optional[float]        # Hz so far (None for a check that drives itself)
+    stamp_rate: Optional[float]
+    rate_band: Optional[Tuple[float, float]]   # the expected band, when the family has one
+    nominal: Optional[float]
+    problems: Tuple[str, ...]    # provisional problems: bad headers, the check's failures so far
+    wrong_type: bool             # a message of another type arrived
+
+    @property
+    def left(self) -> float:
+        """Seconds the window still runs."""
+        return max(0.0, self.window - self.elapsed)
 
 
 class RunObserver:
@@ -30,10 +59,10 @@ class RunObserver:
     def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         pass
 
-    def sensor_started(self, sensor_run: 'SensorRun') -> None:
+    def sensor_started(self, progress: Progress) -> None:
         pass
 
-    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
+    def tick(self, progress: List[Progress], now: float) -> None:
         pass
 
     def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
@@ -63,11 +92,11 @@ class Observers(RunObserver):
     def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         self._each('run_started', lambda o: o.run_started(run, plan))
 
-    def sensor_started(self, sensor_run: 'SensorRun') -> None:
-        self._each('sensor_started', lambda o: o.sensor_started(sensor_run))
+    def sensor_started(self, progress: Progress) -> None:
+        self._each('sensor_started', lambda o: o.sensor_started(progress))
 
-    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
-        self._each('tick', lambda o: o.tick(sensor_runs, now))
+    def tick(self, progress: List[Progress], now: float) -> None:
+        self._each('tick', lambda o: o.tick(progress, now))
 
     def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
         self._each('nothing_published', lambda o: o.nothing_published(topics, waited, uri))

@@ -34,12 +34,11 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, TextIO, Tuple
 
-from ..observer import RunObserver
+from ..observer import Progress, RunObserver
 from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
-    from ..runner import SensorRun
 
 PERIOD = 1.0
 TOPIC = '/diagnostics'      # where diagnostic_updater.Updater publishes
@@ -72,29 +71,19 @@ def waiting_status(topic: Optional[str], msg_type: str) -> Status:
                   _values([('state', 'waiting'), ('topic', topic or ''), ('message type', msg_type)]))
 
 
-def live_status(sensor_run: 'SensorRun', now: float, topic: Optional[str], msg_type: str) -> Status:
-    """The status of a running SensorRun (progress, provisional problems)."""
-    expect = sensor_run.expect
-    band = expect.rate
-    if sensor_run.t0 is None:
-        raise ValueError('%s has not started listening' % sensor_run.plan.name)
-    with sensor_run.lock:
-        check = sensor_run.check
-        stats = sensor_run.stats
-        elapsed = now - sensor_run.t0
-        count = sensor_run.count
-        rate = stats.rate if not check.active else None
-        stamp_rate = stats.stamp_rate if not check.active else None
-        problems = sensor_run.problems_so_far()
-    window = sensor_run.window
+def live_status(p: Progress) -> Status:
+    """The status of a running window (progress, provisional problems)."""
+    band = p.rate_band
+    count, rate, stamp_rate, elapsed = p.count, p.rate, p.stamp_rate, p.elapsed
+    problems = list(p.problems)
     if band and rate is not None and count >= 3 and not (band[0] <= rate <= band[1]):
         problems.insert(0, 'rate %.2f Hz outside the expected %g-%g Hz' % (rate, band[0], band[1]))
-    if check.active:
+    if p.drives_itself:
         state, text = 'running', 'running (%.0f s), %d sent' % (elapsed, count)
         level = OK
     elif count == 0:
         state = 'waiting for data'
-        text = 'waiting for the first message (%.1f s of %.1f s)' % (elapsed, sensor_run.wait)
+        text = 'waiting for the first message (%.1f s of %.1f s)' % (elapsed, p.wait)
         level = STALE
     else:
         state = 'listening'
@@ -104,10 +93,10 @@ def live_status(sensor_run: 'SensorRun', now: float, topic: Optional[str], msg_t
         level = WARN
         text += '; so far: ' + '; '.join(problems)
     return Status(level, text, _values([
-        ('state', state), ('topic', topic or ''), ('message type', msg_type),
+        ('state', state), ('topic', p.topic or ''), ('message type', p.msg_type),
         ('messages', count), ('rate (Hz)', _num(rate)), ('header stamp rate (Hz)', _num(stamp_rate)),
-        ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', expect.nominal),
-        ('elapsed (s)', _num(elapsed, 1)), ('window (s)', _num(window, 1)),
+        ('expected rate (Hz)', _band(band)), ('nominal rate (Hz)', p.nominal),
+        ('elapsed (s)', _num(elapsed, 1)), ('window (s)', _num(p.window, 1)),
         ('problems so far', '; '.join(problems))]))
 
 
@@ -234,15 +223,14 @@ class LiveDiagnostics(RunObserver):
             return
         self.publish()
 
-    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
+    def tick(self, progress: List[Progress], now: float) -> None:
         if self.updater is None or (self.last is not None and time.monotonic() - self.last < self.period):
             return
-        for sensor_run in sensor_runs:
-            name = sensor_run.plan.name
-            if name in self.current and sensor_run.t0 is not None:
-                topic, msg_type = self.topics[name]
+        for p in progress:
+            if p.name in self.current:
+                name = p.name
                 try:
-                    self.current[name] = live_status(sensor_run, now, topic, msg_type)
+                    self.current[name] = live_status(p)
                 except Exception as e:   # a status must never stop the run
                     old = self.current[name]
                     self.current[name] = Status(old.level, 'status unavailable: %s' % e, old.values)

@@ -6,7 +6,7 @@ sensorTestResults.json at the end (JUnit first, so that the JSON's exit_code and
 already know whether it failed). A file that cannot be written (full disk, ...) is named on
 stderr and recorded in run.write_errors, which makes the exit code 3; the run goes on.
 SpeechHearing: while the speech check runs and the microphone is part of the run, a
-microphone level monitor is offered to it (ctx.services['microphone_levels']).
+microphone level monitor is offered to it (ctx.services.microphone_levels).
 """
 import os
 import sys
@@ -14,14 +14,14 @@ import textwrap
 from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
-from ..observer import RunObserver
+from ..observer import Progress, RunObserver
+from ..sensors.families import family, traits
 from . import files
 from .terminal import columns
 
 if TYPE_CHECKING:
     from ..media.viewer import Viewer
     from ..plan.settings import TestPlan
-    from ..runner import SensorRun
     from ..sensors.audio import LevelMonitor
     from ..sensors.base import RunContext
     from .history import RunFolder
@@ -91,12 +91,13 @@ class SpeechHearing(RunObserver):
 
     def __init__(self, plan: 'TestPlan', ctx: 'RunContext') -> None:
         self.ctx = ctx
-        mics = [s for s in plan.active if s.sensor.family == 'audio']
+        mics = [s for s in plan.active if traits(s.sensor).audio]
         self.mic_topic = mics[0].topic if mics else None
+        self.hearing = {s.name for s in plan.active if traits(s.sensor).hears}
         self.monitor: Optional[LevelMonitor] = None
 
-    def sensor_started(self, sensor_run: 'SensorRun') -> None:
-        if sensor_run.sensor.family != 'speech' or not self.mic_topic:
+    def sensor_started(self, progress: Progress) -> None:
+        if not family(progress.family).traits.hears or not self.mic_topic:
             return
         try:
             from ..sensors.audio import LevelMonitor
@@ -104,12 +105,12 @@ class SpeechHearing(RunObserver):
             return
         self.monitor = LevelMonitor(self.mic_topic)
         self.monitor.start()
-        self.ctx.services['microphone_levels'] = self.monitor
+        self.ctx.services.microphone_levels = self.monitor
 
     def sensor_done(self, result: results.SensorResult) -> None:
-        if result.name == 'speech' and self.monitor is not None:
+        if self.monitor is not None and result.name in self.hearing:
             self.monitor.stop()
-            self.ctx.services.pop('microphone_levels', None)
+            self.ctx.services.microphone_levels = None
             self.monitor = None
 
     def run_ended(self, run: results.RunResult) -> None:
@@ -129,15 +130,15 @@ class LiveView(RunObserver):
         from ..media.viewer import Viewer
         self.viewer = Viewer.create(enabled=plan.options.show is not False)
         if self.viewer is not None:
-            self.ctx.services['viewer'] = self.viewer
+            self.ctx.services.viewer = self.viewer
 
-    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
+    def tick(self, progress: List[Progress], now: float) -> None:
         if self.viewer is not None:
             self.viewer.pump()
 
     def run_ended(self, run: results.RunResult) -> None:
         if self.viewer is not None:
-            self.ctx.services.pop('viewer', None)
+            self.ctx.services.viewer = None
             self.viewer.close()
             self.viewer = None
 
@@ -151,7 +152,7 @@ def observers_for(plan: 'TestPlan', ctx: 'RunContext', source_name: str,
     obs: List[RunObserver] = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
-        if any(s.sensor.family in ('camera', 'depth') for s in plan.active):
+        if any(traits(s.sensor).images for s in plan.active):
             obs.append(LiveView(ctx))
         if opts.diagnostics is not False:
             from .diagnostics import LiveDiagnostics

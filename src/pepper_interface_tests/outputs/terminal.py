@@ -13,7 +13,7 @@ import sys
 import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
-from ..observer import RunObserver
+from ..observer import Progress, RunObserver
 from ..results import (
     FAIL,
     INTERRUPTED,
@@ -29,7 +29,6 @@ from ..results import (
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
-    from ..runner import SensorRun
 
 COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
@@ -127,29 +126,28 @@ def _fit(text: str, width: int) -> str:
     return text if len(text) <= width else text[:max(0, width - 3)] + '...'
 
 
-def _troubled(run: 'SensorRun') -> bool:
+def _troubled(p: Progress) -> bool:
     """A running sensor with a provisional problem (wrong type, bad header, its check's
     failures so far): the same question /diagnostics asks (diagnostics.live_status)."""
-    with run.lock:
-        return bool(run.wrong_types or run.problems_so_far())
+    return p.wrong_type or bool(p.problems)
 
 
-def progress_text(runs: Sequence['SensorRun'], now: float, failed_done: Sequence[str] = (),
+def progress_text(runs: Sequence[Progress], now: float, failed_done: Sequence[str] = (),
                   width: int = 79) -> str:
     """One line that stays readable at 80 columns: time left once, then for several sensors
     the counts receiving / silent / failing so far and the names of the silent and failing
     ones (`failed_done`: sensors that already ended with FAIL)."""
-    left = max(max(0.0, r.window - (now - (r.t0 if r.t0 is not None else now))) for r in runs)
+    left = max(r.left for r in runs)
     if len(runs) == 1 and not failed_done:
         r = runs[0]
-        return _fit('  ... %s: %.0f s left, %d %s' % (r.plan.name, left, r.count,
-                                                     'sent' if r.check.active else 'msgs'), width)
+        return _fit('  ... %s: %.0f s left, %d %s' % (r.name, left, r.count,
+                                                     'sent' if r.drives_itself else 'msgs'), width)
     silent, failing, receiving = [], list(failed_done), 0
     for r in runs:
         if _troubled(r):
-            failing.append(r.plan.name)
-        elif not r.check.active and r.stats.count == 0:
-            silent.append(r.plan.name)
+            failing.append(r.name)
+        elif not r.drives_itself and r.received == 0:
+            silent.append(r.name)
         else:
             receiving += 1
     text = '  ... %.0f s left: %d receiving, %d silent' % (left, receiving, len(silent))
@@ -203,12 +201,12 @@ class Terminal(RunObserver):
         for note in plan.notes:      # what is left out and why; windows other than --duration
             self.line(textwrap.fill(note, width, initial_indent='  note: ', subsequent_indent=' ' * 8))
 
-    def sensor_started(self, sensor_run: 'SensorRun') -> None:
-        p = sensor_run.plan
-        if sensor_run.check.active:
+    def sensor_started(self, progress: Progress) -> None:
+        p = progress
+        if p.drives_itself:
             text = '  start  %-22s publishing on %s' % (p.name, p.topic)
         else:
-            text = '  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(sensor_run.window, 1))
+            text = '  start  %-22s listening on %s for %g s' % (p.name, p.topic, round(p.window, 1))
         for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9) or [text]:
             self.line(part)
 
@@ -239,14 +237,14 @@ class Terminal(RunObserver):
         self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 
-    def tick(self, sensor_runs: List['SensorRun'], now: float) -> None:
-        if not sensor_runs:
+    def tick(self, progress: List[Progress], now: float) -> None:
+        if not progress:
             return
         if self.tty:
             if now - self._last_tty < 0.5:
                 return
             self._last_tty = now
-            self.out.write('\r\033[K' + progress_text(sensor_runs, now, self._failed, columns(100)))
+            self.out.write('\r\033[K' + progress_text(progress, now, self._failed, columns(100)))
             self.out.flush()
             self._status_shown = True
         else:
@@ -254,7 +252,7 @@ class Terminal(RunObserver):
                 self._last_plain = now
             if now - self._last_plain >= self.plain_every:
                 self._last_plain = now
-                self.line(progress_text(sensor_runs, now, self._failed, columns()))
+                self.line(progress_text(progress, now, self._failed, columns()))
 
     def run_ended(self, run: RunResult) -> None:
         self._clear()

@@ -1,23 +1,13 @@
-"""One module per sensor family; `check_class(family)` picks the Check for a sensor."""
-import importlib
+"""One module per sensor family; the family registry (families.py) says which Check judges a
+sensor and what the family is (its traits)."""
 from typing import TYPE_CHECKING, Type
+
+from .families import family
 
 if TYPE_CHECKING:
     from .base import Check
 
-_FAMILIES = {
-    'range': ('range', 'RangeCheck'),
-    'laser': ('laser', 'LaserCheck'),
-    'joints': ('joints', 'JointsCheck'),
-    'odometry': ('odometry', 'OdometryCheck'),
-    'imu': ('imu', 'ImuCheck'),
-    'speech': ('speech', 'SpeechCheck'),
-    'camera': ('camera', 'CameraCheck'),
-    'depth': ('depth', 'DepthCheck'),
-    'audio': ('audio', 'AudioCheck'),
-}
 
-
-def check_class(family: str) -> Type['Check']:
-    module, name = _FAMILIES[family]
-    return getattr(importlib.import_module('.' + module, __name__), name)
+def check_class(name: str) -> Type['Check']:
+    """The Check class of family `name`."""
+    return family(name).check_class()

@@ -7,12 +7,16 @@ window has closed). Subclasses override `fields`, `on_message`, and optionally `
 """
 import math
 from collections import OrderedDict
-from typing import TYPE_CHECKING, Any, Dict, Hashable, List, Optional, Tuple
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Callable, Dict, Hashable, List, Optional, Protocol, Tuple
+
+from ..results import FAIL, PASS, SKIPPED, Verdict
 
 if TYPE_CHECKING:
     import genpy
     import numpy as np
 
+    from ..media.viewer import Viewer
     from ..plan.options import Options
     from ..plan.settings import SensorPlan
 
@@ -96,25 +100,57 @@ class Tally:
         return out
 
 
-class RunContext:
-    """What checks may use from the run: output folder, options, shared services.
+@dataclass
+class Judgement:
+    """What one check found at the end of a window: FAIL reasons, warnings, and a reason to
+    skip the sensor instead of judging it (e.g. a touch sensor nobody touched, unattended)."""
+    reasons: List[str]
+    warnings: List[str]
+    skip: Optional[str] = None
 
-    `services` is a plain dict the runner fills with shared helpers (e.g. a live viewer or
-    the microphone level monitor used by the speech check); a check must cope with a missing one.
-    """
+    def merged(self, other: 'Judgement') -> 'Judgement':
+        """Both checks' findings; the verdict is the worse of the two (FAIL > SKIPPED > PASS)."""
+        return Judgement(self.reasons + other.reasons, self.warnings + other.warnings,
+                         self.skip or other.skip)
+
+    @property
+    def verdict(self) -> Verdict:
+        return FAIL if self.reasons else SKIPPED if self.skip else PASS
+
+
+class Hearing(Protocol):
+    """What the speech check asks of the microphones (sensors/audio.py LevelMonitor)."""
+
+    def has_baseline(self) -> bool:
+        """True once the room's level before speaking is known."""
+
+    def heard(self, t0: float, t1: float) -> Dict[str, Any]:
+        """Whether the level rose between `t0` and `t1` (monotonic seconds)."""
+
+
+@dataclass
+class Services:
+    """Shared helpers a run offers its checks; each is None when the run has none, and a check
+    copes with that. Filled and cleared by the observers that own them (outputs/observers.py)."""
+    viewer: Optional['Viewer'] = None                  # live camera windows (media/viewer.py)
+    microphone_levels: Optional[Hearing] = None  # what the microphones hear (speech)
+    debug: Optional[Callable[[str], None]] = None      # --debug: one line per received message
+
+
+class RunContext:
+    """What checks may use from the run: output folder, options, shared services."""
 
     def __init__(self, output_dir: str, platform: str, options: 'Options',
-                 services: Optional[Dict[str, Any]] = None) -> None:
+                 services: Optional[Services] = None) -> None:
         self.output_dir = output_dir
         self.platform = platform
         self.options = options
-        self.services = services if services is not None else {}
+        self.services = services if services is not None else Services()
 
 
 class Check:
     family: Optional[str] = None
     expect: Any             # the family's own Expect (plan/expectations.py); a subclass names it
-    active = False          # True: the check drives itself (speech) instead of listening
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
 
@@ -156,7 +192,7 @@ class Check:
         """Called about every 50 ms from the runner's thread while the window is open."""
 
     def done(self) -> bool:
-        """True when an active check has finished by itself."""
+        """True when a check that drives itself (Traits.drives_itself) has finished."""
         return False
 
     def settled(self) -> bool:
@@ -199,6 +235,14 @@ class Check:
 
     def warning_reasons(self) -> List[str]:
         return self.warnings.reasons(self.count) + self._end_warnings
+
+    def skip_reason(self) -> Optional[str]:
+        """Why the sensor is SKIPPED instead of judged (asked after close()); None: judge it."""
+        return None
+
+    def judgement(self) -> Judgement:
+        """This check's findings at the end of the window (after close())."""
+        return Judgement(self.failure_reasons(), self.warning_reasons(), self.skip_reason())
 
 
 def header_fields(header: Any) -> List[Tuple[str, Any]]:

@@ -136,7 +136,7 @@ class ImageCheck(Check):
                                           fallback_fps=self.expect.nominal or 10.0,
                                           max_fps=float(rate[1]), prepare=self.prepare_frame,
                                           preview=self.colour_map)
-        self.viewer = ctx.services.get('viewer')
+        self.viewer = ctx.services.viewer
         self.converted = 0
         self.sizes: Dict[Tuple[int, int, str], int] = {}   # (w, h, encoding) -> count, when it changes
 

@@ -2,8 +2,8 @@
 subscriber (naoqi_driver speaks what arrives on /speech).
 
 Pass condition: a subscriber was connected and the sentence was handed to it. When the
-microphones are in the same run, the runner puts a level monitor in ctx.services
-('microphone_levels', see sensors/audio.py); the check then compares the level while speaking
+microphones are in the same run, a level monitor is offered in ctx.services.microphone_levels
+(sensors/audio.py); the check then compares the level while speaking
 with the level before and reports whether the sentence was heard (required with require_heard).
 """
 import time
@@ -25,7 +25,6 @@ if TYPE_CHECKING:
 class SpeechCheck(Check):
     family = 'speech'
     expect: 'SpeechExpect'
-    active = True
 
     def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
@@ -47,7 +46,7 @@ class SpeechCheck(Check):
         self.pub = rospy.Publisher(self.plan.topic, String, queue_size=1, latch=False)
 
     def _monitor(self):
-        return self.ctx.services.get('microphone_levels')
+        return self.ctx.services.microphone_levels
 
     def poll(self, elapsed: float) -> None:
         if self._done or self.pub is None:

@@ -1,10 +1,7 @@
 """Where messages come from: a live ROS graph (live.LiveSource) or a recorded bag
-(bag.BagSource). The runner sees either through the `Source` protocol below."""
-from typing import TYPE_CHECKING, List, Optional, Protocol, Set, Tuple
-
-if TYPE_CHECKING:   # the runner's per-sensor object; only named here for the type checker
-    from ..runner import SensorRun
-
+(bag.BagSource). The runner sees either through the `Source` protocol below; a source feeds
+a sensor's window through the `Listener` protocol (sensors/window.py implements it)."""
+from typing import Any, Callable, Dict, List, Optional, Protocol, Set, Tuple
 
 # (advertised type or None, publisher node names or None when the topic is unknown to the source)
 TopicInfo = Tuple[Optional[str], Optional[List[str]]]
@@ -14,18 +11,51 @@ class SourceLost(Exception):
     """The data source went away (e.g. the ROS master vanished); ends the run like Ctrl-C."""
 
 
+class Listener(Protocol):
+    """What a source needs from a sensor's listening window."""
+
+    @property
+    def topic(self) -> str:
+        """The topic to deliver."""
+
+    @property
+    def listens(self) -> bool:
+        """False for a window whose check drives itself (speech): nothing to subscribe to."""
+
+    @property
+    def queue_size(self) -> int:
+        """Subscriber queue, in messages."""
+
+    @property
+    def buff_size(self) -> int:
+        """Subscriber receive buffer, in bytes."""
+
+    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+                 conn: Optional[Dict[str, Any]] = None) -> None:
+        """One message as it came off the wire or out of a bag, with its connection header."""
+
+    def use_sim_clock(self, sim_clock: Callable[[], float]) -> None:
+        """The source runs on simulation time: windows and rates on `sim_clock`."""
+
+    def use_record_clock(self) -> None:
+        """The source replays record times (a bag): rates are measured on them."""
+
+    def observe_connections(self, n: int, now: float) -> None:
+        """How many publishers are connected now."""
+
+
 class Source(Protocol):
     """What the runner asks of a source of messages."""
 
     live: bool          # False for a bag: the runner then runs every sensor at once, at bag speed
 
-    def attach(self, run: 'SensorRun') -> None:
+    def attach(self, run: Listener) -> None:
         """Start delivering `run`'s topic to run.feed_raw (subscribe, or select the bag's topic)."""
 
-    def detach(self, run: 'SensorRun') -> None:
+    def detach(self, run: Listener) -> None:
         """Stop delivering `run`'s topic."""
 
-    def poll(self, run: 'SensorRun', now: float) -> None:
+    def poll(self, run: Listener, now: float) -> None:
         """Called every tick while `run` listens (connection counts, the master's health, bag
         playback); raises SourceLost when the source is gone."""
 

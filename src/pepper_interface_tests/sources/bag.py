@@ -1,4 +1,4 @@
-"""The bag data source: replays a recorded bag through the same SensorRuns, with no master.
+"""The bag data source: replays a recorded bag through the same sensor windows, with no master.
 
 Time is the bag's record time: the runner's clock is a virtual clock that this source advances
 by one tick per loop, feeding every message recorded up to that moment. Rates and delays are
@@ -18,11 +18,10 @@ import os
 from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.textfile import ConfigError
-from . import TopicInfo
+from . import Listener, TopicInfo
 
-if TYPE_CHECKING:   # the runner's types: named for the type checker only (no upward import)
+if TYPE_CHECKING:
     from ..plan.settings import TestPlan
-    from ..runner import SensorRun
 
 # a record as the runner is fed it: (record time, topic, type name, bytes, connection header)
 Record = Tuple[float, str, str, bytes, Dict[str, Any]]
@@ -83,7 +82,7 @@ class BagSource:
                    _when(self.begin), _when(self.end), self.end - self.begin))
         self.path = path
         self.now = self.begin
-        self.runs: Dict[str, List[SensorRun]] = {}     # topic -> the windows listening to it
+        self.runs: Dict[str, List[Listener]] = {}     # topic -> the windows listening to it
         self._reader: Optional[Iterator[Record]] = None   # read_messages, opened at the first tick
         self._pending: Optional[Record] = None            # the next record, read but not yet due
         self._conns: Dict[Tuple[str, str], Dict[str, Any]] = {}   # (type, md5sum) -> connection header fields
@@ -126,20 +125,20 @@ class BagSource:
     def clock(self) -> float:
         return self.now
 
-    def attach(self, run: 'SensorRun') -> None:
-        run.stats.clock = 'record'    # rates on the bag's record times (stats.py)
+    def attach(self, run: Listener) -> None:
+        run.use_record_clock()    # rates on the bag's record times (stats.py)
         if self._reader is not None and run.topic not in self.runs:
             # a topic nobody listened to so far: read again from now, with it included
             self._reader = self._records(after=self.now)
             self._pending = None
         self.runs.setdefault(run.topic, []).append(run)
 
-    def detach(self, run: 'SensorRun') -> None:
+    def detach(self, run: Listener) -> None:
         runs = self.runs.get(run.topic, [])
         if run in runs:
             runs.remove(run)
 
-    def poll(self, run: 'SensorRun', now: float) -> None:
+    def poll(self, run: Listener, now: float) -> None:
         pass
 
     def published_topics(self) -> None:
@@ -171,12 +170,14 @@ class BagSource:
         self.bag.close()
 
 
-def platform_hint(plan: 'TestPlan', bag_types: Mapping[str, str], other_plan: 'TestPlan') -> Optional[str]:
+def platform_hint(plan: 'TestPlan', listened: Sequence[str], bag_types: Mapping[str, str],
+                  other_plan: 'TestPlan') -> Optional[str]:
     """A bag checked with the wrong platform fails nearly every sensor as "not in the bag". When
-    topics of `plan` are missing from the bag and `other_plan` (the same files, the other
-    platform) finds more of its topics there, the note that says so and names the option (a
-    topic both share, /joint_states, does not decide); else None."""
-    mine = {s.topic for s in plan.sensors if s.skip_reason is None and s.sensor.family != 'speech'}
+    `listened` (the topics of `plan` the checks listen to) are missing from the bag and
+    `other_plan` (the same files, the other platform) finds more of its topics there, the note
+    that says so and names the option (a topic both share, /joint_states, does not decide);
+    else None."""
+    mine = set(listened)
     found = {t for t in mine if t in bag_types}
     theirs = sorted({s.topic for s in other_plan.sensors if s.topic is not None and s.topic in bag_types})
     if not mine or found == mine or len(theirs) <= len(found):

@@ -1,4 +1,4 @@
-"""The live data source: rospy.AnyMsg subscriptions feeding SensorRuns, and master look-ups.
+"""The live data source: rospy.AnyMsg subscriptions feeding sensor windows, and master look-ups.
 
 AnyMsg lets a subscription accept whatever type a topic really carries, so a topic advertised
 with the wrong type is reported by name instead of being refused silently by rospy's md5 check.
@@ -17,16 +17,13 @@ import socket
 import threading
 import time
 import xmlrpc.client
-from typing import TYPE_CHECKING, Any, Dict, Optional, Set
+from typing import Any, Dict, Optional, Set
 from urllib.parse import urlparse
 
 import rosgraph
 import rospy
 
-from . import SourceLost, TopicInfo
-
-if TYPE_CHECKING:   # the runner's per-sensor object: named for the type checker only
-    from ..runner import SensorRun
+from . import Listener, SourceLost, TopicInfo
 
 MASTER_TIMEOUT = 2.0
 # a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
@@ -130,12 +127,12 @@ class MasterWatch:
 
 class LiveSource:
     live = True
-    """Subscribes a SensorRun to its topic for the length of its window."""
+    """Subscribes a window (Listener) to its topic for the length of its window."""
 
     def __init__(self, caller_id: str = '/sensorTest') -> None:
         self.caller_id = caller_id
-        self.subs: Dict[SensorRun, Any] = {}       # the window -> its rospy.Subscriber
-        self._last_conn: Dict[SensorRun, float] = {}
+        self.subs: Dict[Listener, Any] = {}       # the window -> its rospy.Subscriber
+        self._last_conn: Dict[Listener, float] = {}
         self.watch: Optional[MasterWatch] = None
         self.shutdown_reason: Optional[str] = None
         rospy.core.add_preshutdown_hook(self._on_shutdown)
@@ -163,9 +160,9 @@ class LiveSource:
         if force and not self.watch.wait_answering(self.watch.silence):
             raise SourceLost(self.watch.lost() or 'the ROS master at %s does not answer' % self.watch.uri)
 
-    def attach(self, run: 'SensorRun') -> None:
+    def attach(self, run: Listener) -> None:
         self._check_master(force=True)   # registering waits for the master
-        if run.check.active:
+        if not run.listens:
             return
 
         def callback(msg, run=run):
@@ -176,10 +173,10 @@ class LiveSource:
         if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
             run.use_sim_clock(lambda: rospy.get_rostime().to_sec())
         self.subs[run] = rospy.Subscriber(run.topic, rospy.AnyMsg, callback,
-                                          queue_size=run.check.queue_size,
-                                          buff_size=run.check.buff_size)
+                                          queue_size=run.queue_size,
+                                          buff_size=run.buff_size)
 
-    def detach(self, run: 'SensorRun') -> None:
+    def detach(self, run: Listener) -> None:
         sub = self.subs.pop(run, None)
         self._last_conn.pop(run, None)
         if sub is None:
@@ -189,7 +186,7 @@ class LiveSource:
         else:   # unregistering waits for the master: never in the listening loop
             threading.Thread(target=sub.unregister, daemon=True, name='unregister').start()
 
-    def poll(self, run: 'SensorRun', now: float) -> None:
+    def poll(self, run: Listener, now: float) -> None:
         self._check_master()
         sub = self.subs.get(run)
         if sub is not None and now - self._last_conn.get(run, 0.0) >= 0.25:

@@ -1,0 +1,107 @@
+"""The family registry: one `Family` row per check family, the only table of families.
+
+A family is a kind of sensor judged by one check (sonars are the `range` family, four cameras
+the `camera` family). Everything that used to ask "is this the speech sensor?" or "is this a
+camera?" asks the family's `Traits` instead, so a new family says once what it is and every
+stage (the runner's lanes, the sources, the observers, the report) follows.
+
+Derived from this table or checked against it by a test (test/unit/test_families.py):
+- plan/expectations.py `FAMILIES` (family -> its Expect class; the plan reads the YAML before
+  any check exists, so it keeps its own map, and the test checks it names the same families);
+- plan/catalog.py (each sensor row names its family; the test checks every name is a row here);
+- the report's views (outputs/report/views/<Family.view>.py, found by name);
+- the emulator's publishers (emulator/publishers.py names its streams by these family names).
+
+How to add a family (e.g. `bumper`: event messages, published only on a press or a release):
+1. its check module sensors/<family>.py: a `Check` subclass (sensors/base.py) whose docstring
+   states each rule with the upstream driver line it follows (the one authoritative statement
+   of the rule: docs/checks.md and the README point to it), and its frozen values dataclass;
+2. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
+   stream rules of sensors/stream.py then leave out arrival within --wait, min_messages, the
+   rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers);
+3. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
+   config/sensorExpectations.yaml;
+4. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
+5. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
+6. its report view outputs/report/views/<view>.py;
+7. its rows in docs/checks.md and docs/drivers.md.
+Nothing else (the runner, the sources, the outputs) names a family.
+"""
+import importlib
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Dict, Type
+
+if TYPE_CHECKING:
+    from ..plan.catalog import Sensor
+    from .base import Check
+
+
+@dataclass(frozen=True)
+class Traits:
+    """What a family is, in the words the rest of the package asks about."""
+    # messages arrive at a rate (sonars, cameras, ...); False: event-driven (only on a change),
+    # so silence is not a failure and the rate rules do not apply
+    periodic: bool = True
+    # the check drives itself instead of listening to a topic (speech: it publishes a sentence)
+    drives_itself: bool = False
+    # needs a live robot: not checked from a bag
+    live_only: bool = False
+    # a heavy image stream: live view windows, Gazebo streams them one at a time
+    images: bool = False
+    # the microphones: its topic is where other checks can hear the robot
+    audio: bool = False
+    # listens through the microphones while it runs (speech: was the sentence heard?)
+    hears: bool = False
+
+    @property
+    def records_media(self) -> bool:
+        """The family writes a video or a WAV file."""
+        return self.images or self.audio
+
+
+@dataclass(frozen=True)
+class Family:
+    name: str            # as in plan/catalog.py's rows and plan/expectations.py's FAMILIES
+    check: str           # 'module:Class' in sensors/ (imported when first used: OpenCV is slow to load)
+    view: str            # the report's view module, outputs/report/views/<view>.py
+    traits: Traits = Traits()
+
+    def check_class(self) -> Type['Check']:
+        module, name = self.check.split(':')
+        return getattr(importlib.import_module('.' + module, __package__), name)
+
+
+FAMILIES: Dict[str, Family] = {f.name: f for f in [
+    Family('range', 'range:RangeCheck', 'range'),
+    Family('laser', 'laser:LaserCheck', 'laser'),
+    Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True)),
+    Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True)),
+    Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True)),
+    Family('joints', 'joints:JointsCheck', 'joints'),
+    Family('odometry', 'odometry:OdometryCheck', 'odometry'),
+    Family('imu', 'imu:ImuCheck', 'imu'),
+    Family('speech', 'speech:SpeechCheck', 'speech',
+           Traits(periodic=False, drives_itself=True, live_only=True, hears=True)),
+]}
+
+
+class UnknownFamily(KeyError):
+    """A family name no row of FAMILIES has."""
+
+
+def family(name: str) -> Family:
+    """The row of family `name`, or UnknownFamily naming the known ones."""
+    try:
+        return FAMILIES[name]
+    except KeyError:
+        raise UnknownFamily('no check family "%s" (known: %s)' % (name, ', '.join(FAMILIES))) from None
+
+
+def of(sensor: 'Sensor') -> Family:
+    """The family of a catalog row."""
+    return family(sensor.family)
+
+
+def traits(sensor: 'Sensor') -> Traits:
+    """The traits of a catalog row's family."""
+    return family(sensor.family).traits

@@ -1,0 +1,259 @@
+"""The generic stream rules, one check for every sensor's topic, composed with the family's own.
+
+Like diagnostic_updater's TopicDiagnostic (a FrequencyStatus and a TimeStampStatus ticked per
+message), a window feeds each message to this StreamCheck and to the family's Check, and its
+verdict is the worse of the two (sensors/window.py). The rules, each with its reason:
+
+- Arrival: a message within --wait; otherwise the reason says which of: no publisher at all,
+  the topic advertised with another type (both named), not in the bag, or a publisher that
+  sends nothing. Event-driven families (Traits.periodic False) are exempt: silence is normal.
+- Type: every message is of an accepted type (subscriptions are rospy.AnyMsg), else it fails
+  naming both types; a message that cannot be decoded or checked fails by name.
+- Count and rate (periodic families): at least `min_messages`; the rate from receive times and
+  the rate from header stamps inside the expected band (a rate within 10 % of an edge is a
+  warning: possible, worth a look). Sim time: measured on /clock, and with /use_sim_time set
+  but no /clock, nothing is judged but that (NO_CLOCK).
+- Stamps: none zero, none going backwards (repeated ones are a warning), not older than
+  `max_delay` nor more than `max_future` ahead of ROS time; a constant offset beyond them is
+  named a clock offset (OFFSET_SPREAD), one of 1 s or more inside them is a warning.
+  `frame_id` as configured.
+- A publisher that stopped (periodic families): the last message more than
+  max(1 s, max_gap_factor / rate_min) before the end of the window fails; shorter pauses above
+  that threshold are warnings.
+- Publishers: more than one node delivering on the topic is named; it fails the microphones
+  (Traits.audio: two audio bridges interleave their buffers), elsewhere it is a warning.
+"""
+from typing import Any, Callable, Dict, List, Optional
+
+from ..plan import catalog
+from ..sources import TopicInfo
+from ..stats import StreamStats
+from .base import Judgement, Tally
+from .clock import WindowClock
+from .families import Traits
+
+# Spread (max - min) of "ROS time at reception - header stamp" below which a delay beyond the
+# limits is one constant offset between two clocks, not data getting old: network and driver
+# latency vary by milliseconds to a few hundred ms, a stale or stuck stream's delay grows.
+OFFSET_SPREAD = 1.0
+
+NO_CLOCK = ('/use_sim_time is true but nothing publishes /clock, so ROS time stands at 0 and no '
+            'stamp or simulation-time rate can be judged: start the simulator (it publishes /clock), '
+            'or clear a leftover setting with "rosparam set /use_sim_time false" and start again')
+
+
+def clock_offset(delay: Optional[Dict[str, float]], max_delay: float, max_future: float) -> str:
+    """The reason for header stamps a constant offset away from this computer's clock (the
+    robot's clock not synchronised, e.g. an hour off after a time-zone mistake), or ''."""
+    if not delay or delay['max'] - delay['min'] > OFFSET_SPREAD:
+        return ''
+    mean = delay['mean']
+    if mean > max_delay:
+        side = 'behind'
+    elif -mean > max_future:
+        side = 'ahead of'
+    else:
+        return ''
+    return ('clock offset: header stamps are a constant %.1f s %s this computer\'s clock (spread %.2f s): '
+            'the robot\'s clock is not synchronised with this one; sync both with chrony or ntp%s'
+            % (abs(mean), side, delay['max'] - delay['min'],
+               ' (or the driver stamps its data that late)' if side == 'behind' else ''))
+
+
+def no_publisher_note(name: str) -> str:
+    """' Note: ...' for a sensor whose missing publisher has a known cause, else ''."""
+    hint = catalog.NO_PUBLISHER_HINTS.get(name)
+    return ' Note: ' + hint if hint else ''
+
+
+Lookup = Callable[[str], Optional[TopicInfo]]
+
+
+class StreamCheck:
+    """The generic rules over one topic's messages (see the module docstring)."""
+
+    def __init__(self, sensor: catalog.Sensor, topic: Optional[str], expect: Any, traits: Traits,
+                 clock: WindowClock) -> None:
+        self.sensor, self.topic, self.expect, self.traits, self.clock = sensor, topic, expect, traits, clock
+        self.stats = StreamStats()
+        self.issues = Tally()                 # bad headers, undecodable or uncheckable messages
+        self.wrong_types: Dict[str, int] = {}   # type name -> count
+        self.received_type: Optional[str] = None
+        self.publishers: List[str] = []       # caller ids of the nodes whose messages arrived, in order
+        self.connections_seen = 0
+        self.publisher_lost_at: Optional[float] = None
+
+    # ---------------------------------------------------------------- per message
+    def begin(self, now: float) -> None:
+        self.stats.start = now
+
+    def use_sim_clock(self) -> None:
+        self.stats = StreamStats(start=self.clock.t0, clock='sim')
+
+    def use_record_clock(self) -> None:
+        self.stats.clock = 'record'
+
+    def accept(self, type_name: str, conn: Optional[Dict[str, Any]]) -> bool:
+        """Counts a message of a wrong type and returns False; else notes its publisher."""
+        if not catalog.accepts_type(self.sensor, type_name):
+            self.wrong_types[type_name] = self.wrong_types.get(type_name, 0) + 1
+            return False
+        self.received_type = type_name
+        caller = (conn or {}).get('callerid')
+        if caller and caller not in self.publishers:
+            self.publishers.append(caller)
+        return True
+
+    def add(self, t_recv: float, ros_now: float, header: Any) -> None:
+        """A decoded message's receive time and header (None for a type without one)."""
+        self.sync_sim_start()
+        stamp = header.stamp.to_sec() if header is not None else None
+        self.stats.add(t_recv, stamp, ros_now if header is not None else None, ros_now)
+        if header is not None:
+            want = self.expect.frame_id
+            if want and header.frame_id != want:
+                self.issues.add('frame', 'frame_id is "%s", expected "%s"' % (header.frame_id, want))
+
+    def sync_sim_start(self) -> None:
+        """On sim time: the stats measure from the simulation time listening began at."""
+        if self.stats.clock == 'sim' and self.stats.clock_start is None:
+            self.stats.clock_start = self.clock.sim_start()
+
+    def observe_connections(self, n: int, now: float) -> None:
+        if n > 0:
+            self.connections_seen = max(self.connections_seen, n)
+        elif self.connections_seen and self.publisher_lost_at is None:
+            self.publisher_lost_at = now - self.clock.began
+
+    # ---------------------------------------------------------------- judging
+    def provisional(self, count: int) -> List[str]:
+        """Problems so far, for a running window (the caller holds the window's lock)."""
+        return self.issues.reasons(count)
+
+    def judge(self, elapsed: float, band: Optional[List[float]], lookup: Optional[Lookup],
+              drives_itself: bool) -> Judgement:
+        """The stream's reasons and warnings at the end of the window; `band` is the family's
+        accepted rate, `lookup` asks the master (or the bag) about a silent topic."""
+        self.sync_sim_start()
+        reasons: List[str] = []
+        warnings: List[str] = []
+        if not drives_itself:
+            reasons += self._arrival_reasons(elapsed, lookup)
+            if self.stats.count:
+                reasons += self._stream_reasons(elapsed, band, warnings)
+        reasons += self.issues.reasons(self.stats.count)
+        self._publisher_reasons(reasons, warnings)
+        return Judgement(reasons, warnings)
+
+    def _publisher_reasons(self, reasons: List[str], warnings: List[str]) -> None:
+        if len(self.publishers) < 2:
+            return
+        text = '%d publishers deliver on %s: %s' % (len(self.publishers), self.topic,
+                                                    ', '.join(self.publishers))
+        if self.traits.audio:
+            reasons.append(text + ' (two audio bridges running? start only one: '
+                                  'launch_audio:=false for the CSSR naoqi_driver, or stop the other node)')
+        else:
+            warnings.append(text)
+
+    def _arrival_reasons(self, elapsed: float, lookup: Optional[Lookup]) -> List[str]:
+        topic = self.topic or ''
+        if self.wrong_types:
+            types = ', '.join(sorted(self.wrong_types))
+            return ['topic %s carries %s, expected %s' % (topic, types, catalog.expected_types(self.sensor))]
+        if self.stats.count or not self.traits.periodic:
+            return []
+        info = lookup(topic) if lookup else None
+        if info is None:
+            return ['no message on %s within %.1f s' % (topic, elapsed)]
+        advertised, publishers = info
+        if advertised and not catalog.accepts_type(self.sensor, advertised):
+            return ['topic %s is advertised as %s, expected %s'
+                    % (topic, advertised, catalog.expected_types(self.sensor))]
+        if publishers is None:
+            return ['topic %s is not in the bag' % topic]
+        if not publishers:
+            return ['no publisher on %s (is the driver running, and is the topic name right?%s)'
+                    % (topic, no_publisher_note(self.sensor.name))]
+        return ['no message on %s within %.1f s although %s publishes it'
+                % (topic, elapsed, ', '.join(publishers))]
+
+    def _stream_reasons(self, elapsed: float, band: Optional[List[float]], warnings: List[str]) -> List[str]:
+        s = self.stats
+        out: List[str] = []
+        if self.traits.periodic and s.count < self.expect.min_messages:
+            out.append('only %d message%s in %.1f s (at least %d expected)'
+                       % (s.count, '' if s.count == 1 else 's', elapsed, self.expect.min_messages))
+        if self.clock.on_sim_time and self.clock.sim_t0 is None:
+            # rospy keeps ROS time at 0 until /clock ticks: stamps, sim rates and windows
+            # cannot be measured, and "1.8e9 s in the future" would blame the robot
+            out.append(NO_CLOCK)
+            return out
+        if self.traits.periodic:
+            self._rate_reasons(band, out, warnings)
+        self._stamp_reasons(out, warnings)
+        if self.traits.periodic:
+            self._silence_reasons(elapsed, band, out, warnings)
+        return out
+
+    def _rate_reasons(self, band: Optional[List[float]], out: List[str], warnings: List[str]) -> None:
+        s = self.stats
+        if not band or s.count < 3:
+            return
+        lo, hi = band
+        rate_label = 'rate (sim clock)' if s.clock == 'sim' else 'rate'
+        for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
+            if rate is not None and not (lo <= rate <= hi):
+                out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
+            elif rate is not None and label == rate_label and (rate < 1.1 * lo or rate > 0.9 * hi):
+                # inside the band but within 10 % of an edge: possible, worth a look
+                warnings.append('%s %.2f Hz near the edge of the expected %g-%g Hz' % (label, rate, lo, hi))
+
+    def _stamp_reasons(self, out: List[str], warnings: List[str]) -> None:
+        s, e = self.stats, self.expect
+        if s.zero_stamps:
+            out.append('%d message%s with a zero header stamp' % (s.zero_stamps, '' if s.zero_stamps == 1 else 's'))
+        if s.backwards:
+            out.append('header stamps went backwards %d time%s' % (s.backwards, '' if s.backwards == 1 else 's'))
+        if s.repeated:
+            warnings.append('%d repeated header stamp%s' % (s.repeated, '' if s.repeated == 1 else 's'))
+        delay = s.delay_summary()
+        offset = clock_offset(delay, e.max_delay, e.max_future)
+        if offset:
+            out.append(offset)
+        elif delay and delay['max'] - delay['min'] <= OFFSET_SPREAD and abs(delay['mean']) >= 1.0:
+            # a constant offset inside the limits: possible (clocks a second apart), worth a look
+            warnings.append('clock offset: header stamps a constant %.1f s %s this computer\'s clock '
+                            '(within max_delay %g s / max_future %g s; sync both clocks with chrony)'
+                            % (abs(delay['mean']), 'behind' if delay['mean'] > 0 else 'ahead of',
+                               e.max_delay, e.max_future))
+        if delay and not offset:
+            if delay['max'] > e.max_delay:
+                out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
+                           % (delay['max'], e.max_delay))
+            if -delay['min'] > e.max_future:
+                out.append('header stamps up to %.2f s in the future (clock skew?)' % -delay['min'])
+
+    def _silence_reasons(self, elapsed: float, band: Optional[List[float]], out: List[str],
+                         warnings: List[str]) -> None:
+        """A publisher that stopped: the last message long before the end of the window."""
+        s, clock = self.stats, self.clock
+        if s.clock == 'sim' and clock.sim_stopped_at is not None and s.clock_recv[-1] is not None:
+            silence = clock.sim_stopped_at - s.clock_recv[-1]
+            span = s.clock_recv[-1] - s.clock_recv[0]
+        else:
+            silence = (clock.began + elapsed) - s.recv[-1]
+            span = s.recv[-1] - s.recv[0]
+        lo_rate = band[0] if band else None
+        threshold = max(1.0, self.expect.max_gap_factor / lo_rate) if lo_rate else 2.0
+        if silence > threshold:
+            lost = ' (publisher left at %.1f s)' % self.publisher_lost_at \
+                if self.publisher_lost_at is not None else ''
+            out.append('messages stopped %.1f s after the first one; nothing for the last %.1f s%s'
+                       % (span, silence, lost))
+        gaps = s.gaps(threshold)
+        if gaps:
+            longest = max(gaps, key=lambda g: g[1])
+            warnings.append('%d pause%s longer than %.2f s (longest %.2f s at %.1f s)'
+                            % (len(gaps), '' if len(gaps) == 1 else 's', threshold, longest[1], longest[0]))
+
