@@ -36,8 +36,8 @@ EFFECTS = {
                       '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
                       'silent_channel)',
 }
-KIND_NAMES = {'camera': 'cameras', 'stereo': 'stereoCamera', 'depth': 'depth cameras',
-              'sonar': 'sonars', 'laser': 'laser', 'audio': 'microphone', 'joints': 'jointState',
+KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
+              'audio': 'microphone', 'joints': 'jointState',
               'odometry': 'odometry', 'imu': 'imu'}
 
 

@@ -14,10 +14,11 @@ from dataclasses import dataclass
 from typing import Any, Dict, Optional, Tuple
 
 from ..plan import catalog
+from ..sensors import families
 from .profiles import MIC_CHANNELS
 
-# fault name -> (takes a value?, sensor kinds it applies to; None = every kind)
-IMAGE = ('camera', 'stereo', 'depth')
+# fault name -> (takes a value?, check families it applies to (sensors/families.py); None = every one)
+IMAGE = ('camera', 'depth')
 FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'silent': (False, None),
     'rate': (True, None),
@@ -27,15 +28,15 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'black': (False, IMAGE),
     'wrong_encoding': (False, IMAGE),
     'wrong_step': (False, IMAGE),
-    'nan': (False, ('laser', 'sonar', 'joints', 'odometry', 'imu')),
-    'out_of_range': (False, ('laser', 'sonar', 'joints')),
+    'nan': (False, ('laser', 'range', 'joints', 'odometry', 'imu')),
+    'out_of_range': (False, ('laser', 'range', 'joints')),
     'broken_quaternion': (False, ('imu', 'odometry')),
     'nan_attitude': (False, ('imu',)),
     'all_blind': (False, ('laser',)),
     'no_returns': (False, ('laser',)),
     'silent_channel': (True, ('audio',)),
     # data that looks healthy but cannot be real (issue 10)
-    'stuck': (False, ('laser', 'imu', 'depth', 'camera', 'stereo', 'audio')),
+    'stuck': (False, ('laser', 'imu', 'depth', 'camera', 'audio')),
     'after': (True, None),
     'dead_accelerometer': (False, ('imu',)),
     'gyro_overrange': (False, ('imu',)),
@@ -46,13 +47,10 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'flat_depth': (False, ('depth',)),
 }
 
-# canonical sensor name -> kind, for validation before a profile is built
-SENSOR_KINDS = {
-    'backSonar': 'sonar', 'frontSonar': 'sonar', 'frontCamera': 'camera',
-    'bottomCamera': 'camera', 'depthCamera': 'depth', 'stereoCamera': 'stereo',
-    'realsenseRGBCamera': 'camera', 'realsenseDepthCamera': 'depth', 'laser': 'laser',
-    'microphone': 'audio', 'jointState': 'joints', 'odometry': 'odometry', 'imu': 'imu',
-}
+# canonical sensor name -> its family, for validation before a profile is built: every sensor
+# the emulator publishes (a check that drives itself, speech, is what the emulator listens to)
+SENSOR_KINDS = {s.name: s.family for s in catalog.SENSORS.values()
+                if not families.family(s.family).traits.drives_itself}
 
 
 class FaultError(ValueError):

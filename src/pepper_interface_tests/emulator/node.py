@@ -42,7 +42,7 @@ from ..plan import settings
 from . import faults as faults_mod
 from .faults import FaultError, parse_faults
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
-from .publishers import KINDS, AudioPublisher, Clock, ClockPublisher, StreamPublisher
+from .publishers import AudioPublisher, Clock, ClockPublisher, StreamPublisher, publisher_class
 from .speech import DirectSpeech, NaoqiSpeech
 
 if TYPE_CHECKING:
@@ -213,7 +213,7 @@ class Emulator:
         for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
             pub: StreamPublisher
-            cls = KINDS[spec.kind]
+            cls = publisher_class(spec)
             seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource

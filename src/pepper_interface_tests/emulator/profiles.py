@@ -10,7 +10,8 @@ import os
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Tuple
 
-from ..plan import settings
+from ..plan import catalog, settings
+from ..sensors import families
 
 PROFILES = ('robot', 'robot-stock', 'simulator')
 AUDIO_MODES = ('bridge', 'direct', 'off')
@@ -74,7 +75,8 @@ def laser_blind_mask() -> List[bool]:
 class SensorSpec:
     """One published sensor stream."""
     name: str                   # canonical sensor name (catalog.SENSORS)
-    kind: str                   # camera, depth, stereo, laser, sonar, imu, joints, odometry, audio
+    family: str                 # the check family that judges it (sensors/families.py): range, camera,
+                                # depth, laser, imu, joints, odometry, audio
     topic: str
     rate: float                 # nominal Hz
     frame_id: str = ''
@@ -88,21 +90,19 @@ class SensorSpec:
     field_of_view: float = 0.0
     child_frame_id: str = ''
     extra: Tuple[Tuple[str, str], ...] = ()   # companion topics published alike: (topic, frame_id)
-    layout: str = ''            # laser: naoqi (61 slots) or gazebo (488 slots); sonar: clip rule
+    layout: str = ''            # laser: naoqi (61 slots) or gazebo (488 slots); sonar: clip rule;
+                                # audio: 'audiobuffer' for stock naoqi_driver's AudioBuffer
     noise: float = 0.0          # standard deviation of the reading noise (m)
 
     @property
     def msg_type(self) -> str:
-        return {'camera': 'sensor_msgs/Image', 'depth': 'sensor_msgs/Image',
-                'stereo': 'sensor_msgs/Image', 'laser': 'sensor_msgs/LaserScan',
-                'sonar': 'sensor_msgs/Range', 'imu': 'sensor_msgs/Imu',
-                'joints': 'sensor_msgs/JointState', 'odometry': 'nav_msgs/Odometry',
-                'audio': 'pepper_interface_tests/AudioCustomMsg',
-                'audiobuffer': 'naoqi_bridge_msgs/AudioBuffer'}[self.kind]
+        if self.family == 'audio' and self.layout == 'audiobuffer':
+            return 'naoqi_bridge_msgs/AudioBuffer'
+        return catalog.SENSORS[self.name].msg_type
 
     @property
     def is_image(self) -> bool:
-        return self.kind in ('camera', 'depth', 'stereo')
+        return families.family(self.family).traits.images
 
 
 @dataclass(frozen=True)
@@ -167,8 +167,8 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
     sonar: Dict[str, Any] = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.523598776,
                  layout='raw', noise=0.01)
     sensors = [
-        SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),
-        SensorSpec('frontSonar', 'sonar', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
+        SensorSpec('backSonar', 'range', t('backSonar'), frame_id='SonarBack_frame', **sonar),
+        SensorSpec('frontSonar', 'range', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
         # camera.cpp:193-205, 286-289: rgb8, CameraTop/Bottom_optical_frame; 10 fps (boot_config)
         SensorSpec('frontCamera', 'camera', t('frontCamera'), 10.0, 'CameraTop_optical_frame',
                    w, h, 'rgb8', view='front', hfov=0.9826),
@@ -180,7 +180,7 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
     ]
     if head == 'stereo':
         # naoqi_driver.cpp:733-750: only on a stereo head; kQQ720px2 = 640x180 rgb8, two views
-        sensors.append(SensorSpec('stereoCamera', 'stereo', t('stereoCamera'), 10.0,
+        sensors.append(SensorSpec('stereoCamera', 'camera', t('stereoCamera'), 10.0,
                                   'CameraDepth_optical_frame', 640, 180, 'rgb8', view='stereo',
                                   hfov=1.0472))
     sensors += [
@@ -213,8 +213,8 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
         # interleaved int16, one message per NAOqi buffer; published by the driver itself
         n = audio_buffer or STOCK_AUDIO_BUFFER
         if audio != 'off':
-            sensors.append(SensorSpec('microphone', 'audiobuffer', t('microphone'),
-                                      AUDIO_RATE / float(n), width=n))
+            sensors.append(SensorSpec('microphone', 'audio', t('microphone'),
+                                      AUDIO_RATE / float(n), width=n, layout='audiobuffer'))
     elif audio == 'direct':
         n = audio_buffer or AUDIO_BUFFER
         sensors.append(SensorSpec('microphone', 'audio', t('microphone'),
@@ -240,8 +240,8 @@ def simulator_profile(path: Optional[str] = None) -> Profile:
     sonar: Dict[str, Any] = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo',
                  noise=0.05)
     sensors = (
-        SensorSpec('backSonar', 'sonar', t('backSonar'), frame_id='SonarBack_frame', **sonar),
-        SensorSpec('frontSonar', 'sonar', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
+        SensorSpec('backSonar', 'range', t('backSonar'), frame_id='SonarBack_frame', **sonar),
+        SensorSpec('frontSonar', 'range', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
         # pepperGazeboCPU.xacro:453-524: 640x480 R8G8B8 (rgb8), update_rate 5, horizontal_fov 1.0
         SensorSpec('frontCamera', 'camera', t('frontCamera'), 5.0, 'CameraTop_optical_frame',
                    640, 480, 'rgb8', view='front', hfov=1.0),

@@ -111,7 +111,7 @@ class StreamPublisher(threading.Thread):
         self.condition = condition
         nominal = spec.rate
         self.jitter = 0.0
-        if condition == 'loaded' and spec.kind in ('camera', 'depth', 'stereo'):
+        if condition == 'loaded' and spec.is_image:
             # a busy robot: naoqi_driver's cameras drop to ~1.3 fps with irregular gaps
             # (measured in the D4.1 report, docs/reference pepper-sensors.md)
             nominal, self.jitter = LOADED_CAMERA_HZ, 0.4
@@ -223,11 +223,11 @@ class ImagePublisher(StreamPublisher):
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
-        self.dark = condition == 'dark' and spec.kind != 'depth'
+        self.dark = condition == 'dark' and spec.family != 'depth'
         self.renderer: Any
-        if spec.kind == 'depth':
+        if spec.family == 'depth':
             self.renderer = scene.DepthCamera(spec.width, spec.height, spec.hfov, seed=seed)
-        elif spec.kind == 'stereo':
+        elif spec.view == 'stereo':
             self.renderer = scene.StereoCamera(spec.width, spec.height, spec.hfov)
         else:
             self.renderer = scene.ColourCamera(spec.width, spec.height, spec.hfov, view=spec.view)
@@ -530,7 +530,15 @@ class AudioBufferPublisher(AudioPublisher):
         return msg
 
 
-KINDS: Dict[str, Type[StreamPublisher]] = {'camera': ImagePublisher, 'depth': ImagePublisher, 'stereo': ImagePublisher,
-         'laser': LaserPublisher, 'sonar': SonarPublisher, 'odometry': OdometryPublisher,
-         'imu': ImuPublisher, 'joints': JointStatePublisher, 'audio': AudioPublisher,
-         'audiobuffer': AudioBufferPublisher}
+# one publisher per check family (sensors/families.py), as the driver publishes its stream
+FAMILY_PUBLISHERS: Dict[str, Type[StreamPublisher]] = {
+    'camera': ImagePublisher, 'depth': ImagePublisher, 'laser': LaserPublisher, 'range': SonarPublisher,
+    'odometry': OdometryPublisher, 'imu': ImuPublisher, 'joints': JointStatePublisher,
+    'audio': AudioPublisher}
+
+
+def publisher_class(spec: SensorSpec) -> Type[StreamPublisher]:
+    """The publisher of a stream: its family's, stock naoqi_driver's AudioBuffer apart."""
+    if spec.family == 'audio' and spec.layout == 'audiobuffer':
+        return AudioBufferPublisher
+    return FAMILY_PUBLISHERS[spec.family]

@@ -24,6 +24,7 @@ from ...results import (
     summary_line,
     timestamp,
 )
+from ...sensors import families
 from . import plots, views
 from .adapters import adapt, clean
 from .blocks import KV, Span
@@ -64,6 +65,12 @@ def environment() -> 'jinja2.Environment':
 def family(r: SensorResult) -> Optional[str]:
     sensor = catalog.SENSORS.get(r.name)
     return sensor.family if sensor else None
+
+
+def drives_itself(r: SensorResult) -> bool:
+    """A sensor whose check acts instead of listening (speech): it has no stream rate to plot."""
+    fam = family(r)
+    return fam is not None and families.family(fam).traits.drives_itself
 
 
 def in_band(r: SensorResult) -> Optional[bool]:
@@ -119,7 +126,7 @@ def rates_figure(run: RunResult) -> Optional[str]:
     rows = []
     for r in run.sensors:
         if r.verdict == SKIPPED or not isinstance(r.series, dict) or not r.series.get('rate_hz') \
-                or family(r) == 'speech':
+                or drives_itself(r):
             continue
         edges, rates = rate_steps(r)
         start = r.started_at or 0.0
