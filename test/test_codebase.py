@@ -7,9 +7,12 @@
   2.7-compatible files. Each offender is named as file:line:function and what it lacks.
 - Layering: nothing imports "upward" along
   plan -> sources -> media -> sensors -> runner -> outputs -> programs; results.py, stats.py,
-  interrupts.py and observer.py are the base every layer may import. Function-level imports
-  count (they run too); imports under `if TYPE_CHECKING:` do not (they never run: annotations
-  may name a type from a later stage).
+  interrupts.py and progress.py are the base every layer may import; observer.py (the seam
+  the runner calls the outputs through) is in the runner's layer. Every import counts:
+  function-level ones (they run too) and those under `if TYPE_CHECKING:` (a type a lower
+  stage needs from a higher one belongs below both: a protocol or a value type in a leaf).
+- No import circle: among the package's modules, no chain of imports (of any kind, as above)
+  leads from a module back to itself; each circle found is named, module by module.
 """
 import ast
 import functools
@@ -28,14 +31,14 @@ NEVER_TYPED = {'audio_bridge/capture.py'}
 NOT_YET_TYPED: Set[str] = set()
 
 # Layers along the data's path: a module may import its own layer, a lower one and the base.
-BASE = {'results', 'stats', 'interrupts', 'observer',
+BASE = {'results', 'stats', 'interrupts', 'progress',
         'msg'}    # pepper_interface_tests.msg: the generated message classes (msg/*.msg)
 LAYERS = [
     {'plan'},
     {'sources'},
     {'media'},
     {'sensors'},
-    {'runner'},
+    {'runner', 'observer'},
     {'outputs'},
     {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'benchmark', 'rosmaster'},
 ]
@@ -167,9 +170,9 @@ def is_type_checking(test):
             or isinstance(test, ast.Attribute) and test.attr == 'TYPE_CHECKING')
 
 
-def runtime_imports(tree):
-    """Import nodes that run: every import statement, at any depth (functions, classes, try,
-    with), but those under `if TYPE_CHECKING:`. Only statements are visited: an import is one."""
+def every_import(tree):
+    """Every import statement, at any depth (functions, classes, try, with, and under
+    `if TYPE_CHECKING:`). Only statements are visited: an import is one."""
     found = []
     stack = list(tree.body)
     while stack:
@@ -177,10 +180,7 @@ def runtime_imports(tree):
         if isinstance(node, (ast.Import, ast.ImportFrom)):
             found.append(node)
             continue
-        skip_body = isinstance(node, ast.If) and is_type_checking(node.test)
         for field in ('body', 'orelse', 'finalbody', 'handlers', 'cases'):
-            if field == 'body' and skip_body:
-                continue
             stack.extend(getattr(node, field, None) or [])
     return sorted(found, key=lambda n: n.lineno)
 
@@ -222,13 +222,13 @@ def upward_imports():
         if top == '__init__':
             continue
         own = layer_of(top)
-        for node in runtime_imports(parse(path)):
+        for node in every_import(parse(path)):
             for target in imported_tops(rel, node):
                 if target != top and layer_of(target) > own:
                     found.append('%s:%d `%s` imports %s, a later stage than %s (plan -> sources -> '
                                  'media -> sensors -> runner -> outputs -> programs); move the shared '
-                                 'part down, or import it under `if TYPE_CHECKING:` when only '
-                                 'annotations need it' % (rel, node.lineno, import_text(node), target, top))
+                                 'part down: a protocol or a value type in a leaf (TYPE_CHECKING '
+                                 'imports count too)' % (rel, node.lineno, import_text(node), target, top))
     return found
 
 
@@ -246,14 +246,110 @@ def test_imported_tops_resolves_relative_and_absolute_imports():
         'from ..outputs import files as f, diagnostics'
 
 
-def test_type_checking_imports_are_exempt_and_function_level_ones_are_not():
+def test_type_checking_and_function_level_imports_count():
     tree = ast.parse('from typing import TYPE_CHECKING\n'
                      'if TYPE_CHECKING:\n    from ..runner import SensorRun\n'
                      'def f():\n    from ..outputs import files\n')
-    modules = [n.module for n in runtime_imports(tree)]
-    assert modules == ['typing', 'outputs']
+    modules = [n.module for n in every_import(tree)]
+    assert modules == ['typing', 'runner', 'outputs']
 
 
 def test_nothing_imports_upward():
     found = upward_imports()
     assert not found, 'upward imports:\n' + '\n'.join(found)
+
+
+# ------------------------------------------------------------------------- import circles
+
+def module_name(rel):
+    """'outputs/report/page.py' -> 'outputs.report.page'; a package is its '__init__'."""
+    return rel[:-len('.py')].replace('/', '.')
+
+
+def imported_modules(rel, node, modules):
+    """The package's modules an import node names (a name that is a module, else the module or
+    package it is taken from), among `modules` (module_name of every file)."""
+    def known(dotted):
+        if dotted in modules:
+            return dotted
+        return dotted + '.__init__' if dotted + '.__init__' in modules else None
+    parts = rel[:-len('.py')].split('/')
+    if isinstance(node, ast.Import):
+        return [m for m in (known(a.name.split('.', 1)[1]) for a in node.names
+                            if a.name.startswith('pepper_interface_tests.')) if m]
+    if node.level == 0:
+        if not (node.module or '').startswith('pepper_interface_tests'):
+            return []
+        base = node.module.split('.')[1:]
+    else:
+        base = parts[:-1][:len(parts) - node.level] if node.level > 1 else parts[:-1]
+        base = base + (node.module.split('.') if node.module else [])
+    out = []
+    for a in node.names:
+        m = known('.'.join(base + [a.name])) or known('.'.join(base))
+        if m:
+            out.append(m)
+    return out
+
+
+def import_graph():
+    files = dict((module_name(rel), (rel, path)) for rel, path in source_files())
+    graph = {}
+    for name, (rel, path) in files.items():
+        graph[name] = sorted({m for node in every_import(parse(path))
+                              for m in imported_modules(rel, node, files) if m != name})
+    return graph
+
+
+def circles(graph):
+    """Each set of modules that import one another in a circle (Tarjan's strongly connected
+    components of more than one module), as a sorted list."""
+    index, low, stack, on, found, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_circles_finds_a_circle_and_nothing_else():
+    assert circles({'a': ['b'], 'b': ['c'], 'c': ['a'], 'd': ['a']}) == [['a', 'b', 'c']]
+    assert circles({'a': ['b'], 'b': []}) == []
+
+
+def test_imported_modules_resolves_packages_and_names():
+    modules = {'sensors.__init__', 'sensors.base', 'plan.model', 'observer'}
+    def mods(rel, src):
+        return imported_modules(rel, ast.parse(src).body[0], modules)
+    assert mods('sensors/window.py', 'from .base import Check') == ['sensors.base']
+    assert mods('sensors/window.py', 'from . import base') == ['sensors.base']
+    assert mods('outputs/terminal.py', 'from ..observer import RunObserver') == ['observer']
+    assert mods('outputs/report/page.py', 'from ...sensors import families') == ['sensors.__init__']
+    assert mods('cli.py', 'from .plan.model import TestPlan') == ['plan.model']
+
+
+def test_no_import_circle():
+    found = circles(import_graph())
+    assert not found, ('modules that import one another in a circle (move the shared type into a '
+                       'leaf module both can import):\n' + '\n'.join(' -> '.join(c) for c in found))

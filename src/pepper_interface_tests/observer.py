@@ -18,45 +18,17 @@ An observer subclasses RunObserver and overrides what it needs; the others do no
 the others still run (Ctrl-C, a KeyboardInterrupt, still ends the run).
 """
 import sys
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable, Iterable, List, Optional, Tuple
+from typing import Callable, Iterable, List, Optional
 
+from .plan.model import TestPlan
+from .progress import Progress
 from .results import RunResult, SensorResult
-
-if TYPE_CHECKING:
-    from .plan.settings import TestPlan
-
-
-@dataclass(frozen=True)
-class Progress:
-    """A running window as it stands at one tick: what the terminal and /diagnostics show."""
-    name: str
-    family: str
-    topic: Optional[str]
-    msg_type: str
-    drives_itself: bool          # the check acts instead of listening (speech: `count` = sent)
-    window: float                # seconds the window lasts
-    wait: float                  # seconds allowed for the first message
-    elapsed: float               # seconds since the window opened (wall clock)
-    count: int                   # messages received (sent, for a check that drives itself)
-    received: int                # messages received on the topic
-    rate: Optional[float]        # Hz so far (None for a check that drives itself)
-    stamp_rate: Optional[float]
-    rate_band: Optional[Tuple[float, float]]   # the expected band, when the family has one
-    nominal: Optional[float]
-    problems: Tuple[str, ...]    # provisional problems: bad headers, the check's failures so far
-    wrong_type: bool             # a message of another type arrived
-
-    @property
-    def left(self) -> float:
-        """Seconds the window still runs."""
-        return max(0.0, self.window - self.elapsed)
 
 
 class RunObserver:
     """No-op base: override the events an output needs."""
 
-    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
+    def run_started(self, run: RunResult, plan: TestPlan) -> None:
         pass
 
     def sensor_started(self, progress: Progress) -> None:
@@ -89,7 +61,7 @@ class Observers(RunObserver):
                 sys.stderr.write('sensorTest: %s.%s failed: %s: %s\n'
                                  % (type(o).__name__, event, type(e).__name__, e))
 
-    def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
+    def run_started(self, run: RunResult, plan: TestPlan) -> None:
         self._each('run_started', lambda o: o.run_started(run, plan))
 
     def sensor_started(self, progress: Progress) -> None:

@@ -1,4 +1,5 @@
-"""One way to write a results file whole: `write_atomic(path, text)`.
+"""One way to write a results file whole: `write_atomic(path, text)`; and one way to say that a
+results file could not be written: `write_error(run, path, error)`.
 
 The text goes to a temporary file in the same folder (so the rename cannot cross file systems),
 is flushed and fsync'ed, gets the permissions an ordinary `open(path, 'w')` would give (0666
@@ -8,7 +9,10 @@ cut. On any error the temporary file is removed and OSError is raised naming `pa
 temporary name), so the caller's message points at the file the user knows.
 """
 import os
+import sys
 import tempfile
+
+from .. import results
 
 
 def _umask() -> int:
@@ -36,3 +40,13 @@ def write_atomic(path: str, text: str) -> None:
         if isinstance(e, OSError):
             raise OSError(e.errno, e.strerror, path) from e
         raise
+
+
+def write_error(run: results.RunResult, path: str, error: Exception) -> None:
+    """Record and name a results file that could not be written."""
+    text = '%s: %s' % (path, getattr(error, 'strerror', None) or error)
+    if text not in run.write_errors:
+        run.write_errors.append(text)
+        sys.stderr.write('sensorTest: error: cannot write %s (free some space or choose another '
+                         '--output-dir)\n' % text)
+        sys.stderr.flush()

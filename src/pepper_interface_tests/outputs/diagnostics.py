@@ -34,7 +34,8 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence, TextIO, Tuple
 
-from ..observer import Progress, RunObserver
+from ..observer import RunObserver
+from ..progress import Progress
 from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult
 
 if TYPE_CHECKING:

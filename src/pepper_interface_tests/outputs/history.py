@@ -36,7 +36,7 @@ from .. import results
 from ..observer import RunObserver
 from ..results import malformed
 from . import files
-from .atomicfile import write_atomic
+from .atomicfile import write_atomic, write_error
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -139,7 +139,6 @@ class LatestRun(RunObserver):
             self.dat.append(files.dat_block(result))
 
     def run_ended(self, run: results.RunResult) -> None:
-        from .observers import write_error
         path = os.path.join(self.folder.base, results.OUTPUT_FILE)
         try:
             shared = files.OutputFile(path)

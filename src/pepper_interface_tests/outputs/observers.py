@@ -14,9 +14,11 @@ import textwrap
 from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
-from ..observer import Progress, RunObserver
+from ..observer import RunObserver
+from ..progress import Progress
 from ..sensors.families import family, traits
 from . import files
+from .atomicfile import write_error
 from .terminal import columns
 
 if TYPE_CHECKING:
@@ -25,16 +27,6 @@ if TYPE_CHECKING:
     from ..sensors.audio import LevelMonitor
     from ..sensors.base import RunContext
     from .history import RunFolder
-
-
-def write_error(run: results.RunResult, path: str, error: Exception) -> None:
-    """Record and name a results file that could not be written."""
-    text = '%s: %s' % (path, getattr(error, 'strerror', None) or error)
-    if text not in run.write_errors:
-        run.write_errors.append(text)
-        sys.stderr.write('sensorTest: error: cannot write %s (free some space or choose another '
-                         '--output-dir)\n' % text)
-        sys.stderr.flush()
 
 
 class ResultFiles(RunObserver):

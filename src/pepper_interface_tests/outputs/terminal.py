@@ -13,7 +13,8 @@ import sys
 import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
-from ..observer import Progress, RunObserver
+from ..observer import RunObserver
+from ..progress import Progress
 from ..results import (
     FAIL,
     INTERRUPTED,

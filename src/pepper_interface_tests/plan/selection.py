@@ -13,15 +13,12 @@ The rules (README "Options", `--cameras`, `--require-heard`, `--mic-mode`):
   effect and the header says so.
 Every choice that leaves something out is said in `notes` (printed under the run header).
 """
-from typing import TYPE_CHECKING, Dict, List, Optional, Sequence, Tuple, cast
+from typing import Dict, List, Optional, Sequence, Tuple
 
 from . import catalog
-from .expectations import SpeechExpect
+from .model import SensorPlan
+from .options import Options
 from .textfile import ConfigError
-
-if TYPE_CHECKING:   # settings imports this module
-    from .options import Options
-    from .settings import SensorPlan, TestPlan
 
 CAMERA_GROUPS: Dict[str, Tuple[str, ...]] = {'pepper': ('pepper',), 'realsense': ('realsense',),
                                               'both': ('pepper', 'realsense')}
@@ -99,7 +96,7 @@ def sensors_option_notes(order: Sequence[str], cameras: Optional[str]) -> List[s
     return notes
 
 
-def rerun_failed(output_dir: str, platform: str, options: 'Options') -> Tuple[Tuple[str, ...], List[str]]:
+def rerun_failed(output_dir: str, platform: str, options: Options) -> Tuple[Tuple[str, ...], List[str]]:
     """--rerun-failed: the sensors that did not pass in the latest run of `output_dir` (its
     sensorTestResults.json, the spec's path) -> (sensor names, notes). Same names and rule as
     `sensorTestHistory failed`."""
@@ -134,7 +131,7 @@ def rerun_failed(output_dir: str, platform: str, options: 'Options') -> Tuple[Tu
     return tuple(failed), ['re-running what did not pass in run %s: %s' % (run_id, _names(failed))]
 
 
-def require_heard_notes(plans: Sequence['SensorPlan'], options: 'Options', input_path: str) -> List[str]:
+def require_heard_notes(plans: Sequence[SensorPlan], options: Options, input_path: str) -> List[str]:
     """--require-heard: refuse a live run with speech but no microphone; a note when it has no
     effect. `plans` are the run's SensorPlans."""
     if not options.require_heard:
@@ -153,26 +150,3 @@ def require_heard_notes(plans: Sequence['SensorPlan'], options: 'Options', input
             fix='add microphone to the run (e.g. --sensors speech,microphone, or "microphone true" '
                 'in %s), or leave out --require-heard' % input_path)
     return ['speech passes only when the microphones hear the sentence (--require-heard)']
-
-
-def window_notes(plan: 'TestPlan') -> List[str]:
-    """How long each sensor listens, where that is not `duration`: the microphone in
-    --mic-mode sequential (4 x duration: each microphone in turn, as the spec says), and speech
-    (not a listening window: one sentence, then the microphones listen for it)."""
-    notes: List[str] = []
-    names = {p.name: p for p in plan.active}
-    mode = plan.options.mic_mode or 'together'
-    if 'microphone' in names and mode == 'sequential':
-        notes.append('microphone listens %g s: --mic-mode sequential, each of the 4 microphones '
-                     'for %g s' % (round(4 * plan.duration, 1), round(plan.duration, 1)))
-    speech = names.get('speech')
-    if speech is not None and not plan.options.bag:
-        e = cast(SpeechExpect, speech.expect)
-        wait, after = e.subscriber_wait, e.listen_after
-        if 'microphone' in names:
-            notes.append('speech: one sentence (up to %g s waiting for a subscriber), then the '
-                         'microphones listen %g s for it' % (wait, after))
-        else:
-            notes.append('speech: one sentence (up to %g s waiting for a subscriber); whether it '
-                         'is heard is not checked: no microphone in the run' % wait)
-    return notes

@@ -8,11 +8,12 @@ what was found and the fix. Every file must be UTF-8 (a leading BOM is accepted)
 twice is an error naming both lines. The expectations are typed per family (expectations.py).
 """
 import os
-from dataclasses import dataclass, field, replace
+from dataclasses import replace  # noqa: F401  (settings.replace: used by cli.py)
 from types import MappingProxyType
 from typing import Dict, List, Optional, Tuple
 
 from . import catalog, expectations, selection
+from .model import SensorPlan, TestPlan  # noqa: F401  (imported from here)
 from .options import Options
 from .textfile import ConfigError, choice, parse_bool, positive_seconds, read_text  # noqa: F401  (imported from here)
 
@@ -40,44 +41,6 @@ def default_output_dir() -> str:
         return data
     ros_home = os.environ.get('ROS_HOME', os.path.join(os.path.expanduser('~'), '.ros'))
     return os.path.join(ros_home, 'pepper_interface_tests')
-
-
-@dataclass(frozen=True)
-class SensorPlan:
-    """One sensor of the run: what to listen to and what to expect."""
-    sensor: catalog.Sensor
-    topic: Optional[str]
-    expect: expectations.Expect
-    skip_reason: Optional[str] = None
-
-    @property
-    def name(self) -> str:
-        return self.sensor.name
-
-
-@dataclass(frozen=True)
-class TestPlan:
-    platform: str
-    mode: str
-    duration: float
-    wait: float
-    quick: bool
-    cameras: Optional[str]      # --cameras, None: the input file decides
-    output_dir: str
-    sensors: Tuple[SensorPlan, ...]
-    files: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
-    options: Options = Options()
-    selection_notes: Tuple[str, ...] = ()   # what is left out and why (selection.py)
-
-    @property
-    def active(self) -> Tuple[SensorPlan, ...]:
-        return tuple(s for s in self.sensors if s.skip_reason is None)
-
-    @property
-    def notes(self) -> Tuple[str, ...]:
-        """Lines for the run header: what is tested, what is left out and why, and every
-        sensor whose window is not `duration` (computed now: cli.run_bag changes duration)."""
-        return tuple(self.selection_notes) + tuple(selection.window_notes(self))
 
 
 # ---------------------------------------------------------------- low-level file reading

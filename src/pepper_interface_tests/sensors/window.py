@@ -12,8 +12,8 @@ frozen `progress()` snapshot.
 import threading
 from typing import Any, Callable, Dict, List, Optional, Type
 
-from ..observer import Progress
 from ..plan.settings import SensorPlan
+from ..progress import Progress
 from ..results import INTERRUPTED, SKIPPED, SensorResult, Verdict
 from ..sources import messages
 from .base import Check, RunContext, fmt

@@ -1,0 +1,30 @@
+"""A running sensor window as observers see it: a frozen snapshot taken by the runner every
+tick (sensors/window.py SensorRun.progress), never the window itself or its lock."""
+from dataclasses import dataclass
+from typing import Optional, Tuple
+
+
+@dataclass(frozen=True)
+class Progress:
+    """A running window as it stands at one tick: what the terminal and /diagnostics show."""
+    name: str
+    family: str
+    topic: Optional[str]
+    msg_type: str
+    drives_itself: bool          # the check acts instead of listening (speech: `count` = sent)
+    window: float                # seconds the window lasts
+    wait: float                  # seconds allowed for the first message
+    elapsed: float               # seconds since the window opened (wall clock)
+    count: int                   # messages received (sent, for a check that drives itself)
+    received: int                # messages received on the topic
+    rate: Optional[float]        # Hz so far (None for a check that drives itself)
+    stamp_rate: Optional[float]
+    rate_band: Optional[Tuple[float, float]]   # the expected band, when the family has one
+    nominal: Optional[float]
+    problems: Tuple[str, ...]    # provisional problems: bad headers, the check's failures so far
+    wrong_type: bool             # a message of another type arrived
+
+    @property
+    def left(self) -> float:
+        """Seconds the window still runs."""
+        return max(0.0, self.window - self.elapsed)
