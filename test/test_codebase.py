@@ -37,7 +37,7 @@ LAYERS = [
     {'sensors'},
     {'runner'},
     {'outputs'},
-    {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'benchmark', 'rosmaster'},
+    {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'rosmaster'},
 ]
 
 
