@@ -102,12 +102,16 @@ def publish(seconds: float, wait: float, subscribers: int = 1) -> int:
         thread.join()
     late = time.monotonic() - end
     print(json.dumps({'published': counts, 'seconds': seconds, 'finished_late_s': round(late, 3)}), flush=True)
-    # stay up (and connected) until told to stop, so nothing is cut off in flight
+    _linger()
+    return 0
+
+
+def _linger() -> None:
+    """Stay up (and connected) until told to stop (at most 120 s), so nothing is cut off in flight."""
     stop = threading.Event()
     signal.signal(signal.SIGTERM, lambda *_: stop.set())
     signal.signal(signal.SIGINT, lambda *_: stop.set())
     stop.wait(120)
-    return 0
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
