@@ -28,7 +28,7 @@ setup:
 
 bench:
 	@tools/setup.sh
-	@bash -c 'source tools/env.sh && python scripts/sensorTestBenchmark'
+	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py'
 
 clean:
 	rm -rf build .venv .stamps

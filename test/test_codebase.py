@@ -40,7 +40,7 @@ LAYERS = [
     {'sensors'},
     {'runner', 'observer'},
     {'outputs'},
-    {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'benchmark', 'rosmaster'},
+    {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'rosmaster'},
 ]
 
 

@@ -1,0 +1,99 @@
+"""What the benchmark measures processes with: their end and CPU (wait4), their memory and
+threads (psutil, sampled), and the master's view of who subscribed."""
+import os
+import resource
+import threading
+import time
+import xmlrpc.client
+from typing import Any, Dict, List, Optional, Tuple
+
+Usage = resource.struct_rusage
+
+
+def wait4(pid: int, timeout: float) -> Tuple[Optional[int], Optional[Usage]]:
+    """(exit code, rusage) of a child, waiting at most `timeout` s (None, None when it did not end)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        done, status, usage = os.wait4(pid, os.WNOHANG)
+        if done:
+            return os.waitstatus_to_exitcode(status), usage
+        if time.monotonic() > deadline:
+            return None, None
+        time.sleep(0.02)
+
+
+def wait_subscribed(uri: str, prefix: str, topics: List[str], timeout: float) -> bool:
+    """Wait until a node whose name starts with `prefix` subscribes to every topic (on a
+    loaded machine `rostopic hz` may take seconds to start: sensorTest's window must not
+    begin before the publisher can)."""
+    master: Any = xmlrpc.client.ServerProxy(uri)   # typeshed's return types hide the tuple
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            _, _, (_, subscribers, _) = master.getSystemState('/bench')
+            subs = {t: nodes for t, nodes in subscribers}
+            if all(any(n.startswith(prefix) for n in subs.get(t, ())) for t in topics):
+                return True
+        except OSError:
+            pass
+        time.sleep(0.1)
+    return False
+
+
+class MemorySampler:
+    """Peaks over a process's life, sampled every 0.1 s (psutil) in a daemon thread:
+    peak['rss'] the process alone, peak['rss_children'] its children (sensorTest's ffmpeg
+    encoders), peak['rss_tree'] both at the same moment, peak['pss_tree'] the proportional set
+    size of the whole tree (each shared page divided among the processes that map it: the shared
+    libraries of five ffmpeg processes count once, not five times), peak['uss_tree'] its private
+    memory. Linux's smaps_rollup makes a PSS sample cheap (about 0.1 ms a process). With
+    `per_thread`, `threads` maps each thread id to its CPU seconds (user + system)."""
+
+    def __init__(self, pid: int, per_thread: bool = False) -> None:
+        self.peak: Dict[str, int] = {}
+        self.threads: Optional[Dict[int, float]] = {} if per_thread else None
+        self._stop = threading.Event()
+        threading.Thread(target=self._run, args=(pid,), daemon=True).start()
+
+    def stop(self) -> None:
+        self._stop.set()
+
+    def _run(self, pid: int) -> None:
+        try:
+            import psutil
+        except ImportError:
+            return
+        proc = psutil.Process(pid)
+        while not self._stop.is_set():
+            try:
+                sample = _tree_memory(proc)
+            except psutil.Error:
+                return
+            for key, value in sample.items():
+                self.peak[key] = max(self.peak.get(key, 0), value)
+            if self.threads is not None:
+                try:
+                    for th in proc.threads():
+                        self.threads[th.id] = th.user_time + th.system_time
+                except psutil.Error:
+                    pass
+            self._stop.wait(0.1)
+
+
+def _tree_memory(proc: Any) -> Dict[str, int]:
+    """One sample of MemorySampler's figures (psutil.Error when `proc` is gone; a child that
+    goes while it is read is left out)."""
+    import psutil
+    tree = [proc] + proc.children(recursive=True)
+    own = proc.memory_full_info()
+    rss_kids = pss = uss = 0
+    for p in tree[1:]:
+        try:
+            info = p.memory_full_info()
+        except psutil.Error:
+            continue
+        rss_kids += info.rss
+        pss += info.pss
+        uss += info.uss
+    return {'rss': own.rss, 'rss_children': rss_kids, 'rss_tree': own.rss + rss_kids,
+            'pss_tree': own.pss + pss, 'uss_tree': own.uss + uss}
