@@ -1,9 +1,9 @@
 """Observers that turn a run into files and shared services.
 
 ResultFiles: sensorTestOutput.dat block by block as sensors finish (so an interrupted run still
-has every finished block, then [INTERRUPTED] and END TIME), sensorTestResults.xml and
-sensorTestResults.json at the end (JUnit first, so that the JSON's exit_code and write_errors
-already know whether it failed). A file that cannot be written (full disk, ...) is named on
+has every finished block, then [INTERRUPTED] and END TIME), then the formats of
+outputs/formats.py written whole at the end, in the table's order (JUnit, then the JSON).
+A file that cannot be written (full disk, ...) is named on
 stderr and recorded in run.write_errors, which makes the exit code 3; the run goes on.
 SpeechHearing: while the speech check runs and the microphone is part of the run, a
 microphone level monitor is offered to it (ctx.services.microphone_levels).
@@ -17,7 +17,7 @@ from .. import results
 from ..observer import RunObserver
 from ..progress import Progress
 from ..sensors.families import family, traits
-from . import files
+from . import files, formats
 from .atomicfile import write_error
 from .terminal import columns
 
@@ -63,16 +63,15 @@ class ResultFiles(RunObserver):
         self.run = run
         self._dat('end', run)
         self._dat('close')
-        for name, write in ((results.JUNIT_FILE, files.write_junit),
-                            (results.JSON_FILE, files.write_json)):
-            path = os.path.join(self.dir, name)
+        for output in formats.written_at_end():
+            path = os.path.join(self.dir, output.file)
             try:
-                write(run, path)
+                if output.render is not None:
+                    output.render(run, path)
             except OSError as e:
                 write_error(run, path, e)
         stream = self.out or sys.stdout
-        stream.write(textwrap.fill('results in %s: %s' % (self.dir, ', '.join((
-            results.OUTPUT_FILE, results.JSON_FILE, results.JUNIT_FILE))),
+        stream.write(textwrap.fill('results in %s: %s' % (self.dir, ', '.join(formats.results_files())),
             columns(minimum=40), subsequent_indent='  ',
             break_long_words=False, break_on_hyphens=False) + '\n')
         stream.flush()

@@ -13,9 +13,6 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 from ...plan import catalog
 from ...results import (
     FAIL,
-    JSON_FILE,
-    JUNIT_FILE,
-    OUTPUT_FILE,
     PASS,
     PASSING,
     SKIPPED,
@@ -25,6 +22,7 @@ from ...results import (
     timestamp,
 )
 from ...sensors import families
+from .. import formats
 from . import plots, views
 from .adapters import adapt, clean
 from .blocks import KV, Span
@@ -36,7 +34,6 @@ if TYPE_CHECKING:
 
 TEMPLATES = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'templates')
 KNOWN = (PASS, FAIL, SKIPPED)
-RESULT_FILES = (JSON_FILE, JUNIT_FILE, OUTPUT_FILE)
 
 
 def verdict_class(verdict: str) -> str:
@@ -274,7 +271,7 @@ def render(run: RunResult, folder: str, max_embed: int) -> str:
         files.problems.append('rates figure: %s: %s' % (type(e).__name__, e))
         rates = None
     context = {'h': header(run), 'summary': summary_rows(run, files), 'rates': rates, 'sections': sections,
-               'result_files': files.links(RESULT_FILES), 'inputs': dict(run.files or {}),
+               'result_files': files.links(formats.results_files()), 'inputs': dict(run.files or {}),
                'options': ', '.join('%s=%s' % kv for kv in sorted((run.options or {}).items(), key=str)),
                'problems': files.problems, 'written': timestamp().replace('.', ' '),
                'embedded': files.embedded}
