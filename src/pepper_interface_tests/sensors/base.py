@@ -189,10 +189,12 @@ class Check:
         """Before listening begins."""
 
     def poll(self, elapsed: float) -> None:
-        """Called about every 50 ms from the runner's thread while the window is open."""
+        """Called about every 50 ms from the runner's thread while the window is open (never at
+        the same time as feed: the window holds its lock)."""
 
     def done(self) -> bool:
-        """True when a check that drives itself (Traits.drives_itself) has finished."""
+        """True when the check has finished by itself (speech has spoken, a guided check has asked
+        every zone): the window then ends before its time."""
         return False
 
     def settled(self) -> bool:

@@ -165,9 +165,11 @@ class SensorRun:
     def due(self, now: float) -> str:
         """Why the window should end now, or '' to keep listening."""
         elapsed = self.clock.elapsed(now)
+        with self.lock:
+            done = self.check.done()
+        if done:                   # a check that paces itself (speech, a guided touch check)
+            return 'finished'
         if self.traits.drives_itself:
-            if self.check.done():
-                return 'finished'
             return 'window ended' if elapsed >= max(self.window, self.wait) + 5.0 else ''
         stats = self.stream.stats
         if stats.count == 0:   # --wait is wall time, also on sim time: a paused simulator sends nothing
@@ -191,8 +193,11 @@ class SensorRun:
             and self.check.settled()
 
     def poll(self, now: float) -> None:
-        if self.traits.drives_itself:
-            self.check.poll(now - self.began)
+        """The check's own pace (speech publishes, a guided check prompts), under the lock the
+        subscriber callbacks take: the check sees one thread at a time."""
+        with self.lock:
+            if self.stopped_at is None:
+                self.check.poll(now - self.began)
 
     # ---------------------------------------------------------------- closing
     def stop(self, now: float, reason: str) -> None:

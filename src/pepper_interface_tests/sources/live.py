@@ -165,8 +165,12 @@ class LiveSource:
         if not run.listens:
             return
 
+        own = rospy.get_name()
+
         def callback(msg, run=run):
             conn = msg._connection_header    # type, message_definition, callerid, md5sum
+            if conn.get('callerid') == own:  # never judge this node's own messages (/diagnostics)
+                return
             run.feed_raw(conn.get('type', '?'), msg._buff,
                          time.monotonic(), rospy.get_rostime().to_sec(), conn)
 
