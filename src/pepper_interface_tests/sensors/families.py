@@ -29,7 +29,17 @@ Nothing else (the runner, the sources, the outputs) names a family.
 """
 import importlib
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Dict, Type
+from typing import TYPE_CHECKING, Any, Dict, Optional, Type
+
+from .values.audio import AudioValues
+from .values.camera import CameraValues
+from .values.depth import DepthValues
+from .values.imu import ImuValues
+from .values.joints import JointsValues
+from .values.laser import LaserValues
+from .values.odometry import OdometryValues
+from .values.range import RangeValues
+from .values.speech import SpeechValues
 
 if TYPE_CHECKING:
     from ..plan.catalog import Sensor
@@ -65,6 +75,9 @@ class Family:
     check: str           # 'module:Class' in sensors/ (imported when first used: OpenCV is slow to load)
     view: str            # the report's view module, outputs/report/views/<view>.py
     traits: Traits = Traits()
+    # the frozen dataclass of what its check measured (sensors/values/<family>.py): the
+    # sensor's SensorResult.values, written to the JSON and read back by codec.py's rules
+    values: Optional[Type[Any]] = None
 
     def check_class(self) -> Type['Check']:
         module, name = self.check.split(':')
@@ -72,16 +85,16 @@ class Family:
 
 
 FAMILIES: Dict[str, Family] = {f.name: f for f in [
-    Family('range', 'range:RangeCheck', 'range'),
-    Family('laser', 'laser:LaserCheck', 'laser'),
-    Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True)),
-    Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True)),
-    Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True)),
-    Family('joints', 'joints:JointsCheck', 'joints'),
-    Family('odometry', 'odometry:OdometryCheck', 'odometry'),
-    Family('imu', 'imu:ImuCheck', 'imu'),
+    Family('range', 'range:RangeCheck', 'range', values=RangeValues),
+    Family('laser', 'laser:LaserCheck', 'laser', values=LaserValues),
+    Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True), CameraValues),
+    Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True), DepthValues),
+    Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True), AudioValues),
+    Family('joints', 'joints:JointsCheck', 'joints', values=JointsValues),
+    Family('odometry', 'odometry:OdometryCheck', 'odometry', values=OdometryValues),
+    Family('imu', 'imu:ImuCheck', 'imu', values=ImuValues),
     Family('speech', 'speech:SpeechCheck', 'speech',
-           Traits(periodic=False, drives_itself=True, live_only=True, hears=True)),
+           Traits(periodic=False, drives_itself=True, live_only=True, hears=True), SpeechValues),
 ]}
 
 
@@ -105,3 +118,9 @@ def of(sensor: 'Sensor') -> Family:
 def traits(sensor: 'Sensor') -> Traits:
     """The traits of a catalog row's family."""
     return family(sensor.family).traits
+
+
+def values_of(name: str) -> Optional[Type[Any]]:
+    """The values dataclass of family `name`; None for an unknown family or one without values."""
+    row = FAMILIES.get(name)
+    return row.values if row is not None else None

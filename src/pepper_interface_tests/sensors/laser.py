@@ -34,6 +34,7 @@ from array import array
 from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
 from .base import Acc, Check, StuckRun, fmt
+from .values.laser import BeamKind
 
 if TYPE_CHECKING:
     import genpy
@@ -44,7 +45,7 @@ if TYPE_CHECKING:
 
 
 # what one beam of a scan is, as the check judges it (the report's scan plot shows the same)
-RETURN, BLIND, NO_RETURN, INVALID = 'return', 'blind', 'no return', 'invalid'
+RETURN, BLIND, NO_RETURN, INVALID = BeamKind.RETURN, BeamKind.BLIND, BeamKind.NO_RETURN, BeamKind.INVALID
 
 
 def blind_indices(slots: Optional[Tuple[Tuple[int, int], ...]]) -> Set[int]:
@@ -70,7 +71,7 @@ class LaserCheck(Check):
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
         # (angle_min, angle_increment, ranges, range_min, range_max, blind value) of the last scan
-        self.last_kinds: List[str] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
+        self.last_kinds: List[BeamKind] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
         self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
         self.stuck = StuckRun(self.expect.stuck_scans)
 
