@@ -12,6 +12,8 @@ Impossible values (joint_limits.py: Pepper's URDF limits, cited there):
   * a reported velocity above velocity x `velocity_factor` is a warning only: naoqi_driver
     reads it from ALMemory's Motion/Velocity/Sensor (joint_state.cpp:119-131), a value the
     DCM differentiates, which can spike.
+A NaN position fails; a NaN velocity or effort is accepted as "unknown": naoqi_driver leaves
+them NaN where ALMemory has no value (joint_state.cpp:130-137).
 No stuck rule: a robot at rest publishes the same angles message after message.
 """
 import math

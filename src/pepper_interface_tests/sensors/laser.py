@@ -13,7 +13,9 @@ What the drivers publish:
     NaN, filled only where the point cloud has a point; range 0.1..7.0 (:392-393); increment
     span / 488. NaN there means "no return".
 
-Rules (expectations): `ranges` (the driver's beam count, only where configured: the robot);
+Rules (expectations): the beam count is (angle_max - angle_min) / angle_increment (naoqi_driver,
+laser_publisher.py) or one more (REP 138's convention), with a beam of slack; `ranges` (the
+driver's beam count, only where configured: the robot);
 `blind_slots` ([[first, last], ...] inclusive: the driver's blind layout) holding `blind_value`;
 without `blind_slots`, any `blind_value` counts as blind (older configurations).
 `nan_is_no_return`: NaN (and +inf, REP 117) is "nothing seen", not an invalid reading.

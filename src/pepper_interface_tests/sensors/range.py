@@ -12,6 +12,7 @@ fail: NaN, negative (REP 117's -inf, "too close", is valid, as is +inf, "nothing
 above the physical limit `physical_range` ([min, max] m, from the expectations: Pepper's sonar
 measures 0..5 m, reference/pepper-sensors.md). Without `physical_range` the advertised limits
 are the only limits known, and a reading outside them fails.
+No stuck rule: a sonar with nothing in front reads its maximum again and again (sonar.cpp:114).
 """
 import math
 from typing import TYPE_CHECKING, Any, List, Tuple

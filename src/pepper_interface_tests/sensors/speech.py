@@ -1,7 +1,8 @@
 """Speech (loudspeaker): publish the test sentence once to the speech topic, delivered to a
 subscriber (naoqi_driver speaks what arrives on /speech).
 
-Pass condition: a subscriber was connected and the sentence was handed to it. When the
+Pass condition: a subscriber was connected (waited for at most `subscriber_wait` s) and the
+sentence was handed to it; nobody listening fails. When the
 microphones are in the same run, a level monitor is offered in ctx.services.microphone_levels
 (sensors/audio.py); the check then compares the level while speaking
 with the level before and reports whether the sentence was heard (required with require_heard).
