@@ -238,6 +238,14 @@ class Check:
     def warning_reasons(self) -> List[str]:
         return self.warnings.reasons(self.count) + self._end_warnings
 
+    def result_values(self) -> Optional[Any]:
+        """The family's frozen values dataclass (its row's `values` in sensors/families.py),
+        asked after close(). A check may build and return it itself (speech does). None (the
+        default): the window builds it from `values` and `series` by codec.py's rules (their
+        keys are the dataclass's JSON names; a key it lacks is a programming error, named in
+        the notes), or leaves it None when both are empty (nothing measured)."""
+        return None
+
     def skip_reason(self) -> Optional[str]:
         """Why the sensor is SKIPPED instead of judged (asked after close()); None: judge it."""
         return None

@@ -10,21 +10,37 @@ Derived from this table or checked against it by a test (test/unit/test_families
   any check exists, so it keeps its own map, and the test checks it names the same families);
 - plan/catalog.py (each sensor row names its family; the test checks every name is a row here);
 - the report's views (outputs/report/views/<Family.view>.py, found by name);
+- the values each family's check hands over (`Family.values`, its dataclass in
+  sensors/values/): the JSON is written from them and read back into them (codec.py), and the
+  report's views render them;
 - the emulator's publishers (emulator/publishers.py names its streams by these family names).
 
 How to add a family (e.g. `bumper`: event messages, published only on a press or a release):
 1. its check module sensors/<family>.py: a `Check` subclass (sensors/base.py) whose docstring
    states each rule with the upstream driver line it follows (the one authoritative statement
-   of the rule: docs/checks.md and the README point to it), and its frozen values dataclass;
-2. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
+   of the rule: docs/checks.md and the README point to it);
+2. its values: ONE frozen dataclass in its leaf sensors/values/<family>.py (importing only
+   codec.py and sensors/values/__init__.py), every field with a default. A field made with
+   codec.optional() is written only when set, codec.nullable() as null when None, codec.series()
+   is plot data (the JSON's "series"); enums (with a `description`, as the laser's BeamKind),
+   nested dataclasses, lists and dicts need nothing more. The check either returns an instance
+   from `result_values()` (speech), or fills `self.values` / `self.series` under the fields'
+   JSON names (the window turns them into the dataclass strictly: a key it lacks is named in
+   the notes). A check that builds a frozen dataclass and puts `dataclasses.asdict(x)` into
+   `self.values` should return `x` from `result_values()` instead. codec.py writes it to the
+   JSON and reads it back (history, --rerun-failed); there is no serializer to write;
+3. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
    stream rules of sensors/stream.py then leave out arrival within --wait, min_messages, the
-   rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers);
-3. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
+   rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers)
+   and `values=` its dataclass;
+4. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
    config/sensorExpectations.yaml;
-4. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
-5. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
-6. its report view outputs/report/views/<view>.py;
-7. its rows in docs/checks.md and docs/drivers.md.
+5. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
+6. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
+7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
+   dataclass as the check handed it over), found by the row's `view`;
+8. its rows in docs/checks.md and docs/drivers.md, its row in the README's "What is checked"
+   (a test checks it), and its values' keys in docs/results.md.
 Nothing else (the runner, the sources, the outputs) names a family.
 """
 import importlib

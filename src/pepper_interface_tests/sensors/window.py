@@ -271,8 +271,9 @@ class SensorRun:
     def _values(self) -> Any:
         """The check's findings as its family's frozen values dataclass (None: it found nothing)."""
         cls = of(self.sensor).values
-        if cls is None or not (self.check.values or self.check.series):
-            return None
+        own = self.check.result_values()
+        if own is not None or cls is None or not (self.check.values or self.check.series):
+            return own
         try:
             return codec.join(cls, self.check.values, self.check.series, strict=True)
         except codec.CodecError as e:     # a check and its dataclass that disagree: say so, keep the verdict
