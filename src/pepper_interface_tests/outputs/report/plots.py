@@ -132,7 +132,7 @@ def laser_scan(scan: 'LastScan') -> str:
     for kind, colour, marker, value in (
             (BLIND, GREY, 'x', '%g' % scan.blind_value if scan.blind_value is not None else '?'),
             (NO_RETURN, AMBER, 'o', None),
-            (INVALID, RED, 'x', 'range_min %g m' % scan.range_min)):
+            (INVALID, RED, 'x', '%g m' % scan.range_min)):
         label = kind.description + (' (%s)' % value if value else '')
         mask = kinds == kind.value
         if mask.any():
