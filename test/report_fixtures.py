@@ -11,6 +11,7 @@ does not record a histogram yet), so every section of the report has something t
 `handmade_media(folder)` writes a small H.264 mp4 with cv2.VideoWriter and a WAV with
 soundfile directly, for tests that need files of a known size.
 """
+import dataclasses
 import os
 import time
 
@@ -18,6 +19,8 @@ import numpy as np
 
 import fake_pepper as fake
 from fake_pepper import audio_buffer, camera_image, depth_image, stereo_image
+from pepper_interface_tests.sensors.values.depth import DepthHistogram
+from pepper_interface_tests.sensors.values.speech import SpeechValues
 
 
 def _core_message(kind, i, t):
@@ -77,8 +80,8 @@ def media_run(folder, sensors=MEDIA_SENSORS):
                 name='speech', title='SPEECH', topic=sp.topic, msg_type=sp.sensor.msg_type, verdict=PASS,
                 messages=1, window_s=4.2, stopped_because='finished', started_at=round(clock - 1000.0, 3),
                 ended_at=round(clock - 1000.0 + 4.2, 3), fields=[['Text', 'This is the CSSR4Africa speaker test.']],
-                values={'text': 'This is the CSSR4Africa speaker test.', 'subscribers': ['/naoqi_driver'],
-                        'heard': True, 'level_rise_db': 17.5},
+                family='speech', values=SpeechValues('This is the CSSR4Africa speaker test.', ['/naoqi_driver'],
+                                                     True, 17.5),
                 notes=['Sentence delivered to /naoqi_driver', 'Heard by the microphones: level rose 17.5 dB']))
             clock += 4.2
             continue
@@ -95,10 +98,10 @@ def media_run(folder, sensors=MEDIA_SENSORS):
         clock += 0.1
     run.end = run.start + (clock - 1000.0)
     for r in run.sensors:       # what the depth check may add later: a histogram of the depths
-        if r.name == 'depthCamera' and 'depth_histogram' not in r.values:
+        if r.name == 'depthCamera' and r.values.depth_histogram is None:
             edges = [round(0.5 * k, 2) for k in range(11)]
-            r.values['depth_histogram'] = {'edges': edges, 'counts': [0, 120, 900, 1500, 1400, 1300,
-                                                                      1200, 1000, 300, 40]}
+            r.values = dataclasses.replace(r.values, depth_histogram=DepthHistogram(
+                edges, [0, 120, 900, 1500, 1400, 1300, 1200, 1000, 300, 40]))
     return run
 
 
@@ -129,16 +132,26 @@ def rate_series(rate, seconds):
 
 
 def sensor(name, verdict='PASS', **kw):
-    """A SensorResult of the catalog's sensor `name` with plausible defaults, for report tests."""
+    """A SensorResult of the catalog's sensor `name` with plausible defaults, for report tests.
+    `values` and `series` are given as a run's JSON holds them (keys and lists) and read into
+    the family's values dataclass as sensorTestHistory reads that JSON back."""
+    from pepper_interface_tests import codec
     from pepper_interface_tests.plan import catalog
     from pepper_interface_tests.results import SensorResult
+    from pepper_interface_tests.sensors import families
     s = catalog.SENSORS[name]
     fields = dict(name=name, title=name.upper(), topic='/t/' + name, msg_type=s.msg_type, verdict=verdict,
                   messages=30, rate_hz=10.0, expected_rate_hz=[4.0, 16.0], window_s=3.0, started_at=0.0,
-                  ended_at=3.0, stopped_because='window ended')
+                  ended_at=3.0, stopped_because='window ended', family=s.family)
     fields.update(kw)
-    if 'series' not in kw and fields['rate_hz'] is not None:
-        fields['series'] = {'rate_hz': rate_series(fields['rate_hz'], fields['window_s'])}
+    series = fields.pop('series', None)
+    if series is None and fields['rate_hz'] is not None:
+        series = {'rate_hz': rate_series(fields['rate_hz'], fields['window_s'])}
+    if series and 'rate_hz' in series:
+        fields['rate_series'] = [tuple(p) for p in series['rate_hz']]
+    values = fields.pop('values', None)
+    if values is not None or series:
+        fields['values'] = codec.join(families.values_of(s.family), values, series)
     return SensorResult(**fields)
 
 

@@ -29,6 +29,7 @@ from pepper_interface_tests.results import FAIL, PASS, SKIPPED, RunResult, Senso
 from pepper_interface_tests.runner import Runner, lanes_for
 from pepper_interface_tests.sensors.base import Acc, RunContext, Tally, fmt
 from pepper_interface_tests.sensors.joint_limits import LIMITS
+from pepper_interface_tests.sensors.values import Spread
 from pepper_interface_tests.sensors.window import SensorRun
 from pepper_interface_tests.sources.bag import BagSource
 from pepper_interface_tests.sources.messages import message_class
@@ -116,7 +117,7 @@ def test_sonar_fields_hold_the_first_message(tmp_path):
     r = judged('backSonar', tmp_path, [sonar(i, range=1.25 if i == 0 else 2.0) for i in range(N)])
     assert dict(r.fields)['Range value'] == '1.25'
     assert dict(r.fields)['Frame id'] == 'SonarBack_frame'
-    assert r.values['range_m']['min'] == 1.25 and r.values['range_m']['max'] == 2.0
+    assert r.values.range_m.min == 1.25 and r.values.range_m.max == 2.0
 
 
 # ------------------------------------------------------------------ sonar
@@ -142,11 +143,11 @@ def test_sonar_beyond_the_advertised_range_is_a_real_distance(tmp_path):
     4 m with nothing in front is a healthy reading, shown as information."""
     r = judged('backSonar', tmp_path, [sonar(i, range=4.0 + 0.01 * (i % 3)) for i in range(N)])
     assert r.verdict == PASS, r.reasons
-    assert r.values['beyond_advertised_max'] == N
+    assert r.values.beyond_advertised_max == N
     assert any('25 of 25 readings beyond the advertised range (up to 4.02 m' in n for n in r.notes)
     r = judged('backSonar', tmp_path, [sonar(i, range=0.1) for i in range(N)])
     assert r.verdict == PASS, r.reasons
-    assert r.values['below_advertised_min'] == N
+    assert r.values.below_advertised_min == N
 
 
 def test_sonar_without_physical_limits_uses_the_advertised_ones(tmp_path):
@@ -161,7 +162,7 @@ def test_sonar_infinite_ranges_are_valid_readings(tmp_path):
     r = judged('backSonar', tmp_path, [sonar(i, range=float('inf') if i % 2 else float('-inf'))
                                        for i in range(N)])
     assert r.verdict == PASS, r.reasons
-    assert r.values['infinite_ranges'] == N
+    assert r.values.infinite_ranges == N
 
 
 def test_sonar_one_bad_message_is_counted(tmp_path):
@@ -210,7 +211,7 @@ def test_laser_invalid_share_limit(tmp_path):
     """16 blind beams (-1.0) are excluded; of the other 45, at most 50% may be invalid."""
     ok = judged('laser', tmp_path, [_scan_with_invalid(i, 22) for i in range(N)])   # 48.9%
     assert ok.verdict == PASS, ok.reasons
-    assert ok.values['blind_beams'] == 16 * N and ok.values['invalid_beams'] == 22 * N
+    assert ok.values.blind_beams == 16 * N and ok.values.invalid_beams == 22 * N
     bad = judged('laser', tmp_path, [_scan_with_invalid(i, 23) for i in range(N)])  # 51.1%
     assert bad.verdict == FAIL
     one_reason_with(bad, '51% of the beams are invalid')
@@ -221,9 +222,9 @@ def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
     r = judged('laser', tmp_path, [laser(i, ranges=[-1.0 if k in BLIND else 5.0 + 0.001 * (i % 3)
                                                    for k in range(61)]) for i in range(N)])
     assert r.verdict == PASS, r.reasons
-    assert r.values['beyond_advertised_max'] == 45 * N and r.values['invalid_beams'] == 0
+    assert r.values.beyond_advertised_max == 45 * N and r.values.invalid_beams == 0
     # the report's scan plot draws each beam as judged here: 5 m beams are returns, not invalid
-    kinds = r.series['last_scan']['kinds']
+    kinds = r.values.last_scan.kinds
     assert kinds.count('return') == 45 and kinds.count('blind') == 16, kinds
 
 
@@ -233,14 +234,14 @@ def test_laser_last_scan_kinds_follow_the_verdict(tmp_path):
     ranges = [-1.0 if k in BLIND else 2.0 for k in range(61)]
     ranges[0], ranges[1], ranges[2] = float('inf'), 0.01, 4.5
     r = judged('laser', tmp_path, [laser(i, ranges=list(ranges)) for i in range(N)])
-    kinds = r.series['last_scan']['kinds']
+    kinds = r.values.last_scan.kinds
     assert kinds[:3] == ['no return', 'invalid', 'return'] and kinds[15] == 'blind', kinds
 
 
 def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):
     """Only the driver's blind slots may hold -1.0; elsewhere it is an invalid reading."""
     r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 12))) for i in range(N)])
-    assert r.values['blind_beams'] == 16 * N and r.values['invalid_beams'] == 12 * N
+    assert r.values.blind_beams == 16 * N and r.values.invalid_beams == 12 * N
     assert r.verdict == PASS, r.reasons          # 12 of 45 = 27%: within max_invalid_share
     r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 15)) + list(range(23, 31)))
                                    for i in range(N)])
@@ -252,7 +253,7 @@ def test_laser_blind_value_without_a_layout(tmp_path):
     """Without blind_slots any blind value is blind; without a blind value, -1.0 is invalid."""
     r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
                expect={'blind_value': None, 'blind_slots': None})
-    assert r.verdict == FAIL and r.values['blind_beams'] == 0
+    assert r.verdict == FAIL and r.values.blind_beams == 0
     r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
                expect={'blind_slots': None})
     assert r.verdict == PASS, r.reasons
@@ -289,8 +290,8 @@ def test_joint_empty_velocity_and_effort_are_allowed(tmp_path):
     msgs = [joints(position=rest, velocity=[], effort=[]) for _ in range(NJ)]
     r = judged('jointState', tmp_path, msgs)
     assert r.verdict == PASS, r.reasons     # a robot at rest: the same angles every time is no fault
-    assert r.values['joint_count'] == len(JOINTS)
-    assert r.values['joints']['HeadYaw']['position'] == {'min': 0.2, 'mean': 0.2, 'max': 0.2}
+    assert r.values.joint_count == len(JOINTS)
+    assert r.values.joints['HeadYaw']['position'] == Spread(0.2, 0.2, 0.2)
 
 
 # ------------------------------------------------------------------ odometry
@@ -322,7 +323,7 @@ def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
                        'the window (stuck_scans 20)')
     r = judged('laser', tmp_path, [laser(i // 3) for i in range(N)])      # each scan three times
     assert r.verdict == PASS, r.reasons
-    assert r.values['longest_identical_run'] == 3
+    assert r.values.longest_identical_run == 3
     r = judged('laser', tmp_path, [laser(i) for i in range(5)] + [laser(99)] * 22)
     one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')
 
@@ -433,7 +434,7 @@ def test_imu_with_unknown_covariance_is_checked(tmp_path):
     data may be skipped: a good IMU passes, a NaN or zero attitude fails."""
     r = judged('imu', tmp_path, [imu(i, covariance=UNKNOWN) for i in range(N)])
     assert r.verdict == PASS, r.reasons
-    assert r.values['acceleration_norm_m_s2']['mean'] == pytest.approx(9.81)
+    assert r.values.acceleration_norm_m_s2.mean == pytest.approx(9.81)
     nan = (float('nan'),) * 4
     r = judged('imu', tmp_path, [imu(i, orientation=nan, orientation_covariance=UNKNOWN) for i in range(N)])
     assert r.verdict == FAIL
@@ -886,7 +887,7 @@ def sample_run(tmp_path):
                        reasons=['range <min> & "max" wrong', 'rate 2.00 Hz outside the expected 4-16 Hz'],
                        warnings=['1 pause'], messages=6, rate_hz=2.0, window_s=3.0,
                        fields=[['Frame id', 'base_footprint']], stopped_because='window ended',
-                       series={'rate_hz': [(0.5, 2.0)]})
+                       rate_series=[(0.5, 2.0)])
     skipped = SensorResult(name='imu', title='IMU', topic=None, msg_type='sensor_msgs/Imu',
                            verdict=SKIPPED, reasons=['not available in the simulator'])
     run = RunResult(platform='robot', mode='sequential', start=1700000000.0, end=1700000012.5,

@@ -31,7 +31,7 @@ NEVER_TYPED = {'audio_bridge/capture.py'}
 NOT_YET_TYPED: Set[str] = set()
 
 # Layers along the data's path: a module may import its own layer, a lower one and the base.
-BASE = {'results', 'stats', 'interrupts', 'progress',
+BASE = {'results', 'stats', 'interrupts', 'progress', 'codec',
         'msg'}    # pepper_interface_tests.msg: the generated message classes (msg/*.msg)
 LAYERS = [
     {'plan'},

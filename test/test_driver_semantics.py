@@ -71,8 +71,8 @@ def sim_scan(returns=True, i=0):
 def test_simulator_laser_mostly_nan_with_returns_passes(tmp_path):
     r = feed(run_of('laser', tmp_path, SIM), [sim_scan(i=i) for i in range(18)], rate=6.25)
     assert r.verdict == PASS, r.reasons
-    assert r.values['no_return_beams'] == 18 * (488 - 41) and r.values['invalid_beams'] == 0
-    assert r.values['beyond_advertised_max'] == 18
+    assert r.values.no_return_beams == 18 * (488 - 41) and r.values.invalid_beams == 0
+    assert r.values.beyond_advertised_max == 18
 
 
 def test_simulator_laser_without_returns_fails(tmp_path):
@@ -98,7 +98,7 @@ def test_audio_buffer_decoded_from_its_definition_passes(tmp_path):
     assert r.verdict == PASS, r.reasons
     assert r.received_type == AUDIO_BUFFER_TYPE
     assert r.expected_rate_hz == [2.93, 8.79]        # 48000 / 8192 = 5.86 Hz +- 50 %
-    assert abs(r.values['sample_rate_hz'] - 48000) < 1
+    assert abs(r.values.sample_rate_hz - 48000) < 1
     data, rate = soundfile.read(os.path.join(str(tmp_path), 'microphoneOutput.wav'), dtype='int16')
     assert data.shape == (NB * 8192, 4) and rate == 48000
     for i, name in enumerate(CHANNELS):   # rearLeft, rearRight, frontLeft, frontRight

@@ -164,6 +164,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
 
     from pepper_interface_tests.outputs import report
     from pepper_interface_tests.results import PASS, RunResult, SensorResult
+    from pepper_interface_tests.sensors.values.camera import CameraValues, VideoSummary
     folder = str(tmp_path)
     video, wav = report_fixtures.handmade_media(folder)
     old = os.path.join(folder, 'old.mp4')      # MPEG-4 part 2: browsers cannot decode it
@@ -175,7 +176,7 @@ def test_large_recordings_are_linked_and_mp4v_is_not_offered_to_the_browser(tmp_
                          verdict=PASS, messages=20, artifacts={'video': os.path.basename(video)}),
             SensorResult(name='bottomCamera', title='BOTTOM CAMERA', topic='/bottom', msg_type='sensor_msgs/Image',
                          verdict=PASS, messages=10, artifacts={'video': 'old.mp4'},
-                         values={'video': {'codec': 'mp4v'}}),
+                         family='camera', values=CameraValues(video=VideoSummary(codec='mp4v'))),
             SensorResult(name='microphone', title='MICROPHONE', topic='/audio',
                          msg_type='pepper_interface_tests/AudioCustomMsg', verdict=PASS, messages=20,
                          artifacts={'audio': os.path.basename(wav)})]

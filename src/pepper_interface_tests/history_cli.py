@@ -132,7 +132,7 @@ def cmd_failed(args: argparse.Namespace, runs: List[RunInfo], out: TextIO) -> in
     run = _run_or_latest(runs, args.run, lambda r: '' if r.complete else 'cannot be read: ' + r.problem,
                          'a readable %s' % results.JSON_FILE)
     data = run.data or {}     # a complete run: its JSON was read
-    failed = not_passed(data)
+    failed = not_passed(run.result())
     if not failed:
         _note('no sensor failed in run %s: nothing to re-run' % run.run_id)
         return EXIT_NOTHING

@@ -9,9 +9,11 @@ length is bounded.
 """
 import datetime
 import re
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 from enum import Enum
-from typing import Any, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple, Type
+
+from . import codec
 
 
 class Verdict(str, Enum):
@@ -87,10 +89,13 @@ class SensorResult:
     started_at: Optional[float] = None   # seconds since the run's start
     ended_at: Optional[float] = None
     fields: List[List[str]] = field(default_factory=list)  # first message, the spec's fields
-    stats: Dict = field(default_factory=dict)
-    values: Dict = field(default_factory=dict)
-    series: Dict = field(default_factory=dict)
+    stats: Dict = field(default_factory=dict)              # the stream's numbers (stats.StreamStats.summary)
+    # what the family's check measured: its frozen values dataclass (sensors/values/<family>.py,
+    # the row's `values` in sensors/families.py), None when nothing was measured
+    values: Optional[Any] = None
     artifacts: Dict = field(default_factory=dict)
+    family: str = ''                     # the check family (sensors/families.py), '' when unknown
+    rate_series: Optional[List[Tuple[float, float]]] = None   # messages per second over the window
 
     @property
     def ok(self) -> bool:
@@ -129,12 +134,7 @@ class RunResult:
         return out
 
     def to_dict(self, with_series: bool = False) -> Dict[str, Any]:
-        sensors = []
-        for s in self.sensors:
-            d = asdict(s)
-            if not with_series:
-                d.pop('series')
-            sensors.append(d)
+        sensors = [sensor_dict(s, with_series) for s in self.sensors]
         return {
             'schema_version': SCHEMA_VERSION,
             'tool': 'pepper_interface_tests/sensorTest',
@@ -157,6 +157,28 @@ class RunResult:
             'param_sources': self.param_sources,
             'sensors': sensors,
         }
+
+
+_APART = ('values', 'family', 'rate_series')    # written by sensor_dict itself
+
+
+def sensor_dict(s: SensorResult, with_series: bool = False) -> Dict[str, Any]:
+    """One sensor of the JSON: its fields in order, the family after msg_type, its values
+    dataclass as "values" (and, `with_series`, its plot data and rate_hz as "series")."""
+    d: Dict[str, Any] = {}
+    for f in fields(s):
+        if f.name not in _APART:
+            d[f.name] = codec.to_json(getattr(s, f.name))
+        if f.name == 'msg_type':
+            d['family'] = s.family
+        elif f.name == 'stats':
+            values, plots = codec.split(s.values) if s.values is not None else ({}, {})
+            d['values'] = values
+            if with_series:
+                if s.rate_series is not None:
+                    plots['rate_hz'] = codec.to_json(s.rate_series)
+                d['series'] = plots
+    return d
 
 
 def param_lines(run: RunResult) -> List[str]:
@@ -192,10 +214,85 @@ def summary_line(r: SensorResult) -> str:
 PASSING = (PASS, SKIPPED)   # any other verdict (FAIL, INTERRUPTED, ...) did not pass
 
 
-def not_passed(data: Dict[str, Any]) -> List[str]:
+def not_passed(run: RunResult) -> List[str]:
     """Names of a run's sensors that did not pass, in run order (`sensorTestHistory failed`,
     `sensorTest --rerun-failed`)."""
-    return [s['name'] for s in data.get('sensors', []) if s.get('verdict') not in PASSING]
+    return [s.name for s in run.sensors if s.verdict not in PASSING]
+
+
+ValuesOf = Callable[[str], Optional[Type[Any]]]     # family -> its values dataclass
+
+
+def read_run(data: Dict[str, Any], values_of: Optional[ValuesOf] = None,
+             family_of: Optional[Callable[[str], str]] = None) -> RunResult:
+    """A run's JSON (as `RunResult.to_dict` wrote it, now or in an earlier version; checked by
+    `malformed` first) read back into a RunResult. A sensor's values are read into its family's
+    dataclass (`values_of`; without it, or when they do not fit, they are left out); a JSON
+    written before the family was recorded names it by `family_of(sensor name)`."""
+    run = RunResult(platform=_text(data.get('platform')), mode=_text(data.get('mode')),
+                    start=_num(data.get('start_unix'), 0.0), end=_num(data.get('end_unix'), None),
+                    interrupted=data.get('interrupted') is True,
+                    interrupt_reason=_text(data.get('interrupt_reason')),
+                    output_dir=_text(data.get('output_dir')), run_id=_text(data.get('run_id')),
+                    source=_text(data.get('source')) or 'live', files=_dict(data.get('files')),
+                    options=_dict(data.get('options')), write_errors=_texts(data.get('write_errors')),
+                    param_sources=_dict(data.get('param_sources')))
+    for s in data.get('sensors') or []:
+        run.sensors.append(_read_sensor(s, values_of, family_of))
+    return run
+
+
+def _read_sensor(s, values_of, family_of):
+    verdict = s.get('verdict')
+    family = s.get('family') if isinstance(s.get('family'), str) else \
+        (family_of(s['name']) if family_of is not None else '')
+    r = SensorResult(
+        name=s['name'], title=_text(s.get('title')), topic=s.get('topic') if isinstance(s.get('topic'), str) else None,
+        msg_type=_text(s.get('msg_type')), verdict=Verdict(verdict) if verdict in _VERDICTS else verdict,
+        reasons=_texts(s.get('reasons')), warnings=_texts(s.get('warnings')), notes=_texts(s.get('notes')),
+        messages=int(_num(s.get('messages'), 0)), rate_hz=_num(s.get('rate_hz'), None),
+        stamp_rate_hz=_num(s.get('stamp_rate_hz'), None),
+        expected_rate_hz=s.get('expected_rate_hz') if _is_pair(s.get('expected_rate_hz')) else None,
+        nominal_rate_hz=_num(s.get('nominal_rate_hz'), None),
+        received_type=s.get('received_type') if isinstance(s.get('received_type'), str) else None,
+        window_s=_num(s.get('window_s'), 0.0), stopped_because=_text(s.get('stopped_because')),
+        started_at=_num(s.get('started_at'), None), ended_at=_num(s.get('ended_at'), None),
+        fields=[[str(x) for x in f] for f in s.get('fields') or [] if isinstance(f, list)],
+        stats=_dict(s.get('stats')), artifacts=_dict(s.get('artifacts')), family=family or '')
+    cls = values_of(r.family) if values_of is not None and r.family else None
+    if cls is not None:
+        try:
+            r.values = codec.join(cls, s.get('values'), s.get('series'))
+        except codec.CodecError:
+            r.values = None          # values of another version that do not fit: the verdict stays
+    series = s.get('series')
+    if isinstance(series, dict) and isinstance(series.get('rate_hz'), list):
+        r.rate_series = [(float(p[0]), float(p[1])) for p in series['rate_hz']
+                         if isinstance(p, list) and len(p) == 2 and all(_is_number(x) for x in p)]
+    return r
+
+
+_VERDICTS = {v.value for v in Verdict}
+
+
+def _text(v: Any) -> str:
+    return v if isinstance(v, str) else ''
+
+
+def _texts(v: Any) -> List[str]:
+    return [x for x in v if isinstance(x, str)] if isinstance(v, list) else []
+
+
+def _dict(v: Any) -> Dict:
+    return v if isinstance(v, dict) else {}
+
+
+def _num(v, default):
+    return v if _is_number(v) else default
+
+
+def _is_pair(v):
+    return isinstance(v, list) and len(v) == 2 and all(_is_number(x) for x in v)
 
 
 def _is_number(v):

@@ -114,7 +114,8 @@ class Runner:
         except Exception as e:  # judging must not lose the sensor: report it as a failure
             run.result = SensorResult(name=run.sensor.name, title=run.sensor.title,
                                       topic=run.plan.topic, msg_type=run.sensor.msg_type,
-                                      verdict=FAIL, reasons=['internal error while judging: %s' % e],
+                                      family=run.sensor.family, verdict=FAIL,
+                                      reasons=['internal error while judging: %s' % e],
                                       messages=run.stats.count)
 
     def _collect(self, wait=False):

@@ -34,7 +34,9 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, TextIO, T
 
 from .. import results
 from ..observer import RunObserver
+from ..plan import catalog
 from ..results import malformed
+from ..sensors import families
 from . import files
 from .atomicfile import write_atomic, write_error
 
@@ -211,8 +213,22 @@ class RunInfo:
     def complete(self) -> bool:
         return self.data is not None
 
-    def sensors(self) -> Dict[str, Dict[str, Any]]:
-        return {s['name']: s for s in (self.data or {}).get('sensors', [])}
+    def result(self) -> results.RunResult:
+        """The run read back (each sensor's values in its family's dataclass); an empty run
+        when its JSON could not be read."""
+        return read_back(self.data or {})
+
+    def sensors(self) -> Dict[str, results.SensorResult]:
+        return {s.name: s for s in self.result().sensors}
+
+
+def read_back(data: Dict[str, Any]) -> results.RunResult:
+    """A run's JSON (checked by results.malformed) as a RunResult with typed values; a JSON
+    written before the family was recorded names it by the catalog's row of the sensor."""
+    def family_of(name: str) -> str:
+        sensor = catalog.SENSORS.get(name)
+        return sensor.family if sensor is not None else ''
+    return results.read_run(data, families.values_of, family_of)
 
 
 def _sort_key(run_id: str) -> Tuple[str, int, str]:
@@ -288,15 +304,15 @@ def compare(a: RunInfo, b: RunInfo, threshold: float = RATE_FLAG) -> List[Dict[s
     rows = []
     for name in names:
         x, y = sa.get(name), sb.get(name)
-        row: Dict[str, Any] = {'sensor': name, 'verdict_a': x['verdict'] if x else None,
-               'verdict_b': y['verdict'] if y else None,
-               'rate_a': x.get('rate_hz') if x else None, 'rate_b': y.get('rate_hz') if y else None,
-               'reasons_a': (x or {}).get('reasons') or [], 'reasons_b': (y or {}).get('reasons') or []}
+        row: Dict[str, Any] = {'sensor': name, 'verdict_a': x.verdict if x else None,
+               'verdict_b': y.verdict if y else None,
+               'rate_a': x.rate_hz if x else None, 'rate_b': y.rate_hz if y else None,
+               'reasons_a': x.reasons if x else [], 'reasons_b': y.reasons if y else []}
         row['verdict_changed'] = row['verdict_a'] != row['verdict_b']
         ra, rb = row['rate_a'], row['rate_b']
         row['rate_change'] = (rb - ra) / ra if ra and rb is not None else None
         row['rate_flag'] = row['rate_change'] is not None and abs(row['rate_change']) > threshold
-        if ra and rb is None and y is not None and y['verdict'] != results.SKIPPED:
+        if ra and rb is None and y is not None and y.verdict != results.SKIPPED:
             row['rate_flag'] = True       # it had a rate, now nothing arrives
         rows.append(row)
     return rows

@@ -124,7 +124,7 @@ def rerun_failed(output_dir: str, platform: str, options: Options) -> Tuple[Tupl
     if data.get('platform') not in (None, platform):
         raise ConfigError('--rerun-failed: run %s was on the %s platform, this run is on the %s'
                           % (run_id, data['platform'], platform), fix='add --platform %s' % data['platform'])
-    failed = results.not_passed(data)
+    failed = results.not_passed(results.read_run(data))
     if not failed:
         raise ConfigError('--rerun-failed: nothing to re-run: no sensor failed in run %s (%s)' % (run_id, path),
                           fix='run sensorTest without --rerun-failed to test every sensor')

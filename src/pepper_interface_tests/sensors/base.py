@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Dict, Hashable, List, Optional, Protocol, Tuple
 
 from ..results import FAIL, PASS, SKIPPED, Verdict
+from .values import Spread
 
 if TYPE_CHECKING:
     import genpy
@@ -60,6 +61,10 @@ class Acc:
             return {'min': None, 'mean': None, 'max': None}
         lo, hi = float(self.lo or 0.0), float(self.hi or 0.0)    # set once n > 0
         return {'min': round(lo, nd), 'mean': round(self.total / self.n, nd), 'max': round(hi, nd)}
+
+    def spread(self, nd: int = 4) -> Spread:
+        """`as_dict` as the values' Spread."""
+        return Spread(**self.as_dict(nd))
 
     def text(self, unit: str = '') -> str:
         if not self.n:
@@ -237,6 +242,14 @@ class Check:
 
     def warning_reasons(self) -> List[str]:
         return self.warnings.reasons(self.count) + self._end_warnings
+
+    def result_values(self) -> Optional[Any]:
+        """The family's frozen values dataclass (its row's `values` in sensors/families.py),
+        asked after close(). A check may build and return it itself (range, joints, imu, speech do). None (the
+        default): the window builds it from `values` and `series` by codec.py's rules (their
+        keys are the dataclass's JSON names; a key it lacks is a programming error, named in
+        the notes), or leaves it None when both are empty (nothing measured)."""
+        return None
 
     def skip_reason(self) -> Optional[str]:
         """Why the sensor is SKIPPED instead of judged (asked after close()); None: judge it."""

@@ -13,9 +13,11 @@ Over the window (FAIL at the end):
   * black / constant: brightness mean below `min_brightness` ("black") or pixel standard
     deviation below `min_spread` ("constant") in more than `bad_frame_share` of the frames
     (default 0.5; fewer bad frames are a warning: a camera may start dark while its exposure
-    settles);
-  * frozen: `frozen_frames` (default 5) or more identical consecutive frames. Pepper can send
-    the same frame twice at low rates, so this must stay above 2.
+    settles); an image that turns black partway and stays black to the end of the window, for
+    at least `frozen_frames` frames and 1 s, fails from that time whatever its share ("image
+    black from t = 4.1 s to the end of the window");
+  * frozen: `frozen_frames` (default 5) or more identical consecutive frames, saying from when
+    to when. Pepper can send the same frame twice at low rates, so this must stay above 2.
 Cost: brightness and spread use every 8th row and column (4,800 pixels of a 640x480 frame);
 the frozen test compares the whole image data with the previous frame's bytes (exact; a
 memcmp that stops at the first differing byte, so a changing image costs next to nothing);

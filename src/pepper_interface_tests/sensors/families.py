@@ -10,26 +10,52 @@ Derived from this table or checked against it by a test (test/unit/test_families
   any check exists, so it keeps its own map, and the test checks it names the same families);
 - plan/catalog.py (each sensor row names its family; the test checks every name is a row here);
 - the report's views (outputs/report/views/<Family.view>.py, found by name);
+- the values each family's check hands over (`Family.values`, its dataclass in
+  sensors/values/): the JSON is written from them and read back into them (codec.py), and the
+  report's views render them;
 - the emulator's publishers (emulator/publishers.py names its streams by these family names).
 
 How to add a family (e.g. `bumper`: event messages, published only on a press or a release):
 1. its check module sensors/<family>.py: a `Check` subclass (sensors/base.py) whose docstring
    states each rule with the upstream driver line it follows (the one authoritative statement
-   of the rule: docs/checks.md and the README point to it), and its frozen values dataclass;
-2. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
+   of the rule: docs/checks.md and the README point to it);
+2. its values: ONE frozen dataclass in its leaf sensors/values/<family>.py (importing only
+   codec.py and sensors/values/__init__.py), every field with a default. A field made with
+   codec.optional() is written only when set, codec.nullable() as null when None, codec.series()
+   is plot data (the JSON's "series"); enums (with a `description`, as the laser's BeamKind),
+   nested dataclasses, lists and dicts need nothing more. The check either returns an instance
+   from `result_values()` (range, joints, imu, speech), or fills `self.values` / `self.series` under the fields'
+   JSON names (the window turns them into the dataclass strictly: a key it lacks is named in
+   the notes). A check that builds a frozen dataclass and puts `dataclasses.asdict(x)` into
+   `self.values` should return `x` from `result_values()` instead. codec.py writes it to the
+   JSON and reads it back (history, --rerun-failed); there is no serializer to write;
+3. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
    stream rules of sensors/stream.py then leave out arrival within --wait, min_messages, the
-   rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers);
-3. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
+   rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers)
+   and `values=` its dataclass;
+4. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
    config/sensorExpectations.yaml;
-4. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
-5. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
-6. its report view outputs/report/views/<view>.py;
-7. its rows in docs/checks.md and docs/drivers.md.
+5. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
+6. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
+7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
+   dataclass as the check handed it over), found by the row's `view`;
+8. its rows in docs/checks.md and docs/drivers.md, its row in the README's "What is checked"
+   (a test checks it), and its values' keys in docs/results.md.
 Nothing else (the runner, the sources, the outputs) names a family.
 """
 import importlib
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Dict, Type
+from typing import TYPE_CHECKING, Any, Dict, Optional, Type
+
+from .values.audio import AudioValues
+from .values.camera import CameraValues
+from .values.depth import DepthValues
+from .values.imu import ImuValues
+from .values.joints import JointsValues
+from .values.laser import LaserValues
+from .values.odometry import OdometryValues
+from .values.range import RangeValues
+from .values.speech import SpeechValues
 
 if TYPE_CHECKING:
     from ..plan.catalog import Sensor
@@ -65,6 +91,9 @@ class Family:
     check: str           # 'module:Class' in sensors/ (imported when first used: OpenCV is slow to load)
     view: str            # the report's view module, outputs/report/views/<view>.py
     traits: Traits = Traits()
+    # the frozen dataclass of what its check measured (sensors/values/<family>.py): the
+    # sensor's SensorResult.values, written to the JSON and read back by codec.py's rules
+    values: Optional[Type[Any]] = None
 
     def check_class(self) -> Type['Check']:
         module, name = self.check.split(':')
@@ -72,16 +101,16 @@ class Family:
 
 
 FAMILIES: Dict[str, Family] = {f.name: f for f in [
-    Family('range', 'range:RangeCheck', 'range'),
-    Family('laser', 'laser:LaserCheck', 'laser'),
-    Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True)),
-    Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True)),
-    Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True)),
-    Family('joints', 'joints:JointsCheck', 'joints'),
-    Family('odometry', 'odometry:OdometryCheck', 'odometry'),
-    Family('imu', 'imu:ImuCheck', 'imu'),
+    Family('range', 'range:RangeCheck', 'range', values=RangeValues),
+    Family('laser', 'laser:LaserCheck', 'laser', values=LaserValues),
+    Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True), CameraValues),
+    Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True), DepthValues),
+    Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True), AudioValues),
+    Family('joints', 'joints:JointsCheck', 'joints', values=JointsValues),
+    Family('odometry', 'odometry:OdometryCheck', 'odometry', values=OdometryValues),
+    Family('imu', 'imu:ImuCheck', 'imu', values=ImuValues),
     Family('speech', 'speech:SpeechCheck', 'speech',
-           Traits(periodic=False, drives_itself=True, live_only=True, hears=True)),
+           Traits(periodic=False, drives_itself=True, live_only=True, hears=True), SpeechValues),
 ]}
 
 
@@ -105,3 +134,9 @@ def of(sensor: 'Sensor') -> Family:
 def traits(sensor: 'Sensor') -> Traits:
     """The traits of a catalog row's family."""
     return family(sensor.family).traits
+
+
+def values_of(name: str) -> Optional[Type[Any]]:
+    """The values dataclass of family `name`; None for an unknown family or one without values."""
+    row = FAMILIES.get(name)
+    return row.values if row is not None else None

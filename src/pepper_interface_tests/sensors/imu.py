@@ -21,9 +21,11 @@ Data that cannot be real:
     (same page), the sensor cannot report it.
 """
 import math
-from typing import TYPE_CHECKING, Any, List, Tuple
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 from .base import Acc, Check, StuckRun, finite, fmt, quaternion_norm
+from .values import Point
+from .values.imu import ImuValues
 
 if TYPE_CHECKING:
     import genpy
@@ -44,7 +46,9 @@ class ImuCheck(Check):
     def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.acc_norm, self.gyro_norm = Acc(), Acc()
-        self.series['acceleration_m_s2'], self.series['angular_velocity_rad_s'] = [], []
+        self.acc_series: List[Point] = []
+        self.gyro_series: List[Point] = []
+        self.found: Optional[ImuValues] = None
         self.stuck = StuckRun(self.expect.stuck_messages)
         self.acc_values: List[float] = []
 
@@ -93,20 +97,20 @@ class ImuCheck(Check):
             self.failures.add('gyro_range', '|angular velocity| beyond the gyrometer\'s range '
                               '(max_angular_velocity %s rad/s, ~500 deg/s)' % fmt(top),
                               '%s rad/s, first at t = %s s' % (fmt(wn, 2), fmt(t, 2)))
-        if len(self.series['acceleration_m_s2']) < 2000:
-            self.series['acceleration_m_s2'].append((round(t, 3), an))
-            self.series['angular_velocity_rad_s'].append((round(t, 3), wn))
+        if len(self.acc_series) < 2000:
+            self.acc_series.append((round(t, 3), an))
+            self.gyro_series.append((round(t, 3), wn))
 
     def finish(self) -> None:
         stuck = self.stuck.finding('readings (angular velocity and linear acceleration)',
                                    'stuck_messages')
         if stuck:
             self.fail('IMU stuck: ' + stuck)
-        self.values['longest_identical_run'] = self.stuck.longest
         band = self.expect.acceleration_norm
+        median_value = None
         if band is not None and self.acc_values:
             median = sorted(self.acc_values)[len(self.acc_values) // 2]
-            self.values['acceleration_norm_median_m_s2'] = round(median, 4)
+            median_value = round(median, 4)
             if not (band[0] <= median <= band[1]):
                 self.fail('median |linear acceleration| %s m/s^2 outside acceleration_norm [%s, %s] '
                           '(an upright robot measures g = 9.81 m/s^2: %s)'
@@ -114,8 +118,11 @@ class ImuCheck(Check):
                              'a dead accelerometer reads 0' if median < 0.5 else
                              'values in g instead of m/s^2?' if median < 2 else
                              'not the gravity an upright robot measures'))
-        self.values['acceleration_norm_m_s2'] = self.acc_norm.as_dict()
-        self.values['angular_velocity_norm_rad_s'] = self.gyro_norm.as_dict()
+        self.found = ImuValues(self.stuck.longest, median_value, self.acc_norm.spread(), self.gyro_norm.spread(),
+                               list(self.acc_series), list(self.gyro_series))
         if self.count:
             self.notes.append('|linear acceleration|: %s; |angular velocity|: %s'
                               % (self.acc_norm.text('m/s^2'), self.gyro_norm.text('rad/s')))
+
+    def result_values(self) -> Optional[ImuValues]:
+        return self.found

@@ -12,13 +12,16 @@ Impossible values (joint_limits.py: Pepper's URDF limits, cited there):
   * a reported velocity above velocity x `velocity_factor` is a warning only: naoqi_driver
     reads it from ALMemory's Motion/Velocity/Sensor (joint_state.cpp:119-131), a value the
     DCM differentiates, which can spike.
+A NaN position fails; a NaN velocity or effort is accepted as "unknown": naoqi_driver leaves
+them NaN where ALMemory has no value (joint_state.cpp:130-137).
 No stuck rule: a robot at rest publishes the same angles message after message.
 """
 import math
-from typing import TYPE_CHECKING, Any, Dict, List, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
 from .base import Acc, Check, fmt
 from .joint_limits import LIMITS
+from .values.joints import JointsValues
 
 if TYPE_CHECKING:
     import genpy
@@ -38,6 +41,7 @@ class JointsCheck(Check):
         super().__init__(plan, ctx)
         self.joints: Dict[str, Dict[str, Acc]] = {}     # name -> {'position': Acc, 'velocity': Acc, 'effort': Acc}
         self.names_seen: List[str] = []
+        self.found: Optional[JointsValues] = None
         self.margin = self.expect.position_margin
         self.factor = self.expect.velocity_factor
         self.anchor: Dict[str, Tuple[float, float]] = {}     # name -> (time, position) a speed is measured from
@@ -114,11 +118,9 @@ class JointsCheck(Check):
                                  line), '%s rad/s, first at t = %s s' % (fmt(speed, 2), fmt(t, 2)))
 
     def finish(self) -> None:
-        self.values['joints'] = {name: {k: a.as_dict() for k, a in acc.items()}
-                                 for name, acc in self.joints.items()}
-        self.values['joint_count'] = len(self.joints)
-        if self.fast:
-            self.values['impossible_speeds_rad_s'] = {n: round(v[0], 3) for n, v in self.fast.items()}
+        self.found = JointsValues({name: {k: a.spread() for k, a in acc.items()} for name, acc in self.joints.items()},
+                                  len(self.joints),
+                                  {n: round(v[0], 3) for n, v in self.fast.items()} if self.fast else None)
         expected = self.expect.joints
         missing = [j for j in expected if j not in self.joints]
         if self.count and missing:
@@ -130,3 +132,6 @@ class JointsCheck(Check):
                 self.notes.append('%s position %s; velocity %s; effort %s'
                                   % (name, acc['position'].text('rad'), acc['velocity'].text('rad/s'),
                                      acc['effort'].text()))
+
+    def result_values(self) -> Optional[JointsValues]:
+        return self.found

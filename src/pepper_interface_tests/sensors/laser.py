@@ -13,7 +13,9 @@ What the drivers publish:
     NaN, filled only where the point cloud has a point; range 0.1..7.0 (:392-393); increment
     span / 488. NaN there means "no return".
 
-Rules (expectations): `ranges` (the driver's beam count, only where configured: the robot);
+Rules (expectations): the beam count is (angle_max - angle_min) / angle_increment (naoqi_driver,
+laser_publisher.py) or one more (REP 138's convention), with a beam of slack; `ranges` (the
+driver's beam count, only where configured: the robot);
 `blind_slots` ([[first, last], ...] inclusive: the driver's blind layout) holding `blind_value`;
 without `blind_slots`, any `blind_value` counts as blind (older configurations).
 `nan_is_no_return`: NaN (and +inf, REP 117) is "nothing seen", not an invalid reading.
@@ -34,6 +36,7 @@ from array import array
 from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
 from .base import Acc, Check, StuckRun, fmt
+from .values.laser import BeamKind
 
 if TYPE_CHECKING:
     import genpy
@@ -44,7 +47,7 @@ if TYPE_CHECKING:
 
 
 # what one beam of a scan is, as the check judges it (the report's scan plot shows the same)
-RETURN, BLIND, NO_RETURN, INVALID = 'return', 'blind', 'no return', 'invalid'
+RETURN, BLIND, NO_RETURN, INVALID = BeamKind.RETURN, BeamKind.BLIND, BeamKind.NO_RETURN, BeamKind.INVALID
 
 
 def blind_indices(slots: Optional[Tuple[Tuple[int, int], ...]]) -> Set[int]:
@@ -70,7 +73,7 @@ class LaserCheck(Check):
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
         # (angle_min, angle_increment, ranges, range_min, range_max, blind value) of the last scan
-        self.last_kinds: List[str] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
+        self.last_kinds: List[BeamKind] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
         self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
         self.stuck = StuckRun(self.expect.stuck_scans)
 

@@ -12,11 +12,14 @@ fail: NaN, negative (REP 117's -inf, "too close", is valid, as is +inf, "nothing
 above the physical limit `physical_range` ([min, max] m, from the expectations: Pepper's sonar
 measures 0..5 m, reference/pepper-sensors.md). Without `physical_range` the advertised limits
 are the only limits known, and a reading outside them fails.
+No stuck rule: a sonar with nothing in front reads its maximum again and again (sonar.cpp:114).
 """
 import math
-from typing import TYPE_CHECKING, Any, List, Tuple
+from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 from .base import Acc, Check, fmt
+from .values import Point
+from .values.range import RangeValues
 
 if TYPE_CHECKING:
     import genpy
@@ -37,7 +40,8 @@ class RangeCheck(Check):
         self.beyond = 0        # readings above the advertised max_range (physically possible)
         self.below = 0         # readings below the advertised min_range (physically possible)
         self.beyond_example = None
-        self.series['range_m'] = []
+        self.range_series: List[Point] = []
+        self.found: Optional[RangeValues] = None
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
@@ -50,8 +54,8 @@ class RangeCheck(Check):
         lo, hi, r = msg.min_range, msg.max_range, msg.range
         self.range.add(r)
         self.fov.add(msg.field_of_view)
-        if len(self.series['range_m']) < 2000:
-            self.series['range_m'].append((round(t, 3), r if math.isfinite(r) else None))
+        if len(self.range_series) < 2000:
+            self.range_series.append((round(t, 3), r if math.isfinite(r) else None))
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             self.failures.add('limits', 'min_range %s is not below max_range %s' % (fmt(lo), fmt(hi)))
         self._judge_range(r, lo, hi)
@@ -86,11 +90,8 @@ class RangeCheck(Check):
             self.below += 1
 
     def finish(self) -> None:
-        self.values['range_m'] = self.range.as_dict()
-        self.values['infinite_ranges'] = self.range.nonfinite
-        self.values['field_of_view_rad'] = self.fov.as_dict()
-        self.values['beyond_advertised_max'] = self.beyond
-        self.values['below_advertised_min'] = self.below
+        self.found = RangeValues(self.range.spread(), self.range.nonfinite, self.fov.spread(), self.beyond,
+                                 self.below, list(self.range_series))
         if self.count:
             self.notes.append('Range value: ' + self.range.text('m'))
         if self.beyond:
@@ -100,3 +101,6 @@ class RangeCheck(Check):
         if self.below:
             self.notes.append('%d of %d readings below the advertised min_range (a real distance)'
                               % (self.below, self.count))
+
+    def result_values(self) -> Optional[RangeValues]:
+        return self.found

@@ -1,18 +1,21 @@
 """Speech (loudspeaker): publish the test sentence once to the speech topic, delivered to a
 subscriber (naoqi_driver speaks what arrives on /speech).
 
-Pass condition: a subscriber was connected and the sentence was handed to it. When the
+Pass condition: a subscriber was connected (waited for at most `subscriber_wait` s) and the
+sentence was handed to it; nobody listening fails. When the
 microphones are in the same run, a level monitor is offered in ctx.services.microphone_levels
 (sensors/audio.py); the check then compares the level while speaking
 with the level before and reports whether the sentence was heard (required with require_heard).
 """
 import time
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 import rospy
 from std_msgs.msg import String
 
 from .base import Check
+from .values.speech import SpeechValues
 
 if TYPE_CHECKING:
     import genpy
@@ -37,6 +40,7 @@ class SpeechCheck(Check):
         self.started: Optional[float] = None
         self._done = False
         self.subscribers: List[str] = []
+        self.found: Optional[SpeechValues] = None    # once the sentence was delivered
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Text', msg.data)]
@@ -87,17 +91,14 @@ class SpeechCheck(Check):
             self.fail('no subscriber on %s after %.1f s: is naoqi_driver running?'
                       % (self.plan.topic, self.subscriber_wait))
             return
-        self.values['text'] = self.text
-        self.values['subscribers'] = self.subscribers
+        self.found = SpeechValues(self.text, list(self.subscribers))
         self.notes.append('Sentence "%s" delivered to %s' % (
             self.text, ', '.join(self.subscribers) or 'a subscriber'))
         monitor = self._monitor()
         if monitor is None:
-            self.values['heard'] = None
             return
         heard = monitor.heard(self.sent_at, self.sent_at + self.listen_after)
-        self.values['heard'] = heard.get('heard')
-        self.values['level_rise_db'] = heard.get('rise_db')
+        self.found = replace(self.found, heard=heard.get('heard'), level_rise_db=heard.get('rise_db'))
         if heard.get('heard'):
             self.notes.append('Heard by the microphones: level rose %.1f dB over the baseline'
                               % heard['rise_db'])
@@ -107,6 +108,10 @@ class SpeechCheck(Check):
                 self.fail(text)
             else:
                 self.warnings.add('unheard', text)
+
+
+    def result_values(self) -> Optional[SpeechValues]:
+        return self.found
 
 
 def _subscriber_nodes(topic):

@@ -12,7 +12,9 @@ verdict is the worse of the two (sensors/window.py). The rules, each with its re
 - Count and rate (periodic families): at least `min_messages`; the rate from receive times and
   the rate from header stamps inside the expected band (a rate within 10 % of an edge is a
   warning: possible, worth a look). Sim time: measured on /clock, and with /use_sim_time set
-  but no /clock, nothing is judged but that (NO_CLOCK).
+  but no /clock, nothing is judged but that (NO_CLOCK). From a bag: measured on the record
+  time (`rosbag record` stamps a message with ros::Time::now(), the simulation time when it
+  recorded under /use_sim_time); the JSON's stats.clock says which clock.
 - Stamps: none zero, none going backwards (repeated ones are a warning), not older than
   `max_delay` nor more than `max_future` ahead of ROS time; a constant offset beyond them is
   named a clock offset (OFFSET_SPREAD), one of 1 s or more inside them is a warning.

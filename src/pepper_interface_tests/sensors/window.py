@@ -12,6 +12,7 @@ frozen `progress()` snapshot.
 import threading
 from typing import Any, Callable, Dict, List, Optional, Type
 
+from .. import codec
 from ..plan.settings import SensorPlan
 from ..progress import Progress
 from ..results import INTERRUPTED, SKIPPED, SensorResult, Verdict
@@ -243,6 +244,7 @@ class SensorRun:
                        % (elapsed, self.window, messages, '' if messages == 1 else 's')]
             verdict = INTERRUPTED
         summary = stats.summary()
+        values = self._values()
         notes = list(check.notes)
         clock_end: Optional[float] = now
         if self.clock.on_sim_time:
@@ -263,9 +265,20 @@ class SensorRun:
             window_s=round(elapsed, 3), stopped_because=reason,
             started_at=round(self.began - self.run_start, 3), ended_at=round(now - self.run_start, 3),
             fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
-            stats=summary, values=dict(check.values),
-            series=dict(check.series, rate_hz=stats.rate_series(end=clock_end)),
-            artifacts=dict(check.artifacts))
+            stats=summary, values=values, family=self.sensor.family,
+            rate_series=stats.rate_series(end=clock_end), artifacts=dict(check.artifacts))
+
+    def _values(self) -> Any:
+        """The check's findings as its family's frozen values dataclass (None: it found nothing)."""
+        cls = of(self.sensor).values
+        own = self.check.result_values()
+        if own is not None or cls is None or not (self.check.values or self.check.series):
+            return own
+        try:
+            return codec.join(cls, self.check.values, self.check.series, strict=True)
+        except codec.CodecError as e:     # a check and its dataclass that disagree: say so, keep the verdict
+            self.check.notes.append('values not recorded: %s' % e)
+            return None
 
 
 def skipped_result(plan: SensorPlan, run_start: float, now: float, verdict: Verdict = SKIPPED,
@@ -275,5 +288,5 @@ def skipped_result(plan: SensorPlan, run_start: float, now: float, verdict: Verd
     if reasons is None:
         reasons = [plan.skip_reason] if plan.skip_reason else []
     return SensorResult(name=plan.sensor.name, title=plan.sensor.title, topic=plan.topic,
-                        msg_type=plan.sensor.msg_type, verdict=verdict, reasons=reasons,
+                        msg_type=plan.sensor.msg_type, family=plan.sensor.family, verdict=verdict, reasons=reasons,
                         started_at=round(now - run_start, 3), ended_at=round(now - run_start, 3))

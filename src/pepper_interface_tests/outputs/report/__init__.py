@@ -9,9 +9,10 @@ Layout of this package (docs/results.md, "sensorTestReport.html"):
   page.py        run results -> the template's context -> HTML
   templates/     report.html.j2 (Jinja2, autoescaping on) and report.css
   blocks.py      what a view returns (headings, tables, images, players), rendered by the template
-  values.py      one typed values dataclass per sensor family; adapters.py builds them from the
-                 checks' dicts (every dict key the report reads is there)
-  views/         one small renderer per sensor family
+  context.py     what the page hands its plots and views (the run, its files, the rate rows)
+  values.py      what the report alone derives (series, video info, channel levels, histogram)
+  views/         one small renderer per sensor family, fed the family's own values dataclass
+                 (sensors/values/<family>.py) as the check handed it over
   plots.py       every matplotlib figure
   files.py       stills, media, the size budget
 

@@ -7,9 +7,9 @@ with their own name in a neutral grey badge.
 """
 import os
 from collections import Counter
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
+from ... import codec
 from ...plan import catalog
 from ...results import (
     FAIL,
@@ -24,10 +24,10 @@ from ...results import (
 from ...sensors import families
 from .. import formats
 from . import plots, views
-from .adapters import adapt, clean
 from .blocks import KV, Span
+from .context import RateRow, View, anchor
 from .files import RunFiles
-from .views.fmt import num
+from .views.fmt import clean, num
 
 if TYPE_CHECKING:
     import jinja2
@@ -38,10 +38,6 @@ KNOWN = (PASS, FAIL, SKIPPED)
 
 def verdict_class(verdict: str) -> str:
     return verdict if verdict in KNOWN else 'OTHER'
-
-
-def anchor(name: str) -> str:
-    return 'sensor-' + ''.join(c if c.isalnum() or c in '-_' else '-' for c in str(name))
 
 
 def _finalize(value: Any) -> Any:
@@ -60,8 +56,18 @@ def environment() -> 'jinja2.Environment':
 
 
 def family(r: SensorResult) -> Optional[str]:
+    """The sensor's family: as its result says, else (a result without one) its catalog row's."""
+    if r.family:
+        return r.family
     sensor = catalog.SENSORS.get(r.name)
     return sensor.family if sensor else None
+
+
+def no_values(fam: Optional[str]) -> Any:
+    """The family's values when its check handed none over (every field at its default), so
+    that a view still shows what the result's artifacts and notes say."""
+    cls = families.values_of(fam) if fam else None
+    return cls() if cls is not None else None
 
 
 def drives_itself(r: SensorResult) -> bool:
@@ -80,25 +86,12 @@ def in_band(r: SensorResult) -> Optional[bool]:
 
 # ---------------------------------------------------------------- rates over the run
 
-@dataclass
-class RateRow:
-    name: str
-    edges: List[float]
-    rates: List[float]
-    start: float
-    end: float
-    band: Optional[list]
-    nominal: Optional[float]
-    in_band: Optional[bool]
-    label: str
-
-
 def rate_steps(r: SensorResult) -> Tuple[List[float], List[float]]:
     """The sensor's 1 s rate bins as stairs on the run's time axis: (edges, rates).
     The last bin usually covers only part of a second; its rate is scaled to that part
     (a bin shorter than 0.25 s is dropped rather than shown as a false drop)."""
     pts = []
-    for p in r.series.get('rate_hz') or []:
+    for p in r.rate_series or []:
         try:
             if p[1] is not None:
                 pts.append((float(p[0]), float(p[1])))
@@ -122,8 +115,7 @@ def rate_steps(r: SensorResult) -> Tuple[List[float], List[float]]:
 def rates_figure(run: RunResult) -> Optional[str]:
     rows = []
     for r in run.sensors:
-        if r.verdict == SKIPPED or not isinstance(r.series, dict) or not r.series.get('rate_hz') \
-                or drives_itself(r):
+        if r.verdict == SKIPPED or not r.rate_series or drives_itself(r):
             continue
         edges, rates = rate_steps(r)
         start = r.started_at or 0.0
@@ -180,14 +172,6 @@ def stats_rows(r: SensorResult) -> List[Tuple[str, Any]]:
     return rows
 
 
-class View:
-    """What a family view may use: the run's files and the anchors of other sections."""
-
-    def __init__(self, files: RunFiles) -> None:
-        self.files = files
-        self.anchor = anchor
-
-
 def section(r: SensorResult, run: RunResult, view: View) -> Dict[str, Any]:
     sec = {'name': r.name, 'anchor': anchor(r.name), 'title': r.title or r.name, 'verdict': r.verdict,
            'vcls': verdict_class(r.verdict), 'topic': r.topic or '-', 'msg_type': r.msg_type or '-',
@@ -201,11 +185,11 @@ def section(r: SensorResult, run: RunResult, view: View) -> Dict[str, Any]:
     except Exception:        # a result with odd numbers still gets its section
         sec['summary'] = '%s messages' % num(r.messages)
     fam = family(r)
-    sec['body'] = views.render(fam, r, adapt(fam, r, run), view)
+    sec['body'] = views.render(fam, r, r.values if r.values is not None else no_values(fam), view)
     sec['stats'] = KV(stats_rows(r))
     sec['notes'] = [clean(x) for x in r.notes or []]
     values: List[Tuple[str, str]] = []
-    for k, v in (r.values or {}).items():
+    for k, v in (codec.split(r.values)[0] if r.values is not None else {}).items():
         if k != 'joints':
             _flatten(k, v, values)
     sec['values'] = values
@@ -255,7 +239,7 @@ def summary_rows(run: RunResult, files: RunFiles) -> List[Dict[str, Any]]:
 def render(run: RunResult, folder: str, max_embed: int) -> str:
     """The report of `run` as one HTML string; recordings are read from `folder`."""
     files = RunFiles(folder, max_embed=max_embed)
-    view = View(files)
+    view = View(files, run)
     sections = []
     for r in run.sensors:
         try:

@@ -17,8 +17,9 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from matplotlib.ticker import MaxNLocator
 
-    from .page import RateRow
-    from .values import ChannelLevel, Histogram, LaserScanValues, Series
+    from ...sensors.values.laser import LastScan
+    from .context import RateRow
+    from .values import ChannelLevel, Histogram, Series
 
 DPI = 100
 FONT_PT = 11
@@ -105,16 +106,18 @@ def range_over_time(s: 'Series', lo: Optional[float], hi: Optional[float]) -> st
     return uri(fig)
 
 
-def laser_scan(scan: 'LaserScanValues') -> str:
+def laser_scan(scan: 'LastScan') -> str:
     """The last scan, each beam drawn as the check judged it (returns at their distance, also
-    beyond the advertised range_max: naoqi_driver does not clip; see docs/checks.md)."""
+    beyond the advertised range_max: naoqi_driver does not clip; see docs/checks.md). The
+    legend names each kind by its description (sensors/values/laser.py BeamKind)."""
     import numpy as np
 
-    from ...sensors.laser import BLIND, INVALID, NO_RETURN, RETURN
+    from ...sensors.values.laser import BeamKind
+    RETURN, BLIND, NO_RETURN, INVALID = BeamKind.RETURN, BeamKind.BLIND, BeamKind.NO_RETURN, BeamKind.INVALID
     angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
     rng = np.array(scan.ranges, dtype=float)
-    kinds = np.array(scan.kinds)
-    returns = (kinds == RETURN) & np.isfinite(rng)
+    kinds = np.array([k.value for k in scan.kinds])
+    returns = (kinds == RETURN.value) & np.isfinite(rng)
     far = float(rng[returns].max()) if returns.any() else 0.0
     edge = max(scan.range_max, far) * 1.05        # beams without a distance are drawn here
     fig = figure(8, 5.2)
@@ -124,12 +127,14 @@ def laser_scan(scan: 'LaserScanValues') -> str:
     if len(angles) and math.degrees(angles.max() - angles.min()) < 359:
         ax.set_thetamin(math.degrees(angles.min()))
         ax.set_thetamax(math.degrees(angles.max()))
-    ax.plot(angles[returns], rng[returns], '.', color=BLUE, ms=6, label='returns (%d)' % (kinds == RETURN).sum())
-    for kind, colour, marker, label in (
-            (BLIND, GREY, 'x', 'blind beams = %s' % ('%g' % scan.blind_value if scan.blind_value is not None else '?')),
-            (NO_RETURN, AMBER, 'o', 'no return (+inf, or NaN on the simulator)'),
-            (INVALID, RED, 'x', 'invalid: below range_min %g m, NaN' % scan.range_min)):
-        mask = kinds == kind
+    ax.plot(angles[returns], rng[returns], '.', color=BLUE, ms=6,
+            label='%s (%d)' % (RETURN.description, (kinds == RETURN.value).sum()))
+    for kind, colour, marker, value in (
+            (BLIND, GREY, 'x', '%g' % scan.blind_value if scan.blind_value is not None else '?'),
+            (NO_RETURN, AMBER, 'o', None),
+            (INVALID, RED, 'x', '%g m' % scan.range_min)):
+        label = kind.description + (' (%s)' % value if value else '')
+        mask = kinds == kind.value
         if mask.any():
             ax.plot(angles[mask], np.full(mask.sum(), edge), marker, color=colour, ms=7 if kind == INVALID else 6,
                     mfc='none' if marker == 'o' else colour, label='%s (%d)' % (label, mask.sum()))
@@ -224,7 +229,7 @@ def waveform(path: str, name: str, max_seconds: float = 300.0, bins: int = 900) 
         data = f.read(frames=int(max_seconds * rate), dtype='int16', always_2d=True)
     if not len(data):
         return None
-    from .values import CHANNELS
+    from ...sensors.values.audio import CHANNELS
     names = list(CHANNELS) if nch == 4 else ['channel %d' % (i + 1) for i in range(nch)]
     k = max(1, len(data) // bins)
     m = (len(data) // k) * k

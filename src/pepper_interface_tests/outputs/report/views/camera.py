@@ -1,14 +1,27 @@
 """Cameras: first and last frame, the video (or why there is none), brightness statistics."""
-from typing import TYPE_CHECKING, Any, List, Optional, Tuple
+from typing import Any, List, Optional, Tuple
 
 from ....results import SensorResult
+from ....sensors.values.camera import CameraValues, VideoSummary
 from .. import plots
 from ..blocks import KV, Block, Heading, Image, Para, Row
-from ..values import CameraValues, VideoInfo
+from ..context import View
+from ..values import Series, VideoInfo
 from .fmt import num, spread
 
-if TYPE_CHECKING:
-    from ..page import View
+
+def video_info(r: SensorResult, summary: Optional[VideoSummary]) -> Optional[VideoInfo]:
+    """The recorder's summary with the sensor's video file and notes; None when nothing was
+    to be recorded."""
+    art = r.artifacts if isinstance(r.artifacts, dict) else {}
+    if summary is None:
+        if art.get('video'):
+            return VideoInfo(file=art['video'])
+        return VideoInfo(recording_off=True) if 'recording off' in (r.notes or []) else None
+    return VideoInfo(file=art.get('video') or summary.file, codec=summary.codec, fps=summary.fps,
+                     frames_received=summary.frames_received, frames_written=summary.frames_written,
+                     error=summary.error,
+                     notes=[n[len('video: '):] for n in r.notes or [] if n.startswith('video: ')])
 
 
 def no_video_reason(video: VideoInfo) -> Optional[str]:
@@ -28,10 +41,9 @@ def no_video_reason(video: VideoInfo) -> Optional[str]:
     return '; '.join(parts) or 'the video writer produced no file'
 
 
-def frames_and_video(r: SensorResult, cam: CameraValues, ctx: 'View', cells: List[Any]) -> List[Block]:
+def frames_and_video(r: SensorResult, video: Optional[VideoInfo], ctx: View, cells: List[Any]) -> List[Block]:
     """The 'Frames and video' row: `cells` (frame thumbnails, ...) plus the player, or the reason."""
     out: List[Block] = []
-    video = cam.video
     reason = no_video_reason(video) if video else None
     if video and video.file:
         cells.append(ctx.files.media('video', video.file, 'video/mp4', video.codec))
@@ -44,8 +56,11 @@ def frames_and_video(r: SensorResult, cam: CameraValues, ctx: 'View', cells: Lis
     return out
 
 
-def frames(cam: CameraValues, ctx: 'View', extra: str = '') -> List[Any]:
-    return [ctx.files.frame(name, caption + extra) for name, caption in cam.frames]
+def frames(r: SensorResult, ctx: View, extra: str = '') -> List[Any]:
+    """The first and last frame's thumbnails (the sensor's JPEG artifacts)."""
+    art = r.artifacts if isinstance(r.artifacts, dict) else {}
+    return [ctx.files.frame(art[k], caption + extra)
+            for k, caption in (('first_frame', 'first frame'), ('last_frame', 'last frame')) if art.get(k)]
 
 
 def video_row(video: Optional[VideoInfo]) -> Optional[Tuple[str, str]]:
@@ -55,8 +70,9 @@ def video_row(video: Optional[VideoInfo]) -> Optional[Tuple[str, str]]:
                                                        video.codec or 'unknown'))
 
 
-def render(r: SensorResult, v: CameraValues, ctx: 'View') -> List[Block]:
-    out = frames_and_video(r, v, ctx, frames(v, ctx))
+def render(r: SensorResult, v: CameraValues, ctx: View) -> List[Block]:
+    video_file = video_info(r, v.video)
+    out = frames_and_video(r, video_file, ctx, frames(r, ctx))
     rows = []
     if v.width is not None:
         rows.append(('image', '%sx%s %s' % (v.width, v.height, v.encoding or '')))
@@ -66,14 +82,15 @@ def render(r: SensorResult, v: CameraValues, ctx: 'View') -> List[Block]:
                          (v.longest_identical_run, 'longest run of identical frames (frozen)')):
         if value is not None:
             rows.append((label, num(value)))
-    video = video_row(v.video)
+    video = video_row(video_file)
     if video:
         rows.append(video)
     if v.stereo:
         st = v.stereo
         rows.append(('stereo', 'two views of %sx%s, identical views in %s frames'
-                     % (num(st.get('view_width')), num(st.get('view_height')), num(st.get('identical_views')))))
+                     % (num(st.view_width), num(st.view_height), num(st.identical_views))))
     out += [Heading('Image statistics'), KV(rows)]
-    if v.brightness:
-        out.append(Image(plots.brightness(v.brightness), 'brightness over time of ' + r.name))
+    brightness = Series.of(v.brightness)
+    if brightness:
+        out.append(Image(plots.brightness(brightness), 'brightness over time of ' + r.name))
     return out

@@ -1,17 +1,16 @@
 """IMU: |acceleration| and |angular velocity| over time."""
-from typing import TYPE_CHECKING, List
+from typing import List
 
 from ....results import SensorResult
+from ....sensors.values.imu import ImuValues
 from .. import plots
 from ..blocks import Block, Heading, Image
-from ..values import ImuValues
-
-if TYPE_CHECKING:
-    from ..page import View
+from ..context import View
+from ..values import Series
 
 
-def render(r: SensorResult, v: ImuValues, ctx: 'View') -> List[Block]:
-    if not v.acceleration and not v.angular_velocity:
+def render(r: SensorResult, v: ImuValues, ctx: View) -> List[Block]:
+    acc, gyro = Series.of(v.acceleration_m_s2), Series.of(v.angular_velocity_rad_s)
+    if not acc and not gyro:
         return []
-    return [Heading('Over time'), Image(plots.imu(v.acceleration, v.angular_velocity),
-                                        'IMU acceleration and angular velocity over time')]
+    return [Heading('Over time'), Image(plots.imu(acc, gyro), 'IMU acceleration and angular velocity over time')]

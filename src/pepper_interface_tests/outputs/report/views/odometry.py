@@ -1,16 +1,17 @@
 """Odometry: x and y over time, and the path."""
-from typing import TYPE_CHECKING, List
+from typing import List
 
 from ....results import SensorResult
+from ....sensors.values.odometry import OdometryValues
 from .. import plots
 from ..blocks import Block, Heading, Image
-from ..values import OdometryValues
-
-if TYPE_CHECKING:
-    from ..page import View
+from ..context import View
+from ..values import Series
 
 
-def render(r: SensorResult, v: OdometryValues, ctx: 'View') -> List[Block]:
-    if not v.x:
+def render(r: SensorResult, v: OdometryValues, ctx: View) -> List[Block]:
+    x = Series.of(v.x_series)
+    if not x:
         return []
-    return [Heading('Position over time'), Image(plots.odometry(v.x, v.y), 'odometry position over time')]
+    return [Heading('Position over time'),
+            Image(plots.odometry(x, Series.of(v.y_series)), 'odometry position over time')]

@@ -1,17 +1,19 @@
 """Sonar: range over time with the sensor's min_range / max_range."""
-from typing import TYPE_CHECKING, List
+from typing import List
 
 from ....results import SensorResult
+from ....sensors.values.range import RangeValues
 from .. import plots
 from ..blocks import Block, Heading, Image
-from ..values import RangeValues
-
-if TYPE_CHECKING:
-    from ..page import View
+from ..context import View
+from ..values import Series, number
 
 
-def render(r: SensorResult, v: RangeValues, ctx: 'View') -> List[Block]:
-    if not v.range_m:
+def render(r: SensorResult, v: RangeValues, ctx: View) -> List[Block]:
+    series = Series.of(v.range_series)
+    if not series:
         return []
+    limits = dict((k, x) for k, x in (tuple(f[:2]) for f in r.fields or [] if len(f) >= 2))
     return [Heading('Range over time'),
-            Image(plots.range_over_time(v.range_m, v.min_range, v.max_range), 'range over time of ' + r.name)]
+            Image(plots.range_over_time(series, number(limits.get('Minimum range value')),
+                                        number(limits.get('Maximum range value'))), 'range over time of ' + r.name)]

@@ -1,13 +1,11 @@
 """Speech: the sentence, who received it, whether the microphones heard it."""
-from typing import TYPE_CHECKING, List, Optional, Union
+from typing import List, Optional, Union
 
 from ....results import SensorResult
+from ....sensors.values.speech import SpeechValues
 from ..blocks import KV, Block, Heading, Span
-from ..values import SpeechValues
+from ..context import View
 from .fmt import num
-
-if TYPE_CHECKING:
-    from ..page import View
 
 
 def heard_text(heard: Optional[bool]) -> Union[Span, str]:
@@ -18,9 +16,9 @@ def heard_text(heard: Optional[bool]) -> Union[Span, str]:
     return 'not measured (microphones not in this run)'
 
 
-def render(r: SensorResult, v: SpeechValues, ctx: 'View') -> List[Block]:
+def render(r: SensorResult, v: SpeechValues, ctx: View) -> List[Block]:
     rows = [('sentence', v.text or '-'),
-            ('delivered to', ', '.join(v.subscribers) or '-'),
+            ('delivered to', ', '.join(v.subscribers or []) or '-'),
             ('heard by the microphones', heard_text(v.heard))]
     if v.level_rise_db is not None:
         rows.append(('level rise while speaking', num(v.level_rise_db, 1, 'dB')))

@@ -1,0 +1,16 @@
+"""The IMU family's values: sensors/imu.py."""
+from dataclasses import dataclass
+from typing import List, Optional
+
+from ...codec import optional, series
+from . import Point, Spread
+
+
+@dataclass(frozen=True)
+class ImuValues:
+    longest_identical_run: Optional[int] = optional()
+    acceleration_norm_median_m_s2: Optional[float] = optional()
+    acceleration_norm_m_s2: Optional[Spread] = optional()
+    angular_velocity_norm_rad_s: Optional[Spread] = optional()
+    acceleration_m_s2: List[Point] = series()
+    angular_velocity_rad_s: List[Point] = series()

@@ -1,0 +1,13 @@
+"""The joints family's values: sensors/joints.py."""
+from dataclasses import dataclass
+from typing import Dict, Optional
+
+from ...codec import optional
+from . import Spread
+
+
+@dataclass(frozen=True)
+class JointsValues:
+    joints: Optional[Dict[str, Dict[str, Spread]]] = optional()   # joint -> position/velocity/effort
+    joint_count: Optional[int] = optional()
+    impossible_speeds_rad_s: Optional[Dict[str, float]] = optional()

@@ -1,0 +1,55 @@
+"""The laser family's values: the counts of sensors/laser.py and its last scan, beam by beam."""
+from dataclasses import dataclass
+from enum import Enum
+from typing import List, Optional
+
+from ...codec import optional, series_optional
+from . import Spread
+
+
+class BeamKind(str, Enum):
+    """What one beam of a scan is, as the laser check judges it (the report's scan plot draws
+    each kind with its description as the legend)."""
+    RETURN = 'return'
+    BLIND = 'blind'
+    NO_RETURN = 'no return'
+    INVALID = 'invalid'
+
+    def __str__(self) -> str:
+        return self.value
+
+    @property
+    def description(self) -> str:
+        return _DESCRIPTIONS[self]
+
+
+_DESCRIPTIONS = {
+    BeamKind.RETURN: 'returns: finite, at or above range_min (also beyond range_max)',
+    BeamKind.BLIND: "blind: a slot of the driver's blind layout holding blind_value",
+    BeamKind.NO_RETURN: 'no return: NaN (nan_is_no_return) or +inf, nothing seen',
+    BeamKind.INVALID: 'invalid: NaN, negative, or below range_min',
+}
+
+
+@dataclass(frozen=True)
+class LastScan:
+    angle_min: float
+    angle_increment: float
+    ranges: List[float]            # NaN where the reading was not finite
+    range_min: float
+    range_max: float
+    blind_value: Optional[float]
+    kinds: List[BeamKind]          # per beam
+
+
+@dataclass(frozen=True)
+class LaserValues:
+    beams: Optional[int] = optional()
+    blind_beams: Optional[int] = optional()
+    no_return_beams: Optional[int] = optional()
+    invalid_beams: Optional[int] = optional()
+    invalid_share: Optional[float] = optional()
+    beyond_advertised_max: Optional[int] = optional()
+    range_m: Optional[Spread] = optional()
+    longest_identical_run: Optional[int] = optional()
+    last_scan: Optional[LastScan] = series_optional()
