@@ -40,10 +40,11 @@ class JumpWatch:
         value = tuple(value)
         worst: Optional[Tuple[float, float]] = None      # (distance, dt) of the worst excess
         excess = 0.0
+        rate, baseline = self.max_rate, self.baseline
         for rw, rv in self.refs:
             dt = abs(when - rw)
-            d = math.sqrt(sum((a - b) ** 2 for a, b in zip(value, rv)))
-            over = d - self.max_rate * max(dt, self.baseline)
+            d = math.hypot(*[a - b for a, b in zip(value, rv)])
+            over = d - rate * (dt if dt > baseline else baseline)
             if over > excess:
                 excess, worst = over, (d, dt)
         if worst is not None:
@@ -51,7 +52,7 @@ class JumpWatch:
                 self.jumps += 1
                 self.in_jump = True
                 last_when, last = self.refs[-1]
-                size = math.sqrt(sum((a - b) ** 2 for a, b in zip(value, last)))
+                size = math.hypot(*[a - b for a, b in zip(value, last)])
                 if size > self.largest:
                     self.largest, self.largest_t, self.largest_dt = size, t, abs(when - last_when)
             if all(abs(when - rw) > self.baseline for rw, _ in self.refs):
