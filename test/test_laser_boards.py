@@ -11,7 +11,7 @@ import os
 
 import genpy
 
-from fake_pepper import BLIND, laser, serialized
+from fake_pepper import laser, serialized
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS

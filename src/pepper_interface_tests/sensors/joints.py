@@ -20,8 +20,8 @@ import math
 from typing import TYPE_CHECKING, Any, Dict, List, Tuple
 
 from .base import Acc, Check, fmt
-from .jumps import JumpWatch
 from .joint_limits import LIMITS
+from .jumps import JumpWatch
 
 if TYPE_CHECKING:
     import genpy

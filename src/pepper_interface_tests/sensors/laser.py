@@ -170,7 +170,7 @@ class LaserCheck(Check):
         expected = self.expect.ranges
         laid_out = not expected or n == expected     # the driver's slot indices apply
         if not laid_out:
-            self._other_layout('%d slots instead of %d' % (n, expected))
+            self._other_layout('%d slots instead of %s' % (n, fmt(expected)))
         if not (msg.range_min < msg.range_max):
             self.failures.add('limits', 'range_min %s is not below range_max %s'
                               % (fmt(msg.range_min), fmt(msg.range_max)))
