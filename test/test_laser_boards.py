@@ -166,3 +166,10 @@ def test_every_driver_profile_has_a_layout_and_a_source():
     for name, sensors in data['drivers'].items():
         assert sensors['laser'].get('layout'), name
         assert '`%s`' % name in doc, 'docs/drivers.md does not cite profile %s' % name
+
+
+def test_a_scan_without_any_return_is_said_once_not_per_board():
+    r = judged([laser(i, ranges=[float('nan')] * 61) for i in range(N)])
+    assert r.verdict == FAIL
+    assert not [x for x in r.reasons if 'board' in x], r.reasons
+    assert r.values['dead_boards'] == ['right', 'front', 'left']

@@ -64,3 +64,6 @@ def test_fill_never_cuts_a_path():
     text = fill('report: %s (2.2 MB, 1.9 s)' % path, 79)
     assert text.splitlines() == ['report:', '  ' + path, '  (2.2 MB, 1.9 s)']
     assert fill('report: /tmp/x.html (7 kB, 0.2 s)', 79) == 'report: /tmp/x.html (7 kB, 0.2 s)'
+    # the figures stay together: not "(2.2 MB," at the end of one line and "1.9 s)" below
+    assert fill('report: %s (2.2 MB, 1.9 s)' % ('/p' * 30), 79, keep=['(2.2 MB, 1.9 s)']) == \
+        'report: %s\n  (2.2 MB, 1.9 s)' % ('/p' * 30)

@@ -152,9 +152,10 @@ class LatestRun(RunObserver):
         try:
             published = publish_latest(self.folder)
             s = self._stream()
-            s.write(fill('run %s kept in %s; latest run also in %s (%d files)'
-                         % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
-                    + '\n')
+            files_count = '(%d files)' % len(published)
+            s.write(fill('run %s kept in %s; latest run also in %s %s'
+                         % (self.folder.run_id, self.folder.path, self.folder.base, files_count),
+                         keep=['latest run also in', files_count]) + '\n')
             s.flush()
         except Exception as e:   # a full disk, or anything else: never lose the run over the copies, say so
             write_error(run, 'latest run in %s' % self.folder.base, e)

@@ -277,12 +277,14 @@ class LaserCheck(Check):
 
     def _judge_boards(self) -> None:
         lo = self.last_scan[3] if self.last_scan else 0.0
-        dead = []
-        for board in self.boards:
-            text = board.dead(lo)
+        found = [(board, board.dead(lo)) for board in self.boards]
+        dead = [board.name for board, text in found if text]
+        # every board dead in scans without a return: the scan's own rule says it, once
+        said = len(dead) == len(self.boards) and 'empty' in self.failures.keys()
+        for board, text in found:
             if text:
-                dead.append(board.name)
-                self.fail(text)
+                if not said:
+                    self.fail(text)
                 continue
             stuck = board.stuck.finding('segments', 'stuck_scans')
             if stuck:

@@ -54,9 +54,9 @@ class HtmlReport(RunObserver):
         try:
             path = write_report(run, self.folder, max_embed=self.max_embed)
             size = os.path.getsize(path)
-            stream.write(fill('report: %s (%s, %.1f s)' % (
-                path, '%.1f MB' % (size / 1e6) if size >= 1e6 else '%d kB' % round(size / 1e3),
-                time.monotonic() - t0)) + '\n')
+            figures = '(%s, %.1f s)' % ('%.1f MB' % (size / 1e6) if size >= 1e6
+                                        else '%d kB' % round(size / 1e3), time.monotonic() - t0)
+            stream.write(fill('report: %s %s' % (path, figures), keep=[figures]) + '\n')
         except (Exception, KeyboardInterrupt) as e:   # the report never fails the run
             text = str(e).strip().splitlines()[0] if str(e).strip() else ''
             stream.write('sensorTest: warning: HTML report not written: %s%s\n'
