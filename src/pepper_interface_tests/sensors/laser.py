@@ -204,12 +204,14 @@ class LaserCheck(Check):
         slots = self.slots if laid_out else None
         kinds = []
         layout = None    # first slot of the blind layout that holds a reading
+        filled = 0       # blind slots that hold a reading
         for k, r in enumerate(ranges):
             if slots is not None and k in self.blind_set:
                 if blind is not None and r == blind:
                     self.blind += 1
                     kinds.append(BLIND)
                     continue
+                filled += 1
                 if layout is None:
                     layout = (k, r)
                 # a reading where the driver leaves a blind slot: judged as the reading it is
@@ -230,8 +232,9 @@ class LaserCheck(Check):
                 kinds.append(INVALID)
         self.last_kinds = kinds
         if layout is not None:
-            self._other_layout('slot %d holds %s, not the blind value %s'
-                               % (layout[0], fmt(layout[1]), fmt(blind)))
+            self._other_layout('readings in %d of the %d blind slots %s (e.g. slot %d = %s, not '
+                               'the blind value %s)' % (filled, len(self.blind_set), fmt(self.slots),
+                                                        layout[0], fmt(layout[1], 3), fmt(blind)))
         returns = kinds.count(RETURN)
         if not returns:
             self.failures.add('empty', 'scan without a single valid return (every slot blind, '
@@ -299,6 +302,7 @@ class LaserCheck(Check):
             fmt(expect.ranges), fmt(expect.blind_slots), fmt(expect.blind_value)))
         return ('laid out otherwise than expected in %d of %d scans: expected %s; seen %s; the '
                 'readings are judged as they are. If another driver or a filter publishes this '
-                'scan, set the laser\'s "driver:" to its profile (drivers: in the expectations '
-                'file) or its own ranges/blind_slots/boards'
+                'scan, set the laser\'s "driver:" to its profile (under "drivers:" in the '
+                'expectations file, config/sensorExpectations.yaml or --expectations), or its '
+                'own ranges, blind_slots and boards'
                 % (self.layout_count, self.count, wanted, self.layout_example))
