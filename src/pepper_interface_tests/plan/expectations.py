@@ -265,15 +265,17 @@ class JointsExpect(Expect):
     # positions beyond Pepper's joint limits (joint_limits.py, from pepper_description's URDF)
     # by more than this many rad fail; None: limits not checked
     position_margin: Optional[float] = _field(number(0, example='0.05'), 0.05)
-    # speeds (from positions over >= 0.1 s) above limit x this factor fail; the reported
-    # velocity above it is a warning; None: not checked
+    # a position changing faster than limit x this factor (over max(dt, 0.1 s), every position
+    # against the last 0.1 s) fails as a jump; the reported velocity above it is a warning;
+    # None: not checked
     velocity_factor: Optional[float] = _field(number(1, example='1.5'), 1.5)
 
 
 @dataclass(frozen=True)
 class OdometryExpect(Expect):
     child_frame_id: Optional[str] = _field(text('base_link'))
-    # a speed implied by poses >= 0.5 s apart above this (m/s) fails as a jump; None: off
+    # poses under 0.5 s apart differing by more than this x 0.5 s, or further apart implying
+    # more than this (m/s), are a jump and fail (sensors/jumps.py); None: off
     max_speed: Optional[float] = _field(number(0, lo_open=True, example='0.8'), 0.8)
     # |twist| differing from the pose-implied speed by more than this (m/s) in most of the
     # window fails as "twist contradicts the pose"; None: not checked
