@@ -463,11 +463,11 @@ def _read_drivers(data: Any, path: str) -> Dict[str, Dict[str, dict]]:
         where = 'drivers.%s' % profile
         sensors = _need_mapping(where, sensors, path, line)
         out[str(profile)] = _read_sensors(where, sensors, path)
-        for name, values in out[str(profile)].items():
-            if 'driver' in values:
+        for spelling, block in sensors.items():
+            if isinstance(block, dict) and 'driver' in block:
                 raise ConfigError('%s.%s: a driver profile cannot name another (driver: %s)'
-                                  % (where, name, values['driver']), path,
-                                  _lines(sensors).get(name), fix='remove the "driver:" line here')
+                                  % (where, spelling, block['driver']), path,
+                                  _lines(block).get('driver'), fix='remove the "driver:" line here')
     return out
 
 
