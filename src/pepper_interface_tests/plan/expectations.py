@@ -11,8 +11,11 @@ file takes the value written here. The loader rejects, with file:line and the fi
     `min_messages: -3`, `max_delay: .nan`, `median_range: [8, 0.3]`).
 
 `defaults:` applies to every sensor whose family has the key; a key no family has is unknown.
-Only the chosen platform's section is validated (a file may carry a section for a platform
-that is not tested today).
+`drivers:` holds driver profiles ({profile: {sensor: keys}}): a sensor block takes one with
+`driver: name`, its own keys overriding the profile's; `load(..., driver=name)` takes one for
+every sensor the profile describes (a recording of another driver). Only the chosen platform's
+section and the profiles are validated (a file may carry a section for a platform that is not
+tested today).
 
 Checks read the fields as attributes (`self.expect.max_delay`): a None field means "not checked".
 """
