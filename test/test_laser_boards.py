@@ -15,7 +15,7 @@ from fake_pepper import laser, serialized
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
-from pepper_interface_tests.sensors.base import RunContext
+from pepper_interface_tests.sensors.base import RunContext, fmt
 from pepper_interface_tests.sensors.window import SensorRun
 
 PKG = settings.package_dir()
@@ -93,6 +93,8 @@ def test_a_board_repeating_its_segment_fails_as_stuck_while_the_others_move():
     assert r.verdict == FAIL
     text = reasons_with(r, 'right board (slots 0-14) stuck')[0]
     assert '25 identical segments in a row' in text and '(stuck_scans 20)' in text, text
+    held = [frozen[k] for k in RIGHT]
+    assert text.endswith('holding %s-%s m' % (fmt(min(held), 3), fmt(max(held), 3))), text
     # the whole scan changes: only the board's own rule sees it
     assert not [x for x in r.reasons if x.startswith('laser stuck')]
 

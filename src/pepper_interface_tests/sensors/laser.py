@@ -78,6 +78,7 @@ class Board:
         self.held: Optional[float] = None      # the one value every slot held so far (NaN too)
         self.uniform = True                     # every slot of every scan held `held`
         self.stuck = StuckRun(stuck_scans)
+        self.stuck_seg: Any = ()
 
     def add(self, ranges: Any, kinds: List[str], lo: float, hi: float, t: float) -> None:
         seg = ranges[self.first:self.last + 1]
@@ -94,6 +95,16 @@ class Board:
         if self.stuck.limit:
             measured = any(lo <= r <= hi for r in seg)
             self.stuck.add(array('f', seg).tobytes() if measured else t, t)
+            if measured and self.stuck.run == self.stuck.longest:
+                self.stuck_seg = seg        # what the longest identical run held
+
+    def stuck_text(self) -> Optional[str]:
+        found = self.stuck.finding('segments', 'stuck_scans')
+        if not found:
+            return None
+        held = [r for r in self.stuck_seg if math.isfinite(r)]
+        return '%s stuck: %s, holding %s-%s m' % (self.where(), found, fmt(min(held), 3),
+                                                 fmt(max(held), 3))
 
     def where(self) -> str:
         return '%s board (slots %d-%d)' % (self.name, self.first, self.last)
@@ -289,9 +300,9 @@ class LaserCheck(Check):
                 if not said:
                     self.fail(text)
                 continue
-            stuck = board.stuck.finding('segments', 'stuck_scans')
+            stuck = board.stuck_text()
             if stuck:
-                self.fail('%s stuck: %s' % (board.where(), stuck))
+                self.fail(stuck)
         if self.boards:
             self.values['dead_boards'] = dead
             self.values['longest_identical_board_run'] = {b.name: b.stuck.longest for b in self.boards}
