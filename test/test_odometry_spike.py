@@ -151,3 +151,10 @@ def test_joints_moving_at_their_limit_pass():
         msgs.append(joints(i, position=[pos[j] for j in JOINTS]))
     r = judged('jointState', msgs, 50.0, stamp=lambda i, ros: ros + rng.uniform(-0.008, 0.008))
     assert r.verdict == PASS, r.reasons
+
+
+def test_stamps_that_stop_moving_keep_the_watch_bounded():
+    w = JumpWatch(0.8, 0.5)
+    for i in range(2000):
+        w.add(7.0, (0.0, 0.0), i * 0.02)
+    assert len(w.refs) <= 128 and w.jumps == 0

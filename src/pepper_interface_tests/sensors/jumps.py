@@ -20,6 +20,8 @@ import math
 from collections import deque
 from typing import Deque, Optional, Sequence, Tuple
 
+MAX_REFS = 128     # 0.5 s at 250 Hz: more than any stream of Pepper's needs
+
 
 class JumpWatch:
     __slots__ = ('max_rate', 'baseline', 'refs', 'jumps', 'in_jump', 'largest', 'largest_t',
@@ -27,7 +29,9 @@ class JumpWatch:
 
     def __init__(self, max_rate: float, baseline: float) -> None:
         self.max_rate, self.baseline = max_rate, baseline
-        self.refs: Deque[Tuple[float, Tuple[float, ...]]] = deque()   # (when, value), accepted
+        # (when, value) of the accepted readings; bounded, so that stamps that stop moving (a
+        # fault of their own, said by the stream statistics) cannot make it grow without end
+        self.refs: Deque[Tuple[float, Tuple[float, ...]]] = deque(maxlen=MAX_REFS)
         self.jumps = 0                  # runs of consecutive jumping readings
         self.in_jump = False
         self.largest = 0.0              # the largest jump: a jumping reading's distance from the
