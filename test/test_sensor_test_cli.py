@@ -286,8 +286,9 @@ FAULTS = {
     'sonar_nan': ('A', 'backSonar', 'range', ['--fault', 'nan', '--frame', 'SonarBack_frame'], 'range is NaN'),
     'sonar_out_of_range': ('A', 'frontSonar', 'range', ['--fault', 'out_of_range', '--frame', 'SonarFront_frame'],
                            "range outside the sensor's physical limits [0, 5] m"),
-    'laser_wrong_ranges': ('A', 'laser', 'laser', ['--fault', 'wrong_ranges'], '40 ranges where the driver '
-                                                                               'publishes 61'),
+    # 40 ranges under angles for 61: inconsistent in itself (another layout alone is a warning)
+    'laser_wrong_ranges': ('A', 'laser', 'laser', ['--fault', 'wrong_ranges'],
+                           'number of ranges does not match the angles'),
     'joints_missing': ('A', 'jointState', 'joints', ['--fault', 'missing_joint', '--rate', '50'],
                        'expected joints missing: HeadYaw'),
     'odometry_quaternion': ('A', 'odometry', 'odometry', ['--fault', 'broken_quaternion'],

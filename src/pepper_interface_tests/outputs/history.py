@@ -39,6 +39,7 @@ from ..results import malformed
 from ..sensors import families
 from . import files
 from .atomicfile import write_atomic, write_error
+from .terminal import fill
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -153,8 +154,10 @@ class LatestRun(RunObserver):
         try:
             published = publish_latest(self.folder)
             s = self._stream()
-            s.write('run %s kept in %s; latest run also in %s (%d files)\n'
-                    % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
+            files_count = '(%d files)' % len(published)
+            s.write(fill('run %s kept in %s; latest run also in %s %s'
+                         % (self.folder.run_id, self.folder.path, self.folder.base, files_count),
+                         keep=['latest run also in', files_count]) + '\n')
             s.flush()
         except Exception as e:   # a full disk, or anything else: never lose the run over the copies, say so
             write_error(run, 'latest run in %s' % self.folder.base, e)

@@ -10,4 +10,5 @@ from . import Spread
 class JointsValues:
     joints: Optional[Dict[str, Dict[str, Spread]]] = optional()   # joint -> position/velocity/effort
     joint_count: Optional[int] = optional()
-    impossible_speeds_rad_s: Optional[Dict[str, float]] = optional()
+    position_jumps: Optional[Dict[str, int]] = optional()              # joint -> jumps (sensors/jumps.py)
+    largest_position_jump_rad: Optional[Dict[str, float]] = optional()

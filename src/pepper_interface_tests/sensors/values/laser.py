@@ -1,7 +1,7 @@
 """The laser family's values: the counts of sensors/laser.py and its last scan, beam by beam."""
 from dataclasses import dataclass
 from enum import Enum
-from typing import List, Optional
+from typing import Dict, List, Optional
 
 from ...codec import optional, series_optional
 from . import Spread
@@ -52,4 +52,7 @@ class LaserValues:
     beyond_advertised_max: Optional[int] = optional()
     range_m: Optional[Spread] = optional()
     longest_identical_run: Optional[int] = optional()
+    other_layout_scans: Optional[int] = optional()       # scans laid out otherwise than the profile
+    dead_boards: Optional[List[str]] = optional()        # boards with no valid reading in the window
+    longest_identical_board_run: Optional[Dict[str, int]] = optional()   # board -> scans
     last_scan: Optional[LastScan] = series_optional()

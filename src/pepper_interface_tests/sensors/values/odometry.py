@@ -9,6 +9,8 @@ from . import Point, Spread
 @dataclass(frozen=True)
 class OdometryValues:
     pose_implied_speed_m_s: Optional[Spread] = optional()
+    pose_jumps: Optional[int] = optional()             # poses that jumped (sensors/jumps.py)
+    largest_pose_jump_m: Optional[float] = optional()
     x_m: Optional[Spread] = optional()
     y_m: Optional[Spread] = optional()
     speed_m_s: Optional[Spread] = optional()
