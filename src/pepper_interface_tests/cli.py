@@ -157,8 +157,8 @@ def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[Config
 
 def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
     """Check the recorded bag `bag` (the --bag of `cli`) against the plan."""
-    from .sources.bag import BagSource
-    source = BagSource(bag)
+    from .sources.ros2bag import open_recording
+    source = open_recording(bag)
     # a bag is checked as a whole, every topic at once, from its start to its end
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
     active = []
