@@ -27,7 +27,7 @@ import yaml
 from . import catalog
 from .textfile import ConfigError, read_text
 
-SECTIONS = ('defaults', 'robot', 'simulator')
+SECTIONS = ('defaults', 'drivers', 'robot', 'simulator')
 
 
 # ---------------------------------------------------------------- value kinds
@@ -125,6 +125,29 @@ def slot_ranges(example: str) -> Kind:
     return check
 
 
+def named_slot_ranges(example: str) -> Kind:
+    """A mapping of names to one [first, last] slot index pair each (inclusive), first <= last,
+    none negative, no two overlapping: {right: [0, 14], front: [23, 37]}."""
+    pair = slot_ranges(example)
+
+    def check(key: str, v: Any) -> Tuple[Tuple[str, int, int], ...]:
+        fix = '"%s: %s"' % (key, example)
+        if not isinstance(v, dict) or not v:
+            raise Bad('is %r, not a mapping of names to [first, last] slot pairs' % (v,), fix)
+        out = []
+        for name, slots in v.items():
+            if not isinstance(name, str) or not name.strip():
+                raise Bad('has the name %r: write a name such as front' % (name,), fix)
+            (first, last), = pair(key, [slots])
+            out.append((name, first, last))
+        spans = sorted(out, key=lambda b: b[1])
+        for a, b in zip(spans, spans[1:]):
+            if b[1] <= a[2]:
+                raise Bad('has %s [%d, %d] and %s [%d, %d] overlapping' % (a + b), fix)
+        return tuple(out)
+    return check
+
+
 def names(example: str) -> Kind:
     def check(key: str, v: Any) -> Tuple[str, ...]:
         if not isinstance(v, list) or not all(isinstance(n, str) and n.strip() for n in v):
@@ -150,6 +173,9 @@ class Expect:
     max_future: float = _field(number(0, example='1.0'), 1.0)
     quick_messages: int = _field(whole(1, '10'), 10)
     max_gap_factor: float = _field(number(0, lo_open=True, example='3.0'), 3.0)
+    # the driver profile (a name under `drivers:`) whose keys this sensor starts from; the
+    # sensor's own keys override the profile's. None: no profile
+    driver: Optional[str] = _field(text('naoqi_driver'))
 
     @classmethod
     def field_names(cls) -> Tuple[str, ...]:
@@ -174,6 +200,15 @@ class LaserExpect(Expect):
     # the driver's blind layout; None: any blind_value counts as blind
     blind_slots: Optional[Tuple[Tuple[int, int], ...]] = _field(slot_ranges('[[15, 22], [38, 45]]'))
     nan_is_no_return: bool = _field(flag, False)
+    # +inf means "nothing in range" (REP 117; yohatad/naoqi_driver2's encodeRange); False: a
+    # +inf reading is invalid
+    inf_is_no_return: bool = _field(flag, True)
+    # the boards (sensors) whose readings the scan is made of: name -> its slots [first, last];
+    # a board with no valid reading in the window, or stuck, fails by name. None: not judged
+    boards: Optional[Tuple[Tuple[str, int, int], ...]] = _field(
+        named_slot_ranges('{right: [0, 14], front: [23, 37], left: [46, 60]}'))
+    # a short human name of the expected layout and its source, said when a scan differs
+    layout: Optional[str] = _field(text("naoqi_driver's 61 slots (laser.cpp:165-221)"))
     max_invalid_share: Optional[float] = _field(number(0, 1, example='0.5'))
     # N scans identical slot for slot in a row fail as stuck; None: not checked (a noise-free
     # simulated laser in a still world repeats itself legitimately)
@@ -389,8 +424,58 @@ def _lines(mapping) -> dict:
     return getattr(mapping, 'lines', {})
 
 
-def load(path: str, platform: str) -> Dict[str, Expect]:
-    """Expectations file -> {canonical sensor name: frozen expectations} for `platform`."""
+def _read_sensors(where: str, section: Any, path: str) -> Dict[str, dict]:
+    """A mapping of sensor blocks (a platform's section, or one driver profile) -> {canonical
+    sensor name: validated values}; unknown sensors and keys, a sensor given twice stop it."""
+    given: Dict[str, dict] = {}
+    seen: Dict[str, tuple] = {}
+    for spelling, block in section.items():
+        line = _lines(section).get(spelling)
+        name = catalog.canonical(str(spelling))
+        if name is None:
+            raise ConfigError('unknown sensor "%s" in section %s' % (spelling, where), path, line,
+                              fix='valid sensors: ' + ', '.join(catalog.SENSORS))
+        if name in seen:
+            raise ConfigError('sensor "%s" appears twice in section %s (first on line %d, as "%s")'
+                              % (spelling, where, seen[name][0], seen[name][1]), path, line,
+                              fix='keep one block per sensor')
+        seen[name] = (line, spelling)
+        here = '%s.%s' % (where, spelling)
+        block = _need_mapping(here, block, path, line)
+        kinds = _kinds(family_of(name))
+        values = {}
+        for key, value in block.items():
+            if key not in kinds:
+                raise _unknown_key(here, key, sorted(kinds), path, _lines(block).get(key))
+            values[key] = _validate(here, key, value, kinds[key], path, _lines(block).get(key))
+        given[name] = values
+    return given
+
+
+def _read_drivers(data: Any, path: str) -> Dict[str, Dict[str, dict]]:
+    """The `drivers:` section -> {profile name: {sensor name: validated values}}."""
+    section = _need_mapping('drivers', data.get('drivers'), path, _lines(data).get('drivers'))
+    out = {}
+    for profile, sensors in section.items():
+        line = _lines(section).get(profile)
+        where = 'drivers.%s' % profile
+        sensors = _need_mapping(where, sensors, path, line)
+        out[str(profile)] = _read_sensors(where, sensors, path)
+        for name, values in out[str(profile)].items():
+            if 'driver' in values:
+                raise ConfigError('%s.%s: a driver profile cannot name another (driver: %s)'
+                                  % (where, name, values['driver']), path,
+                                  _lines(sensors).get(name), fix='remove the "driver:" line here')
+    return out
+
+
+def load(path: str, platform: str, driver: Optional[str] = None) -> Dict[str, Expect]:
+    """Expectations file -> {canonical sensor name: frozen expectations} for `platform`.
+
+    A sensor's values: `defaults`, then the keys of its driver profile (`driver: name` in its
+    block, a name under `drivers:`), then its own keys. `driver` (when given) names the profile
+    for every sensor that profile describes, whatever the blocks say (a recording of another
+    driver); an unknown name stops it with the profiles known."""
     data = parse_yaml(path)
     if data is None:
         data = Mapping()
@@ -409,32 +494,26 @@ def load(path: str, platform: str) -> Dict[str, Expect]:
         if key not in every:
             raise _unknown_key('defaults', key, sorted(every), path, _lines(defaults).get(key))
         checked_defaults[key] = _validate('defaults', key, value, every[key], path, _lines(defaults).get(key))
+    profiles = _read_drivers(data, path)
+    if driver is not None and driver not in profiles:
+        raise ConfigError('unknown driver profile "%s"' % driver, path, _lines(data).get('drivers'),
+                          fix='known profiles under "drivers:": %s' % (', '.join(profiles) or 'none'))
     section = _need_mapping(platform, data.get(platform), path, _lines(data).get(platform))
-    given: Dict[str, dict] = {}
-    seen: Dict[str, tuple] = {}
-    for spelling, block in section.items():
-        line = _lines(section).get(spelling)
-        name = catalog.canonical(str(spelling))
-        if name is None:
-            raise ConfigError('unknown sensor "%s" in section %s' % (spelling, platform), path, line,
-                              fix='valid sensors: ' + ', '.join(catalog.SENSORS))
-        if name in seen:
-            raise ConfigError('sensor "%s" appears twice in section %s (first on line %d, as "%s")'
-                              % (spelling, platform, seen[name][0], seen[name][1]), path, line,
-                              fix='keep one block per sensor')
-        seen[name] = (line, spelling)
-        where = '%s.%s' % (platform, spelling)
-        block = _need_mapping(where, block, path, line)
-        kinds = _kinds(family_of(name))
-        values = {}
-        for key, value in block.items():
-            if key not in kinds:
-                raise _unknown_key(where, key, sorted(kinds), path, _lines(block).get(key))
-            values[key] = _validate(where, key, value, kinds[key], path, _lines(block).get(key))
-        given[name] = values
+    given = _read_sensors(platform, section, path)
     out = {}
     for name in catalog.SENSORS:
         values = {k: v for k, v in checked_defaults.items() if k in family_of(name).field_names()}
-        values.update(given.get(name, {}))
+        own = given.get(name, {})
+        profile = driver if driver is not None and name in profiles[driver] else own.get('driver')
+        if profile is not None:
+            if profile not in profiles:
+                block = section.get(next((s for s in section if catalog.canonical(str(s)) == name), name), {})
+                raise ConfigError('%s.%s: unknown driver profile "%s"' % (platform, name, profile), path,
+                                  _lines(block).get('driver'),
+                                  fix='known profiles under "drivers:": %s' % (', '.join(profiles) or 'none'))
+            values.update(profiles[profile].get(name, {}))
+        values.update(own)
+        if profile is not None:
+            values['driver'] = profile
         out[name] = build(name, values)
     return out

@@ -69,6 +69,7 @@ class LaserCheck(Check):
         self.slots = self.expect.blind_slots
         self.blind_set = blind_indices(self.slots)
         self.nan_no_return = self.expect.nan_is_no_return
+        self.inf_no_return = self.expect.inf_is_no_return
         # (angle_min, angle_increment, ranges, range_min, range_max, blind value) of the last scan
         self.last_kinds: List[str] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
         self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
@@ -132,7 +133,7 @@ class LaserCheck(Check):
             if self.slots is None and blind is not None and r == blind:
                 self.blind += 1
                 kinds.append(BLIND)
-            elif (self.nan_no_return and math.isnan(r)) or r == math.inf:
+            elif (self.nan_no_return and math.isnan(r)) or (self.inf_no_return and r == math.inf):
                 self.no_return += 1
                 kinds.append(NO_RETURN)
             elif r == -math.inf or (math.isfinite(r) and r >= lo):
