@@ -97,6 +97,29 @@ class Ros2BagSource(BagSource):
         except Exception:  # noqa: BLE001  (a truncated file: the note made at the start says so)
             return
 
+    def peek(self, topic: str, n: int = 1) -> List[Any]:
+        """The first `n` messages of `topic`, decoded as the checks decode them ([] when the topic
+        is missing or cannot be read)."""
+        from . import messages
+        out: List[Any] = []
+        conns = self._by_topic.get(topic)
+        if not conns or topic in self.problems:
+            return out
+        records = self.reader.messages(connections=conns)
+        try:
+            for conn, _ns, raw in records:
+                header = self.converter.header(conn.msgtype)
+                msg = messages.message_class(header['type'], header['message_definition'])()
+                msg.deserialize(self.converter.to_ros1(raw, conn.msgtype))
+                out.append(msg)
+                if len(out) >= n:
+                    break
+        except Exception:  # noqa: BLE001  (an undecodable message: the check will say so)
+            pass
+        finally:
+            records.close()
+        return out
+
     def close(self) -> None:
         try:
             self.reader.close()
