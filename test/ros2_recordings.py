@@ -156,13 +156,13 @@ def write_rosbags(path, recs, storage='sqlite3', compression=None, split=None, d
     """A rosbag2 folder written by rosbags (storage 'sqlite3' or 'mcap'; compression None,
     'message' or 'file' (zstd); `split`: a record time after which a second file begins,
     written as a second recording and joined into one metadata.yaml)."""
-    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
     ts = _typestore()
     plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
-    with Writer(str(path), version=8, storage_plugin=plugin) as w:
-        if compression:
-            w.set_compression(getattr(Writer.CompressionMode, compression.upper()),
-                              Writer.CompressionFormat.ZSTD)
+    w = Writer(str(path), version=8, storage_plugin=plugin)
+    if compression:
+        w.set_compression(getattr(CompressionMode, compression.upper()), CompressionFormat.ZSTD)
+    with w:
         conns = {}
         for r in recs:
             topic = TOPICS[r.sensor][1]
@@ -215,3 +215,44 @@ def size(path):
     if os.path.isdir(path):
         return sum(os.path.getsize(os.path.join(path, f)) for f in os.listdir(path))
     return os.path.getsize(path)
+
+
+def write_split(path, recs, storage='sqlite3'):
+    """A rosbag2 folder of two storage files, as `ros2 bag record --max-bag-duration` leaves
+    it: the records before the middle in <name>_0, the rest in <name>_1, one metadata.yaml."""
+    import shutil
+
+    import yaml
+    path = str(path)
+    half = recs[len(recs) // 2].t
+    parts = [write_rosbags(path + '.part%d' % k, part, storage)
+             for k, part in enumerate(([r for r in recs if r.t < half], [r for r in recs if r.t >= half]))]
+    os.makedirs(path)
+    infos, files = [], []
+    for k, part in enumerate(parts):
+        with open(os.path.join(part, 'metadata.yaml')) as f:
+            info = yaml.safe_load(f)['rosbag2_bagfile_information']
+        name = '%s_%d.%s' % (os.path.basename(path), k, 'mcap' if storage == 'mcap' else 'db3')
+        shutil.move(os.path.join(part, info['relative_file_paths'][0]), os.path.join(path, name))
+        shutil.rmtree(part)
+        info['files'][0]['path'] = name
+        infos.append(info)
+        files.append(name)
+    meta = infos[0]
+    meta['relative_file_paths'] = files
+    meta['files'] = [i['files'][0] for i in infos]
+    meta['message_count'] = sum(i['message_count'] for i in infos)
+    end = max(i['starting_time']['nanoseconds_since_epoch'] + i['duration']['nanoseconds'] for i in infos)
+    meta['duration']['nanoseconds'] = end - meta['starting_time']['nanoseconds_since_epoch']
+    counts = {}
+    for i in infos:
+        for t in i['topics_with_message_count']:
+            name = t['topic_metadata']['name']
+            if name in counts:
+                counts[name]['message_count'] += t['message_count']
+            else:
+                counts[name] = t
+    meta['topics_with_message_count'] = list(counts.values())
+    with open(os.path.join(path, 'metadata.yaml'), 'w') as f:
+        yaml.safe_dump({'rosbag2_bagfile_information': meta}, f)
+    return path
