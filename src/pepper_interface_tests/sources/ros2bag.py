@@ -24,7 +24,8 @@ from .bag import BagSource, Record
 
 FIX = ('check it is a ROS 2 recording (a folder with metadata.yaml and its .db3/.mcap files, or '
        'one .mcap or .db3 file) written completely (ros2 bag info; "ros2 bag reindex" rebuilds a '
-       'missing metadata.yaml)')
+       'missing metadata.yaml; "mcap recover IN.mcap -o OUT.mcap" an MCAP file whose recorder '
+       'was killed)')
 
 
 def _msg_dir() -> str:
