@@ -129,7 +129,7 @@ def _ros2_type(msg):
 def _typestore():
     """The ROS 2 standard types and naoqi_bridge_msgs/AudioBuffer of the ROS 2 message package
     (ros-naoqi/naoqi_bridge_msgs2: `channel_map`)."""
-    from rosbags.typesys import Stores, get_typestore, get_types_from_msg
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
     ts = get_typestore(Stores.ROS2_HUMBLE)
     ts.register(get_types_from_msg(AUDIO_BUFFER_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))
     return ts

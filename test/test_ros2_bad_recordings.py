@@ -82,7 +82,7 @@ def test_a_topic_whose_type_has_no_definition(tmp_path):
     """A Humble-style sqlite3 recording (no definitions stored) with a type nobody defines: that
     sensor fails naming its topic and type, the others are judged."""
     from rosbags.rosbag2 import Writer
-    from rosbags.typesys import Stores, get_typestore, get_types_from_msg
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
     ts = get_typestore(Stores.ROS2_HUMBLE)
     ts.register(get_types_from_msg('std_msgs/Header header\nfloat32[] values\n', 'acme_msgs/msg/Scan'))
     scan = ts.types['acme_msgs/msg/Scan']

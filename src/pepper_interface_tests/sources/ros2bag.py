@@ -38,6 +38,7 @@ class Ros2BagSource(BagSource):
 
     def _open(self, path: str) -> None:
         from rosbags.rosbag2 import Reader
+
         from . import ros2types
         if os.path.isdir(path) and not os.path.exists(os.path.join(path, 'metadata.yaml')):
             raise ConfigError('no metadata.yaml in this folder: not a rosbag2 recording', path,
