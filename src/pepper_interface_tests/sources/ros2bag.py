@@ -37,8 +37,12 @@ class Ros2BagSource(BagSource):
     """sensorTest --bag on a ROS 2 recording."""
 
     def _open(self, path: str) -> None:
-        from rosbags.rosbag2 import Reader
-
+        try:
+            from rosbags.rosbag2 import Reader
+        except ImportError:
+            raise ConfigError('reading a ROS 2 recording needs the rosbags library, which is not '
+                              'installed', path, fix='pip install rosbags==0.11.9 (Python 3.10 or '
+                              'later; tools/setup.sh installs it)') from None
         from . import ros2types
         if os.path.isdir(path) and not os.path.exists(os.path.join(path, 'metadata.yaml')):
             raise ConfigError('no metadata.yaml in this folder: not a rosbag2 recording', path,
