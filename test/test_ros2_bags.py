@@ -155,3 +155,53 @@ def test_videos_and_wav_from_a_ros2_recording(tmp_path):
     audio, rate = soundfile.read(str(tmp_path / 'out' / 'microphoneOutput.wav'))
     assert rate == 48000 and audio.shape[1] == 4
     assert audio.shape[0] == data['microphone']['messages'] * 8192
+
+
+def write_image_recording(path, megabytes, storage, width=640, height=480, rate=10.0):
+    """A rosbag2 folder of `megabytes` of distinct rgb8 frames on naoqi_driver2's front camera."""
+    import numpy as np
+    rng = np.random.default_rng(1)
+    base = rng.integers(0, 256, size=width * height * 3, dtype=np.uint8)
+    n = int(megabytes * 1e6 // base.size) + 1
+
+    def frames():
+        for i in range(n):
+            t = rr.T0 + i / rate
+            m = rr.fake.image(np.roll(base, i * 997).reshape(height, width, 3), 'rgb8',
+                              frame_id='CameraTop_optical_frame')
+            m.header.stamp = rr.genpy.Time.from_sec(t)
+            yield rr.Record('frontCamera', t, m)
+    return rr.write_rosbags(path, frames(), storage), n
+
+
+PEAK_RSS = ('import resource, subprocess, sys\n'
+            'code = subprocess.call(sys.argv[1:], stdout=sys.stderr)\n'
+            'print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, code)\n')
+
+
+def peak_rss_kb(recording, out):
+    import subprocess
+    import sys
+    cmd = [sys.executable, '-c', PEAK_RSS] + script('sensorTest') + [
+        '--bag', str(recording), '--sensors', 'frontCamera', '--output-dir', str(out)] + QUIET
+    p = subprocess.run(cmd, env=NO_MASTER, capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    kb, code = p.stdout.split()
+    assert code in ('0', '1'), p.stderr
+    with open(os.path.join(str(out), 'sensorTestResults.json')) as f:
+        return int(kb), json.load(f)['sensors'][0]['messages']
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize('storage', ['sqlite3', 'mcap'])
+def test_a_large_ros2_recording_is_streamed_not_loaded(storage, tmp_path):
+    big, frames = write_image_recording(tmp_path / 'big', 250, storage)
+    small, _ = write_image_recording(tmp_path / 'small', 3, storage)
+    size_kb = rr.size(big) / 1024.0
+    base, _ = peak_rss_kb(small, tmp_path / 'out_small')
+    peak, messages = peak_rss_kb(big, tmp_path / 'out_big')
+    assert messages == frames                           # every frame reached the check
+    print('\n%s recording %.0f MB, %d frames: peak RSS %.0f MB (small: %.0f MB)'
+          % (storage, size_kb / 1024, frames, peak / 1024.0, base / 1024.0))
+    # loading the recording would add its size; streaming adds a chunk and the check's state
+    assert peak - base < 0.2 * size_kb, (peak, base, size_kb)
