@@ -205,3 +205,21 @@ def test_a_large_ros2_recording_is_streamed_not_loaded(storage, tmp_path):
           % (storage, size_kb / 1024, frames, peak / 1024.0, base / 1024.0))
     # loading the recording would add its size; streaming adds a chunk and the check's state
     assert peak - base < 0.2 * size_kb, (peak, base, size_kb)
+
+
+def test_a_record_at_a_bogus_time_is_left_out_as_in_a_ros1_bag(tmp_path):
+    """The dense-window rule on ROS 2 receive times (nanoseconds): one record at t = 1 s in a
+    recording at 1.7e9 s is left out and named, as test_bag_source does for a ROS 1 bag."""
+    good = [r for r in rr.records(leave_out=[s for s in rr.TOPICS if s != 'backSonar'])]
+    odd = rr.Record('backSonar', 1.0, rr.message('backSonar', 0, 1.0))
+    folder = rr.write_rosbags(tmp_path / 'odd', [odd] + good, 'mcap')
+    bag = rr.write_ros1(tmp_path / 'odd.bag', [odd] + good)
+    results = []
+    for recording, out in ((folder, 'o2'), (bag, 'o1')):
+        p, data = run(recording, tmp_path / out, sensors='backSonar')
+        note = next(ln for ln in p.stdout.splitlines() if 'odd times' in ln)
+        assert ('1 record at odd times left out (t = 1 s)' in note
+                and '%d records checked' % len(good) in note), note
+        assert data['backSonar']['messages'] == len(good) and data['backSonar']['window_s'] < 5.0
+        results.append(verdicts(data))
+    assert results[0] == results[1]

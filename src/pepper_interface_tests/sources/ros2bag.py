@@ -56,7 +56,6 @@ class Ros2BagSource(BagSource):
         conns = list(self.reader.connections)
         self.converter = ros2types.Converter(conns, _msg_dir())
         self.types = {c.topic: ros2types.ros1_name(c.msgtype) for c in conns}
-        self.ros2_types = {c.topic: c.msgtype for c in conns}
         self._by_topic: Dict[str, List[Any]] = {}
         for c in conns:
             self._by_topic.setdefault(c.topic, []).append(c)
@@ -74,6 +73,7 @@ class Ros2BagSource(BagSource):
                 yield t / 1e9
         except Exception as e:  # noqa: BLE001  (a truncated file: keep what could be read)
             if n == 0:
+                self.close()
                 raise ConfigError('cannot read the ROS 2 recording: %s' % _why(e), self.path,
                                   fix=FIX) from None
             self.read_error = _why(e)
@@ -81,6 +81,7 @@ class Ros2BagSource(BagSource):
                               'the checks judge what was read' % (n, self.read_error))
             return
         if n == 0:
+            self.close()
             raise ConfigError('the ROS 2 recording holds no message', self.path,
                               fix='record again; check the topics with "ros2 bag info %s"' % self.path)
 
