@@ -54,7 +54,11 @@ class Ros2BagSource(BagSource):
         except Exception as e:  # noqa: BLE001  (ReaderError, sqlite3/MCAP errors, bad YAML)
             raise ConfigError('cannot open the ROS 2 recording: %s' % _why(e), path, fix=FIX) from None
         conns = list(self.reader.connections)
-        self.converter = ros2types.Converter(conns, _msg_dir())
+        try:
+            distro = self.reader.ros_distro
+        except Exception:  # noqa: BLE001  (older metadata without it)
+            distro = None
+        self.converter = ros2types.Converter(conns, _msg_dir(), distro)
         self.types = {c.topic: ros2types.ros1_name(c.msgtype) for c in conns}
         self._by_topic: Dict[str, List[Any]] = {}
         for c in conns:

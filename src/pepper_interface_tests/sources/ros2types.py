@@ -15,8 +15,10 @@ Conversion: rosbags' cdr_to_ros1 writes each message in ROS 1 wire format: a ROS
 time (same two 32-bit words). The checks then decode it with the ROS 1 classes, exactly as a
 message out of a ROS 1 bag.
 """
+import functools
 import os
-from typing import Any, Dict, Iterable, List, Optional, Tuple
+from types import MappingProxyType
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple
 
 from . import naoqi_msgs
 
@@ -95,13 +97,43 @@ def recording_types(msgtype: str, msgdef: Any) -> Dict[str, Any]:
     return {}
 
 
+# the standard types of the ROS 2 release a recording names (rosbag2 stores `ros_distro` from
+# Humble's sqlite3 schema 3 and in metadata.yaml from version 8); naoqi_driver2 is released for
+# Humble and later, so a recording that does not say is read with Humble's types. They differ:
+# sensor_msgs/Range has a `variance` field only after Jazzy (rosbags' LATEST).
+DISTROS = {'foxy': 'ROS2_FOXY', 'galactic': 'ROS2_GALACTIC', 'humble': 'ROS2_HUMBLE',
+           'iron': 'ROS2_IRON', 'jazzy': 'ROS2_JAZZY', 'kilted': 'ROS2_KILTED',
+           'lyrical': 'ROS2_LYRICAL', 'rolling': 'LATEST'}
+DEFAULT_DISTRO = 'humble'
+
+
+def standard_types(distro: Optional[str]) -> Dict[str, Any]:
+    """The standard ROS 2 field definitions of `distro` (Humble's when unknown)."""
+    name = DISTROS.get((distro or '').strip().lower(), DISTROS[DEFAULT_DISTRO])
+    return dict(_store_fields(name))
+
+
+@functools.lru_cache(maxsize=None)
+def _store_fields(name: str) -> Mapping[str, Any]:
+    from rosbags.typesys import Stores, get_typestore
+    return MappingProxyType(dict(get_typestore(getattr(Stores, name, Stores.ROS2_HUMBLE)).fielddefs))
+
+
+def ros1_text(ros2_generated: str) -> str:
+    """rosbags writes the ROS 1 definition of a ROS 2 type with the ROS 2 Header (no seq); the
+    bytes cdr_to_ros1 writes do carry seq, and so must the definition a class is built from."""
+    return ros2_generated.replace('MSG: std_msgs/Header\ntime stamp\n',
+                                  'MSG: std_msgs/Header\nuint32 seq\ntime stamp\n')
+
+
 class Converter:
     """CDR -> ROS 1 bytes for the connections of one recording, with the ROS 1 connection header
     fields (type, md5sum, message_definition) the checks' decoders use."""
 
-    def __init__(self, connections: Iterable[Any], msg_dir: str) -> None:
+    def __init__(self, connections: Iterable[Any], msg_dir: str, distro: Optional[str] = None) -> None:
         from rosbags.typesys import Stores, get_typestore
-        types: Dict[str, Any] = dict(get_typestore(Stores.LATEST).fielddefs)
+        connections = list(connections)
+        types: Dict[str, Any] = standard_types(distro)
         types.update(package_msg_types(msg_dir))
         self.problems: Dict[str, str] = {}     # topic -> why its messages cannot be read
         for conn in connections:
@@ -110,41 +142,33 @@ class Converter:
             except Exception as e:  # noqa: BLE001  (a definition rosbags cannot parse)
                 self.problems[conn.topic] = ('its type %s has a definition in the recording that '
                                              'cannot be read (%s)' % (conn.msgtype, str(e)[:100]))
-        self.store = get_typestore(Stores.EMPTY)
-        self.store.register(types)
-        self._headers: Dict[str, Dict[str, Any]] = {}
+        # only the types the recording's topics need are registered (a few, not the ~150
+        # standard ones: registering builds a class for each)
+        needed: Set[str] = set()
         for conn in connections:
             if conn.topic in self.problems:
                 continue
-            missing = self.missing(conn.msgtype)
+            missing = _closure(conn.msgtype, types, needed)
             if missing:
                 self.problems[conn.topic] = (
                     'its type %s has no definition in the recording nor in this package (%s '
                     'unknown)' % (conn.msgtype, missing))
-
-    def missing(self, msgtype: str, seen: Optional[set] = None) -> Optional[str]:
-        """The first type `msgtype` needs that the typestore lacks, or None."""
-        seen = set() if seen is None else seen
-        if msgtype in seen:
-            return None
-        seen.add(msgtype)
-        fields = self.store.fielddefs.get(msgtype)
-        if fields is None:
-            return msgtype
-        for sub in _nested(fields):
-            gone = self.missing(sub, seen)
-            if gone:
-                return gone
-        return None
+        self.store = get_typestore(Stores.EMPTY)
+        self.store.register({name: types[name] for name in needed})
+        self._headers: Dict[str, Dict[str, Any]] = {}
 
     def header(self, msgtype: str) -> Dict[str, Any]:
         """ROS 1 connection header fields of a ROS 2 type (cached)."""
         conn = self._headers.get(msgtype)
         if conn is None:
+            from . import messages
             name = ros1_name(msgtype)
-            text, md5 = self.store.generate_msgdef(msgtype, ros_version=1)
-            conn = self._headers[msgtype] = {'type': name, 'md5sum': md5,
-                                             'message_definition': ROS1_DEFINITIONS.get(name, text)}
+            text = ROS1_DEFINITIONS.get(name) or ros1_text(self.store.generate_msgdef(msgtype, ros_version=1)[0])
+            try:
+                md5 = messages.message_class(name, text)._md5sum
+            except Exception:  # noqa: BLE001  (a definition genpy cannot build: decoding will say so)
+                md5 = '*'
+            conn = self._headers[msgtype] = {'type': name, 'md5sum': md5, 'message_definition': text}
         return conn
 
     def to_ros1(self, raw: bytes, msgtype: str) -> bytes:
@@ -154,6 +178,24 @@ class Converter:
             return bytes(self.store.cdr_to_ros1(raw, msgtype))
         except Exception:  # noqa: BLE001  (corrupt data is a finding of the check, not a crash)
             return b''
+
+
+def _closure(msgtype: str, types: Mapping[str, Any], into: Set[str]) -> Optional[str]:
+    """Adds `msgtype` and every type it refers to (that `types` defines) to `into`; returns the
+    first one `types` lacks, or None. `into` is only extended when nothing is missing."""
+    found: Set[str] = set()
+    todo = [msgtype]
+    while todo:
+        name = todo.pop()
+        if name in found or name in into:
+            continue
+        fields = types.get(name)
+        if fields is None:
+            return name
+        found.add(name)
+        todo.extend(_nested(fields))
+    into.update(found)
+    return None
 
 
 def _nested(fields: Tuple[List[Any], List[Any]]) -> List[str]:
