@@ -2,7 +2,7 @@
 #             built-in Pepper emulator through the real NAOqi audio bridge
 # make test   set everything up, then run the gates (ruff, mypy) and the whole test suite
 #             (pytest + rostest: unit, integration and slow tiers)
-# make test-fast  only the unit tier (pure tests, no ROS master, under 2 s of pytest): pytest -m unit
+# make test-fast  only the unit tier (pure tests, no ROS master, under 6 s of CPU): pytest -m unit
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
 .PHONY: demo test test-fast lint setup bench clean

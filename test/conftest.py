@@ -1,6 +1,7 @@
 import os
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -16,7 +17,7 @@ from rosmaster import Master, script  # noqa: E402
 #                there starts real processes: sensorTest, the emulator, ffmpeg, rostest,
 #                websockets, libqi)
 #   unit         the rest: pure functions on in-memory data and tmp files, no master
-# `make test-fast` runs `-m unit` (the unit tier must stay under 2 s in total).
+# `make test-fast` runs `-m unit` (the unit tier must stay under UNIT_BUDGET_CPU_S of CPU, below).
 TIERS = ('unit', 'integration', 'slow')
 ROS_FIXTURES = {'master', 'module_master', 'recorded_bags'}
 SLOW_FILES = {'test_report.py'}
@@ -63,18 +64,63 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(getattr(pytest.mark, tier))
 
 
-_unit_seconds = []
+# The unit tier's budget is CPU time, not wall time: its tests are pure computation, and their
+# wall time grows with whatever else the machine runs (the full suite's two other xdist workers
+# start roscores, emulators and browsers next to them: the tier's 1.5 s read 3 s and more there,
+# and 20 s on a machine shared by four test runs). The CPU time of the test process during
+# setup, call and teardown is what the tests themselves cost; it is measured in the process
+# that runs the test (an xdist worker too) and carried to the summary in the report.
+# The budget: 491 unit tests took 4.1-5.7 s of CPU on the 2-core test machine at a load of 8
+# (four test runs at once; contention still inflates CPU time somewhat), about half of it
+# pytest's own few milliseconds per test; 6 s is above that, so "OVER BUDGET" appears only when
+# the tests themselves grow, not with the machine's load.
+UNIT_BUDGET_CPU_S = 6.0
+_unit_cpu = []
+_unit_wall = []
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_setup(item):
+    t0 = time.process_time()
+    yield
+    item._cpu_s = time.process_time() - t0
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    t0 = time.process_time()
+    yield
+    item._cpu_s = getattr(item, '_cpu_s', 0.0) + time.process_time() - t0
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_teardown(item, nextitem):
+    t0 = time.process_time()
+    yield
+    item._cpu_s = getattr(item, '_cpu_s', 0.0) + time.process_time() - t0
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    if call.when == 'teardown':
+        outcome.get_result().user_properties.append(('cpu_s', getattr(item, '_cpu_s', 0.0)))
 
 
 def pytest_runtest_logreport(report):
     if 'unit' in report.keywords:
-        _unit_seconds.append(report.duration)
+        _unit_wall.append(report.duration)
+        _unit_cpu.extend(v for k, v in report.user_properties if k == 'cpu_s')
 
 
 def pytest_terminal_summary(terminalreporter):
-    """The unit tier's own time (setup + call + teardown), to keep it under its 2 s budget."""
-    if _unit_seconds:
-        terminalreporter.write_line('unit tier: %.2f s in its tests (budget 2 s)' % sum(_unit_seconds))
+    """The unit tier's own cost: CPU time of its tests against the budget (wall time beside)."""
+    if _unit_cpu:
+        cpu = sum(_unit_cpu)
+        terminalreporter.write_line(
+            'unit tier: %.2f s of CPU in its tests (budget %g s), %.2f s of wall time%s'
+            % (cpu, UNIT_BUDGET_CPU_S, sum(_unit_wall),
+               '' if cpu <= UNIT_BUDGET_CPU_S else ': OVER BUDGET, see --durations=20'))
 
 
 @pytest.fixture

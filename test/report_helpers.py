@@ -41,6 +41,7 @@ def sensor_test(master, args, timeout=120):
 
 
 def printed_path(stdout, label):
-    """The path sensorTest printed after `label:` (e.g. 'report'), or None."""
-    m = re.search(r'^%s: (\S+)' % re.escape(label), stdout, re.M)
+    """The path sensorTest printed after `label:` (e.g. 'report'), or None; on the same line
+    or, when the line would be too wide for the terminal, alone on the next one."""
+    m = re.search(r'^%s:\s+(\S+)' % re.escape(label), stdout, re.M)
     return m.group(1) if m else None

@@ -538,7 +538,9 @@ def test_shipped_expectations_reach_the_plan():
     plan = load_plan(Options(sensors=('laser', 'jointState')))
     laser, joints = plan.sensors
     data = yaml.safe_load(open(SHIPPED_EXPECT))
-    assert laser.expect.ranges == data['robot']['laser']['ranges']
+    # the laser's layout comes from its driver profile (drivers: in the file)
+    profile = data['drivers'][data['robot']['laser']['driver']]['laser']
+    assert laser.expect.driver == 'naoqi_driver' and laser.expect.ranges == profile['ranges']
     assert laser.expect.min_messages == data['defaults']['min_messages']
     assert list(joints.expect.joints) == data['robot']['jointState']['joints']
 

@@ -24,6 +24,11 @@ from .plan.model import TestPlan
 from .progress import Progress
 from .results import RunResult, SensorResult
 
+# the reason every listened-to sensor fails with when nothing at all is published (after
+# "no publisher on <topic>: "); the terminal says it once, at the start, with the likely causes
+NO_PUBLISHER_AT_ALL = ('no sensor topic of this run has a publisher on the ROS master (robot off, '
+                       'another master, driver not started?)')
+
 
 class RunObserver:
     """No-op base: override the events an output needs."""

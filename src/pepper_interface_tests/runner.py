@@ -17,7 +17,7 @@ import time
 from typing import Callable, Dict, Iterable, List, Optional, Tuple
 
 from . import interrupts
-from .observer import Observers, RunObserver
+from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
 from .sensors.base import RunContext
@@ -195,9 +195,8 @@ class Runner:
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:
                 self._done(skipped_result(p, self.start, now, FAIL, [
-                    'no publisher on %s: no sensor topic of this run has a publisher on the ROS master '
-                    '(robot off, another master, driver not started?)%s'
-                    % (p.topic, no_publisher_note(p.sensor.name))]))
+                    'no publisher on %s: %s%s' % (p.topic, NO_PUBLISHER_AT_ALL,
+                                                   no_publisher_note(p.sensor.name))]))
                 lane.remove(p)
 
     def interrupt(self, why: str) -> None:

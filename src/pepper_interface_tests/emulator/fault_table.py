@@ -32,6 +32,11 @@ EFFECTS = {
     'twist_mismatch': 'twist 0.4 m/s whatever the pose does',
     'far_depth': 'every pixel about 20 m',
     'flat_depth': 'every pixel 1.5 m, no noise',
+    'dead_board': 'board VALUE (right, front or left) stopped: naoqi_driver turns its x = y = 0 '
+                  'into the mounting offset (0.056 m front, 0.092 m sides) in every slot',
+    'nan_board': 'board VALUE NaN in every slot, as yohatad/naoqi_driver2 publishes a board '
+                 'whose frame counter stopped',
+    'spike': 'the pose leaps 25 m for one message in every eight and comes back',
     'silent_channel': 'channel VALUE all zeros: rearLeft, rearRight, frontLeft or frontRight '
                       '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
                       'silent_channel)',

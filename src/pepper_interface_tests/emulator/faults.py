@@ -45,7 +45,12 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'twist_mismatch': (False, ('odometry',)),
     'far_depth': (False, ('depth',)),
     'flat_depth': (False, ('depth',)),
+    'dead_board': (True, ('laser',)),
+    'nan_board': (True, ('laser',)),
+    'spike': (False, ('odometry',)),
 }
+# the laser's boards, in slot order (naoqi_driver laser.cpp:166-205: right, front, left)
+LASER_BOARDS = ('right', 'front', 'left')
 
 # canonical sensor name -> its family, for validation before a profile is built: every sensor
 # the emulator publishes (a check that drives itself, speech, is what the emulator listens to)
@@ -84,6 +89,9 @@ class Faults:
     twist_mismatch: bool = False    # odometry: twist says 0.4 m/s whatever the pose does
     far_depth: bool = False         # depth: every pixel about 20 m
     flat_depth: bool = False        # depth: every pixel 1.5 m
+    dead_board: Optional[str] = None    # laser: this board stopped (ALMemory x = y = 0)
+    nan_board: Optional[str] = None     # laser: this board NaN throughout (yohatad's fork)
+    spike: bool = False             # odometry: the pose leaps 25 m for one message in eight
 
     def describe(self) -> str:
         out = []
@@ -155,7 +163,9 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
             if takes_value and not value:
                 raise FaultError('fault "%s" of %s needs a value, e.g. %s'
                                  % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3', 'after': 'after=1.5',
-                                                  'silent_channel': 'silent_channel=rearRight'}[fault]))
+                                                  'silent_channel': 'silent_channel=rearRight',
+                                                  'dead_board': 'dead_board=front',
+                                                  'nan_board': 'nan_board=left'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
@@ -172,6 +182,11 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                     if match[0] not in channels:
                         channels.append(match[0])
                 values['silent_channel'] = tuple(channels)
+            elif fault in ('dead_board', 'nan_board'):
+                if value.lower() not in LASER_BOARDS:
+                    raise FaultError('unknown laser board "%s" in %s:%s; valid boards: %s'
+                                     % (value, name, fault, ', '.join(LASER_BOARDS)))
+                values[fault] = value.lower()
             else:
                 values[fault] = True
         found[name] = values

@@ -22,7 +22,7 @@ from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
 from . import scene
-from .faults import HEALTHY, Faults
+from .faults import HEALTHY, LASER_BOARDS, Faults
 from .profiles import (
     AUDIO_RATE,
     JOINT_NAMES,
@@ -287,8 +287,13 @@ class LaserPublisher(StreamPublisher):
         """laser.cpp:165-205: each measured slot is the raw distance of one device's point
         converted to base_footprint (scene.laser_ranges), never clipped to range_max; the blind
         slots keep -1.0 (reset(), :221)."""
-        ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng)
-        if self.faults.all_blind:
+        f = self.faults
+        dead = LASER_BOARDS.index(f.dead_board) if f.dead_board else None
+        ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, dead)
+        if f.nan_board:       # yohatad/naoqi_driver2: kUnknownRange in a stopped board's slots
+            board = LASER_BOARDS.index(f.nan_board)
+            ranges[np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]] = np.nan
+        if f.all_blind:
             ranges[:] = LASER_BLIND_VALUE
         return ranges, -LASER_ANGLE, LASER_ANGLE, LASER_INCREMENT
 
@@ -370,6 +375,8 @@ class OdometryPublisher(StreamPublisher):
         x, y, yaw = scene.robot_pose(t)
         if f.pose_jump:     # an odometry that jumps 1 m every 2 s
             x += float(int(t / 2.0))
+        if f.spike and self.published % 8 == 7:     # one pose in eight 25 m away, then back
+            x += 25.0
         msg = Odometry()
         msg.child_frame_id = self.spec.child_frame_id
         msg.pose.pose.position.x = float('nan') if f.nan else x

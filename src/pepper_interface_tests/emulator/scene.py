@@ -14,7 +14,7 @@ Everything is a pure function of t (plus a seeded noise generator per caller), c
 all cameras at their nominal rates: see docs/emulator.md for the measured cost.
 """
 import math
-from typing import Sequence, Tuple, Union
+from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -286,14 +286,17 @@ def laser_to_base(lx: np.ndarray, ly: np.ndarray) -> Tuple[np.ndarray, np.ndarra
 
 
 def laser_ranges(t: float, blind_mask: Union[np.ndarray, Sequence[bool]], noise: float,
-                 rng: np.random.Generator) -> np.ndarray:
+                 rng: np.random.Generator, dead: Optional[int] = None) -> np.ndarray:
     """naoqi_driver's 61-slot scan, built as laser.cpp:165-205 builds it: ALMemory holds each
     device's Seg01..Seg15 as X/Y in the device's frame, ordered left to right (:158-161); the
     driver converts each point to base_footprint and writes its raw distance (no clipping),
     reversed per device ("segments are internally flipped": Seg15 first, result_value[28-i],
     [58-i], [88-i] at :168, :183, :197) into the device's 15 slots, 8 blind slots between
-    (:178, :193) that keep -1.0 (reset(), :221)."""
+    (:178, :193) that keep -1.0 (reset(), :221). `dead` (a row of LASERS): that board stopped,
+    its X and Y read 0 in ALMemory, so the driver writes the board's mounting offset."""
     lx, ly = laser_device_points(t, 0.0, noise, rng)
+    if dead is not None:
+        lx[dead], ly[dead] = 0.0, 0.0
     seg_x, seg_y = lx[:, ::-1], ly[:, ::-1]            # ALMemory's Seg01..Seg15: left to right
     bx, by = laser_to_base(seg_x, seg_y)
     dist = np.hypot(bx, by)

@@ -37,6 +37,7 @@ from ..observer import RunObserver
 from ..results import malformed
 from . import files
 from .atomicfile import write_atomic, write_error
+from .terminal import fill
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -151,8 +152,9 @@ class LatestRun(RunObserver):
         try:
             published = publish_latest(self.folder)
             s = self._stream()
-            s.write('run %s kept in %s; latest run also in %s (%d files)\n'
-                    % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
+            s.write(fill('run %s kept in %s; latest run also in %s (%d files)'
+                         % (self.folder.run_id, self.folder.path, self.folder.base, len(published)))
+                    + '\n')
             s.flush()
         except Exception as e:   # a full disk, or anything else: never lose the run over the copies, say so
             write_error(run, 'latest run in %s' % self.folder.base, e)

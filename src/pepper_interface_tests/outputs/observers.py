@@ -10,7 +10,6 @@ microphone level monitor is offered to it (ctx.services.microphone_levels).
 """
 import os
 import sys
-import textwrap
 from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
@@ -19,7 +18,7 @@ from ..progress import Progress
 from ..sensors.families import family, traits
 from . import files, formats
 from .atomicfile import write_error
-from .terminal import columns
+from .terminal import fill
 
 if TYPE_CHECKING:
     from ..media.viewer import Viewer
@@ -71,9 +70,7 @@ class ResultFiles(RunObserver):
             except OSError as e:
                 write_error(run, path, e)
         stream = self.out or sys.stdout
-        stream.write(textwrap.fill('results in %s: %s' % (self.dir, ', '.join(formats.results_files())),
-            columns(minimum=40), subsequent_indent='  ',
-            break_long_words=False, break_on_hyphens=False) + '\n')
+        stream.write(fill('results in %s: %s' % (self.dir, ', '.join(formats.results_files()))) + '\n')
         stream.flush()
 
 

@@ -13,7 +13,7 @@ import sys
 import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
-from ..observer import RunObserver
+from ..observer import NO_PUBLISHER_AT_ALL, RunObserver
 from ..progress import Progress
 from ..results import (
     FAIL,
@@ -117,6 +117,14 @@ def columns(fallback: int = 120, minimum: int = 20) -> int:
     return max(minimum, shutil.get_terminal_size((fallback, 20)).columns - 1)
 
 
+def fill(text: str, width: Optional[int] = None, indent: str = '  ') -> str:
+    """`text` broken at spaces into lines of at most `width` columns (default: columns()), the
+    later ones indented: a path, or any word too long for a line, is never cut but stands alone
+    on its own line."""
+    return textwrap.fill(text, width or columns(minimum=40), subsequent_indent=indent,
+                         break_long_words=False, break_on_hyphens=False)
+
+
 def under_roslaunch(argv: Optional[Sequence[str]] = None) -> bool:
     """roslaunch starts nodes with __log:= (and __name:=); their stdout is shared with every
     other node's log lines, so no carriage-return tricks there even on a terminal."""
@@ -171,6 +179,7 @@ class Terminal(RunObserver):
         self._last_tty = 0.0
         self._status_shown = False
         self._failed: List[str] = []       # sensors that ended with FAIL, for the progress line
+        self._said_once: Optional[str] = None   # a reason every sensor shares, said once already
 
     def _paint(self, text: str, verdict: Verdict) -> str:
         return COLOURS[verdict] + text + RESET if self.colour else text
@@ -222,7 +231,7 @@ class Terminal(RunObserver):
             if result.rate_hz is not None:
                 text += ', %.2f Hz' % result.rate_hz
             if result.reasons:
-                text += ': ' + _reasons(result.reasons)
+                text += ': ' + _reasons(self._unsaid(result.reasons))
         for part in textwrap.wrap(text, columns(), subsequent_indent=' ' * 9,
                                   break_on_hyphens=False) or [text]:
             self.line(self._paint(part, result.verdict))
@@ -233,8 +242,9 @@ class Terminal(RunObserver):
                 'on the ROS master%s after %g s. Likely causes: the robot is off or unreachable; '
                 'ROS_MASTER_URI names another master; naoqi_driver (or the emulator) is not '
                 'started; the topics file names other topics (--platform, --topics). Every '
-                'listened-to sensor FAILs with this reason.'
+                'listened-to sensor FAILs for this reason.'
                 % (len(topics), ' at %s' % uri if uri else '', waited))
+        self._said_once = ': ' + NO_PUBLISHER_AT_ALL
         self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 
@@ -280,9 +290,13 @@ class Terminal(RunObserver):
         (legend under the table)."""
         return r.verdict + ('*' if r.verdict == PASS and r.warnings else '')
 
-    @staticmethod
-    def _summary_reasons(r: SensorResult) -> str:
-        return _reasons(r.reasons) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
+    def _unsaid(self, reasons: Sequence[str]) -> List[str]:
+        """The reasons without what the terminal already said once for every sensor."""
+        said = self._said_once
+        return [r.replace(said, '') for r in reasons] if said else list(reasons)
+
+    def _summary_reasons(self, r: SensorResult) -> str:
+        return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
 
     def _table(self, run: RunResult, width: int) -> None:
         """One row per sensor, reasons wrapped inside their own column."""

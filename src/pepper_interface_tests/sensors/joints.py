@@ -6,9 +6,11 @@ Impossible values (joint_limits.py: Pepper's URDF limits, cited there):
     (naoqi_driver publishes ALMotion getAngles("Body", true), the sensed angles,
     src/converters/joint_state.cpp:90, 102; the margin covers encoder resolution and the
     hands' 0..1 scale against the URDF's 0.02..0.98);
-  * a speed implied by two positions of one joint at least 0.1 s apart (header stamps; the
-    receive times when stamps are zero) above velocity x `velocity_factor` fails: the encoder
-    jumped. The wheels (continuous joints, positions wrap at +-pi) are left out;
+  * every position of a joint is judged against its positions of the last BASELINE s and the
+    last one before (jumps.JumpWatch; header stamps, receive times when stamps are zero): a
+    change beyond velocity x `velocity_factor` x max(dt, BASELINE) is a jump and fails, naming
+    how many, the largest and when; a position that leaps away for one message and comes back
+    is a jump. The wheels (continuous joints, positions wrap at +-pi) are left out;
   * a reported velocity above velocity x `velocity_factor` is a warning only: naoqi_driver
     reads it from ALMemory's Motion/Velocity/Sensor (joint_state.cpp:119-131), a value the
     DCM differentiates, which can spike.
@@ -19,6 +21,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Tuple
 
 from .base import Acc, Check, fmt
 from .joint_limits import LIMITS
+from .jumps import JumpWatch
 
 if TYPE_CHECKING:
     import genpy
@@ -27,7 +30,7 @@ if TYPE_CHECKING:
     from ..plan.settings import SensorPlan
     from .base import RunContext
 
-BASELINE = 0.1     # s between the two positions a speed is computed from
+BASELINE = 0.1     # s: positions closer in time may differ by velocity x factor x BASELINE
 
 
 class JointsCheck(Check):
@@ -40,8 +43,7 @@ class JointsCheck(Check):
         self.names_seen: List[str] = []
         self.margin = self.expect.position_margin
         self.factor = self.expect.velocity_factor
-        self.anchor: Dict[str, Tuple[float, float]] = {}     # name -> (time, position) a speed is measured from
-        self.fast: Dict[str, Tuple[float, float]] = {}       # name -> (implied speed, t) the fastest impossible speed
+        self.jumps: Dict[str, JumpWatch] = {}      # name -> its positions' jumps
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         out = [('Header frame id', msg.header.frame_id), ('Number of joints', len(msg.name))]
@@ -96,29 +98,29 @@ class JointsCheck(Check):
         if self.factor is None or lower is None:
             return
         when = stamp if stamp is not None else t
-        anchor = self.anchor.get(name)
-        if anchor is None or when < anchor[0]:
-            self.anchor[name] = (when, p)
-            return
-        dt = when - anchor[0]
-        if dt < BASELINE:
-            return
-        speed = abs(p - anchor[1]) / dt
-        self.anchor[name] = (when, p)
-        if speed > velocity * self.factor:
-            if name not in self.fast or speed > self.fast[name][0]:
-                self.fast[name] = (speed, t)
-            self.failures.add('speed_' + name, 'position of %s jumps: implied speed above %s '
-                              'rad/s (URDF velocity limit %s x velocity_factor %s, pepper.urdf:%d)'
-                              % (name, fmt(velocity * self.factor, 2), fmt(velocity), fmt(self.factor),
-                                 line), '%s rad/s, first at t = %s s' % (fmt(speed, 2), fmt(t, 2)))
+        watch = self.jumps.get(name)
+        if watch is None:
+            watch = self.jumps[name] = JumpWatch(velocity * self.factor, BASELINE)
+        watch.add(when, (p,), t)
 
     def finish(self) -> None:
         self.values['joints'] = {name: {k: a.as_dict() for k, a in acc.items()}
                                  for name, acc in self.joints.items()}
         self.values['joint_count'] = len(self.joints)
-        if self.fast:
-            self.values['impossible_speeds_rad_s'] = {n: round(v[0], 3) for n, v in self.fast.items()}
+        jumped = {n: w for n, w in self.jumps.items() if w.jumps}
+        if jumped:
+            self.values['position_jumps'] = {n: w.jumps for n, w in jumped.items()}
+            self.values['largest_position_jump_rad'] = {n: round(w.largest, 3) for n, w in jumped.items()}
+        for name, w in jumped.items():
+            lower, upper, velocity, line = LIMITS[name]
+            self.fail('position of %s jumps: implied speed above %s rad/s (URDF velocity limit %s '
+                      'x velocity_factor %s, pepper.urdf:%d): %d %s, the largest %s rad from the '
+                      'position %s s before at t = %s s (positions under %.1f s apart may differ '
+                      'by %s rad)'
+                      % (name, fmt(w.max_rate, 2), fmt(velocity), fmt(self.factor), line,
+                         w.jumps, 'jump' if w.jumps == 1 else 'jumps',
+                         fmt(w.largest, 3), fmt(w.largest_dt, 3), fmt(w.largest_t, 2), BASELINE,
+                         fmt(w.max_rate * BASELINE, 3)))
         expected = self.expect.joints
         missing = [j for j in expected if j not in self.joints]
         if self.count and missing:

@@ -13,10 +13,29 @@ What the drivers publish:
     NaN, filled only where the point cloud has a point; range 0.1..7.0 (:392-393); increment
     span / 488. NaN there means "no return".
 
-Rules (expectations): `ranges` (the driver's beam count, only where configured: the robot);
+Rules (expectations, from the sensor's driver profile: config/sensorExpectations.yaml
+`drivers:`): `ranges` (the driver's beam count, only where configured: the robot);
 `blind_slots` ([[first, last], ...] inclusive: the driver's blind layout) holding `blind_value`;
 without `blind_slots`, any `blind_value` counts as blind (older configurations).
-`nan_is_no_return`: NaN (and +inf, REP 117) is "nothing seen", not an invalid reading.
+`nan_is_no_return`: NaN is "nothing seen", not an invalid reading; `inf_is_no_return` (default
+true, REP 117): +inf is "nothing in range".
+
+Layout: a scan with another beam count than `ranges`, or a reading in a blind slot, is laid out
+otherwise than the expected driver (`layout`): a WARNING naming both layouts and how to set the
+expectation, not a failure - a filter chain, a patched driver or another publisher may fill or
+drop those slots. Such a scan is judged by its readings: a blind slot's reading counts as any
+other; a scan of another length is judged without the blind slots and boards.
+
+Boards (`boards`: name -> [first, last] slots; naoqi_driver laser.cpp:166-176 right 0-14,
+:181-191 front 23-37, :195-205 left 46-60): each board's segment is judged on its own, since
+one dead board hides a third of the surroundings while the other two keep the whole scan
+healthy. A board with no valid reading and no "nothing in range" mark in the whole window fails,
+naming what it held: a board that stopped gives naoqi_driver's converter x = y = 0, i.e. the
+board's mounting offset (0.056 m front, 0.092 m right and left, laser.cpp:170-171, :185-186,
+:199-200), below range_min; yohatad/naoqi_driver2 publishes NaN in all 15 slots (kUnknownRange).
+A board whose segment repeats slot for slot for `stuck_scans` scans in a row fails as stuck;
+only a segment holding a reading within [range_min, range_max] counts (one beyond range_max
+may be the board's fixed saturation value for "nothing seen", which repeats in open space).
 A finite reading at or above range_min is valid, also beyond range_max ("beyond the advertised
 range", information). Invalid: NaN (unless no-return), -inf is valid (REP 117, too close),
 negative values (a blind value outside the blind layout too), readings below range_min.
@@ -24,7 +43,8 @@ A scan with no valid return at all fails; more than `max_invalid_share` invalid 
 and no-return slots excluded) fails.
 
 Stuck (`stuck_scans`): that many scans in a row identical slot for slot (every float to the
-last bit) fail, naming when the run began. naoqi_driver reads the laser from ALMemory at the
+last bit) fail, naming when the run began; as for a board, only scans holding a reading within
+[range_min, range_max] count. naoqi_driver reads the laser from ALMemory at the
 converter's rate (laser.cpp:165-205), so a few identical scans in a row happen when it reads
 faster than ALMemory updates (reference/pepper-sensors.md); a run of seconds of identical raw
 distances, which carry measurement noise, is a driver republishing a cached scan.
@@ -45,6 +65,51 @@ if TYPE_CHECKING:
 
 # what one beam of a scan is, as the check judges it (the report's scan plot shows the same)
 RETURN, BLIND, NO_RETURN, INVALID = 'return', 'blind', 'no return', 'invalid'
+
+
+class Board:
+    """One board's segment of the scan over the window: did it ever give a valid reading (or a
+    "nothing in range" mark), what it held when it did not, and its run of identical segments."""
+
+    def __init__(self, name: str, first: int, last: int, stuck_scans: Optional[int]) -> None:
+        self.name, self.first, self.last = name, first, last
+        self.alive = False
+        self.scans = 0
+        self.held: Optional[float] = None      # the one value every slot held so far (NaN too)
+        self.uniform = True                     # every slot of every scan held `held`
+        self.stuck = StuckRun(stuck_scans)
+
+    def add(self, ranges: Any, kinds: List[str], lo: float, hi: float, t: float) -> None:
+        seg = ranges[self.first:self.last + 1]
+        self.scans += 1
+        if not self.alive and any(k in (RETURN, NO_RETURN) for k in kinds[self.first:self.last + 1]):
+            self.alive = True
+        if self.uniform:
+            for r in seg:
+                if self.held is None:
+                    self.held = r
+                if not (r == self.held or (math.isnan(r) and math.isnan(self.held))):
+                    self.uniform = False
+                    break
+        if self.stuck.limit:
+            measured = any(lo <= r <= hi for r in seg)
+            self.stuck.add(array('f', seg).tobytes() if measured else t, t)
+
+    def where(self) -> str:
+        return '%s board (slots %d-%d)' % (self.name, self.first, self.last)
+
+    def dead(self, range_min: float) -> Optional[str]:
+        if self.alive or not self.scans:
+            return None
+        if self.uniform and self.held is not None:
+            held = self.held
+            what = '%s in every slot of every scan' % (
+                'NaN' if math.isnan(held) else fmt(held, 3) + ' m')
+            if math.isfinite(held) and 0 <= held < range_min:
+                what += ' (below range_min %s m: a board that stopped gives its mounting offset)' % fmt(range_min)
+        else:
+            what = 'only invalid readings (NaN, negative or below range_min %s m)' % fmt(range_min)
+        return ('%s dead: no valid reading in %d scans, %s' % (self.where(), self.scans, what))
 
 
 def blind_indices(slots: Optional[Tuple[Tuple[int, int], ...]]) -> Set[int]:
@@ -74,6 +139,11 @@ class LaserCheck(Check):
         self.last_kinds: List[str] = []      # the last scan's beams: RETURN, BLIND, NO_RETURN, INVALID
         self.last_scan: Optional[Tuple[float, float, List[float], float, float, Optional[float]]] = None
         self.stuck = StuckRun(self.expect.stuck_scans)
+        self.boards = [Board(name, first, last, self.expect.stuck_scans)
+                       for name, first, last in self.expect.boards or ()]
+        # a scan laid out otherwise than the driver's: (scans, first example)
+        self.layout_count = 0
+        self.layout_example: Optional[str] = None
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
@@ -98,39 +168,52 @@ class LaserCheck(Check):
                 self.failures.add('span', 'number of ranges does not match the angles '
                                   '((max - min) / increment = %s)' % fmt(span, 1), n)
         expected = self.expect.ranges
-        if expected and n != expected:
-            self.failures.add('count', '%d ranges where the driver publishes %d' % (n, expected))
+        laid_out = not expected or n == expected     # the driver's slot indices apply
+        if not laid_out:
+            self._other_layout('%d slots instead of %s' % (n, fmt(expected)))
         if not (msg.range_min < msg.range_max):
             self.failures.add('limits', 'range_min %s is not below range_max %s'
                               % (fmt(msg.range_min), fmt(msg.range_max)))
         if msg.intensities and len(msg.intensities) != n:
             self.failures.add('intens', 'intensities (%d) not as long as ranges (%d)'
                               % (len(msg.intensities), n))
-        returns = self._judge_beams(msg.ranges, msg.range_min, msg.range_max)
+        lo, hi = msg.range_min, msg.range_max
+        self._judge_beams(msg.ranges, lo, hi, laid_out)
         if self.stuck.limit:
-            # a scan without a return is judged as such, not as stuck (nothing to carry noise)
-            self.stuck.add(array('f', msg.ranges).tobytes() if returns else t, t)
+            # a scan without a measured return is judged as such, not as stuck (nothing to
+            # carry noise)
+            measured = any(lo <= r <= hi for r in msg.ranges)
+            self.stuck.add(array('f', msg.ranges).tobytes() if measured else t, t)
+        if laid_out:
+            for board in self.boards:
+                if board.last < n:
+                    board.add(msg.ranges, self.last_kinds, lo, hi, t)
         self.beams += n
         self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), msg.range_min,
                           msg.range_max, self.expect.blind_value)
 
-    def _judge_beams(self, ranges, lo, hi):
+    def _other_layout(self, seen: str) -> None:
+        self.layout_count += 1
+        if self.layout_example is None:
+            self.layout_example = seen
+
+    def _judge_beams(self, ranges, lo, hi, laid_out):
         """Counts each beam by its kind (RETURN, BLIND, NO_RETURN, INVALID; the report's scan plot
         shows the last scan's kinds, so it agrees with the verdict) -> the number of returns."""
         blind = self.expect.blind_value
+        slots = self.slots if laid_out else None
         kinds = []
         layout = None    # first slot of the blind layout that holds a reading
         for k, r in enumerate(ranges):
-            if self.slots is not None and k in self.blind_set:
+            if slots is not None and k in self.blind_set:
                 if blind is not None and r == blind:
                     self.blind += 1
                     kinds.append(BLIND)
-                else:
-                    if layout is None:
-                        layout = (k, r)
-                    kinds.append(INVALID)
-                continue
-            if self.slots is None and blind is not None and r == blind:
+                    continue
+                if layout is None:
+                    layout = (k, r)
+                # a reading where the driver leaves a blind slot: judged as the reading it is
+            if slots is None and blind is not None and r == blind:
                 self.blind += 1
                 kinds.append(BLIND)
             elif (self.nan_no_return and math.isnan(r)) or (self.inf_no_return and r == math.inf):
@@ -147,9 +230,8 @@ class LaserCheck(Check):
                 kinds.append(INVALID)
         self.last_kinds = kinds
         if layout is not None:
-            self.failures.add('layout', 'the driver\'s blind slots %s do not all hold %s (the '
-                              'scan does not follow naoqi_driver\'s layout)'
-                              % (fmt(self.slots), fmt(blind)), 'slot %d = %s' % (layout[0], fmt(layout[1])))
+            self._other_layout('slot %d holds %s, not the blind value %s'
+                               % (layout[0], fmt(layout[1]), fmt(blind)))
         returns = kinds.count(RETURN)
         if not returns:
             self.failures.add('empty', 'scan without a single valid return (every slot blind, '
@@ -184,7 +266,37 @@ class LaserCheck(Check):
         stuck = self.stuck.finding('scans', 'stuck_scans')
         if stuck:
             self.fail('laser stuck: ' + stuck)
+        self._judge_boards()
+        if self.layout_count:
+            self.values['other_layout_scans'] = self.layout_count
+            self.warn(self._layout_warning())
         limit = self.expect.max_invalid_share
         if self.count and limit is not None and share > limit:
             self.fail('%.0f%% of the beams are invalid (NaN, negative or below range_min, blind '
                       'slots excluded; at most %.0f%% expected)' % (100 * share, 100 * limit))
+
+    def _judge_boards(self) -> None:
+        lo = self.last_scan[3] if self.last_scan else 0.0
+        dead = []
+        for board in self.boards:
+            text = board.dead(lo)
+            if text:
+                dead.append(board.name)
+                self.fail(text)
+                continue
+            stuck = board.stuck.finding('segments', 'stuck_scans')
+            if stuck:
+                self.fail('%s stuck: %s' % (board.where(), stuck))
+        if self.boards:
+            self.values['dead_boards'] = dead
+            self.values['longest_identical_board_run'] = {b.name: b.stuck.longest for b in self.boards}
+
+    def _layout_warning(self) -> str:
+        expect = self.expect
+        wanted = expect.layout or ('%s slots, blind slots %s holding %s' % (
+            fmt(expect.ranges), fmt(expect.blind_slots), fmt(expect.blind_value)))
+        return ('laid out otherwise than expected in %d of %d scans: expected %s; seen %s; the '
+                'readings are judged as they are. If another driver or a filter publishes this '
+                'scan, set the laser\'s "driver:" to its profile (drivers: in the expectations '
+                'file) or its own ranges/blind_slots/boards'
+                % (self.layout_count, self.count, wanted, self.layout_example))

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Optional, TextIO
 from ...observer import RunObserver
 from ...results import REPORT_FILE, RunResult
 from ..atomicfile import write_atomic
+from ..terminal import fill
 from .files import MAX_EMBED_BYTES
 
 if TYPE_CHECKING:
@@ -53,9 +54,9 @@ class HtmlReport(RunObserver):
         try:
             path = write_report(run, self.folder, max_embed=self.max_embed)
             size = os.path.getsize(path)
-            stream.write('report: %s (%s, %.1f s)\n' % (
+            stream.write(fill('report: %s (%s, %.1f s)' % (
                 path, '%.1f MB' % (size / 1e6) if size >= 1e6 else '%d kB' % round(size / 1e3),
-                time.monotonic() - t0))
+                time.monotonic() - t0)) + '\n')
         except (Exception, KeyboardInterrupt) as e:   # the report never fails the run
             text = str(e).strip().splitlines()[0] if str(e).strip() else ''
             stream.write('sensorTest: warning: HTML report not written: %s%s\n'

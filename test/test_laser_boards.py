@@ -1,0 +1,168 @@
+"""The laser's three boards judged one by one, and a scan laid out otherwise than the expected
+driver's: real sensor_msgs/LaserScan messages, serialized as they come off the wire, fed through
+SensorRun with explicit times.
+
+naoqi_driver's converter (ros-naoqi/naoqi_driver src/converters/laser.cpp) fills slots 0-14
+from the right board (:166-176), 23-37 from the front (:181-191), 46-60 from the left
+(:195-205), and leaves 15-22 and 38-45 at -1.0 (:178, :193, :221).
+"""
+import math
+import os
+
+import genpy
+
+from fake_pepper import laser, serialized
+from pepper_interface_tests.plan import catalog, settings
+from pepper_interface_tests.plan.settings import Options, SensorPlan
+from pepper_interface_tests.results import FAIL, PASS
+from pepper_interface_tests.sensors.base import RunContext
+from pepper_interface_tests.sensors.window import SensorRun
+
+PKG = settings.package_dir()
+EXPECT = os.path.join(PKG, 'config', 'sensorExpectations.yaml')
+ROBOT = settings.read_expectations(EXPECT, 'robot')
+T0, R0 = 5000.0, 1700000000.0
+N = 25              # scans: 2.5 s at 10 Hz
+RIGHT, FRONT, LEFT = range(0, 15), range(23, 38), range(46, 61)
+# what naoqi_driver's converter computes from a board that stopped (x = y = 0 in ALMemory):
+# the board's mounting offset, laser.cpp:170-171 (right), :185-186 (front), :199-200 (left)
+DEAD_FRONT = 0.056
+DEAD_SIDE = math.hypot(0.018, 0.090)
+
+
+def judged(msgs, expect=None, rate=10.0):
+    plan = SensorPlan(catalog.SENSORS['laser'], '/laser', (expect or ROBOT['laser']))
+    run = SensorRun(plan, RunContext('/nonexistent-not-written', 'robot', Options()), T0,
+                    quick=False, wait=2.0, duration=3.0)
+    run.begin(T0)
+    for i, m in enumerate(msgs):
+        t = T0 + 0.05 + i / rate
+        m.header.stamp = genpy.Time.from_sec(R0 + t - T0 - 0.01)
+        run.feed_raw(run.sensor.msg_type, serialized(m), t, R0 + t - T0)
+    return run.close(T0 + 3.0, 'window ended', None)
+
+
+def scan(i, board=None, value=None, others=None):
+    """A healthy naoqi_driver scan (1.5 m +- 0.2 m, moving scan to scan); `board`'s slots hold
+    `value` (a float, or a function of the scan index and slot)."""
+    m = laser(i)
+    r = list(m.ranges)
+    for k in board or ():
+        r[k] = value(i, k) if callable(value) else value
+    for k, v in (others or {}).items():
+        r[k] = v
+    m.ranges = r
+    return m
+
+
+def reasons_with(result, words):
+    hits = [r for r in result.reasons if words in r]
+    assert hits, (words, result.reasons)
+    return hits
+
+
+# ------------------------------------------------------------------ a dead board
+
+def test_a_front_board_stuck_at_its_mounting_offset_fails_by_name():
+    r = judged([scan(i, FRONT, DEAD_FRONT) for i in range(N)])
+    assert r.verdict == FAIL
+    text = reasons_with(r, 'front board (slots 23-37) dead')[0]
+    assert 'no valid reading in 25 scans' in text and '0.056 m in every slot' in text, text
+    assert 'below range_min 0.1 m' in text
+    assert r.values['dead_boards'] == ['front']
+
+
+def test_a_side_board_at_0_09_m_fails_as_the_issue_saw_it():
+    r = judged([scan(i, RIGHT, DEAD_SIDE) for i in range(N)])
+    assert r.verdict == FAIL
+    assert '0.092 m in every slot' in reasons_with(r, 'right board (slots 0-14) dead')[0]
+
+
+def test_a_nan_board_fails_as_yohatad_naoqi_driver2_publishes_it():
+    """yohatad/naoqi_driver2's laser.cpp: a board whose frame counter stopped is NaN in all its
+    slots (kUnknownRange); +inf is "nothing in range"."""
+    expect = settings.expectations.load(EXPECT, 'robot', driver='yohatad_naoqi_driver2')['laser']
+    r = judged([scan(i, LEFT, float('nan')) for i in range(N)], expect)
+    assert r.verdict == FAIL
+    assert 'NaN in every slot of every scan' in reasons_with(r, 'left board (slots 46-60) dead')[0]
+
+
+def test_a_board_repeating_its_segment_fails_as_stuck_while_the_others_move():
+    frozen = laser(0).ranges
+    r = judged([scan(i, RIGHT, lambda i, k: frozen[k]) for i in range(N)])
+    assert r.verdict == FAIL
+    text = reasons_with(r, 'right board (slots 0-14) stuck')[0]
+    assert '25 identical segments in a row' in text and '(stuck_scans 20)' in text, text
+    # the whole scan changes: only the board's own rule sees it
+    assert not [x for x in r.reasons if x.startswith('laser stuck')]
+
+
+def test_a_board_dead_for_part_of_the_window_is_not_dead():
+    """One valid reading in the window is a live board (the stuck rule judges repetition)."""
+    r = judged([scan(i, FRONT, DEAD_FRONT if i else 1.2) for i in range(N)])
+    assert not [x for x in r.reasons if 'dead' in x], r.reasons
+
+
+# ------------------------------------------------------------------ healthy scans stay PASS
+
+def test_open_space_far_readings_that_vary_pass():
+    r = judged([scan(i, FRONT, lambda i, k: 5.3 + 0.01 * ((i + k) % 4)) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+
+
+def test_open_space_constant_saturation_beyond_range_max_is_not_stuck():
+    """A board that sees nothing may report its fixed saturation distance (~5.4 m, yohatad's
+    laser.cpp comment): beyond range_max, identical each scan, not a stuck board."""
+    r = judged([scan(i, FRONT, 5.4) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+
+
+def test_a_board_of_inf_is_nothing_in_range_under_yohatad_naoqi_driver2():
+    expect = settings.expectations.load(EXPECT, 'robot', driver='yohatad_naoqi_driver2')['laser']
+    r = judged([scan(i, LEFT, float('inf')) for i in range(N)], expect)
+    assert r.verdict == PASS, r.reasons
+    assert r.values['dead_boards'] == []
+
+
+def test_the_simulator_has_no_boards():
+    sim = settings.read_expectations(EXPECT, 'simulator')['laser']
+    assert sim.boards is None and sim.driver == 'pepper_virtual'
+
+
+# ------------------------------------------------------------------ another layout: WARN
+
+def test_blind_slots_holding_distances_warn_with_both_layouts_and_the_fix():
+    r = judged([laser(i, blind=()) for i in range(N)])
+    assert r.verdict == PASS, r.reasons      # PASS with a warning: not a broken laser
+    text = [w for w in r.warnings if 'laid out otherwise' in w][0]
+    assert "expected naoqi_driver's 61 slots" in text, text
+    assert 'slot 15 holds' in text and 'not the blind value -1' in text, text
+    assert '"driver:"' in text, text
+    assert r.values['invalid_beams'] == 0       # the readings are judged as readings
+
+
+def _cropped(i):
+    """A filter that keeps the first 45 slots and says so in its angles."""
+    m = laser(i, n=45)
+    m.angle_max = m.angle_min + 45 * m.angle_increment
+    return m
+
+
+def test_a_shorter_scan_warns_and_is_judged_by_its_readings():
+    r = judged([_cropped(i) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+    assert [w for w in r.warnings if '45 slots instead of 61' in w], r.warnings
+
+
+def test_a_broken_scan_in_another_layout_still_fails():
+    r = judged([laser(i, blind=(), ranges=[float('nan')] * 61) for i in range(N)])
+    assert r.verdict == FAIL
+
+
+def test_every_driver_profile_has_a_layout_and_a_source():
+    data = settings.expectations.parse_yaml(EXPECT)
+    with open(os.path.join(PKG, 'docs', 'drivers.md'), encoding='utf-8') as f:
+        doc = f.read()
+    for name, sensors in data['drivers'].items():
+        assert sensors['laser'].get('layout'), name
+        assert '`%s`' % name in doc, 'docs/drivers.md does not cite profile %s' % name

@@ -1,0 +1,37 @@
+"""The unit tier's budget line (test/conftest.py) counts what its tests cost, CPU time, not
+the wall time other processes' load adds: a real pytest run, in its own process, of a unit
+test that waits (no CPU) and one that computes."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+@pytest.mark.integration
+def test_waiting_is_not_counted_against_the_budget_computing_is(tmp_path):
+    for name in ('conftest.py', 'rosmaster.py'):
+        shutil.copy(os.path.join(HERE, name), str(tmp_path / name))
+    shutil.copy(os.path.join(os.path.dirname(HERE), 'pytest.ini'), str(tmp_path / 'pytest.ini'))
+    (tmp_path / 'test_cost.py').write_text(
+        'import time\n'
+        'def test_waits():\n'
+        '    time.sleep(0.6)\n'
+        'def test_computes():\n'
+        '    t = time.process_time()\n'
+        '    while time.process_time() - t < 0.3:\n'
+        '        sum(range(1000))\n')
+    done = subprocess.run([sys.executable, '-m', 'pytest', '-p', 'no:cacheprovider', '-q',
+                           '-m', 'unit', '-n', '0', '--rootdir', str(tmp_path), str(tmp_path)],
+                          cwd=str(tmp_path), capture_output=True, text=True, timeout=120)
+    line = [ln for ln in done.stdout.splitlines() if ln.startswith('unit tier:')]
+    assert line, done.stdout + done.stderr
+    m = re.match(r'unit tier: ([\d.]+) s of CPU in its tests \(budget ([\d.]+) s\), '
+                 r'([\d.]+) s of wall time$', line[0])
+    assert m, line[0]
+    cpu, wall = float(m.group(1)), float(m.group(3))
+    assert 0.3 <= cpu < 0.6 and wall >= 0.9, line[0]      # the 0.6 s sleep is wall time only
