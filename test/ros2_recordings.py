@@ -81,10 +81,14 @@ def message(sensor, i, t, faulty=False, fork=False):
         m = _camera(i, bad)
     elif sensor == 'depthCamera':
         m = _depth(i, 'wrong_frame' if bad else 'CameraDepth_optical_frame')
+    elif sensor == 'laser' and fork:
+        # yohatad/naoqi_driver2: +inf where nothing is within range_max; a board whose frame
+        # counter stopped gives NaN in its whole segment (the right board: slots 0-14)
+        m = fake.laser(i)
+        m.ranges = [math.nan if bad and k < 15 else math.inf if k % 7 == 3 and r > 0 else r
+                    for k, r in enumerate(m.ranges)]
     elif sensor == 'laser':
         m = fake.laser(i, fault='nan' if bad else '')
-        if fork:
-            m.ranges = [math.inf if k % 7 == 3 and r > 0 else r for k, r in enumerate(m.ranges)]
     elif sensor == 'microphone':
         m = fake.stock_audio_buffer(i, dead='frontLeft' if bad else None)
     elif sensor == 'jointState':

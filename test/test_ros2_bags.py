@@ -121,6 +121,22 @@ def test_the_fork_is_judged_with_its_profile(tmp_path):
     assert verdicts(ros1) == verdicts(data)
 
 
+def test_the_forks_dead_board_fails_by_name(tmp_path):
+    """A NaN segment from yohatad/naoqi_driver2 is that board dead; the same scans from a ROS 1
+    bag judged with the fork's profile give the same verdicts."""
+    recs = rr.records(fork=True, faulty=True, leave_out=[s for s in rr.TOPICS if s not in ('laser', 'odometry')])
+    folder = rr.write_rosbags(tmp_path / 'dead', recs, 'sqlite3')
+    p, data = run(folder, tmp_path / 'out', sensors='laser,odometry')
+    assert 'driver profile yohatad_naoqi_driver2' in p.stdout, p.stdout
+    laser = data['laser']
+    assert laser['verdict'] == 'FAIL', laser
+    assert any(r.startswith('right board (slots 0-14) dead') and 'NaN' in r for r in laser['reasons']), laser
+    assert not any('front board' in r or 'left board' in r for r in laser['reasons']), laser
+    bag = rr.write_ros1(tmp_path / 'dead.bag', recs)
+    p, ros1 = run(bag, tmp_path / 'out1', '--driver', 'yohatad_naoqi_driver2', sensors='laser,odometry')
+    assert verdicts(ros1) == verdicts(data)
+
+
 def test_fork_laser_silent_at_rest_says_so(tmp_path):
     recs = rr.records(fork=True, leave_out=('laser',))
     folder = rr.write_rosbags(tmp_path / 'rest', recs, 'mcap')
