@@ -239,3 +239,11 @@ def test_a_record_at_a_bogus_time_is_left_out_as_in_a_ros1_bag(tmp_path):
         assert data['backSonar']['messages'] == len(good) and data['backSonar']['window_s'] < 5.0
         results.append(verdicts(data))
     assert results[0] == results[1]
+
+
+def test_the_fork_is_told_when_only_its_laser_is_checked(tmp_path):
+    recs = rr.records(fork=True, leave_out=('laser',))
+    folder = rr.write_rosbags(tmp_path / 'rest', recs, 'sqlite3')
+    p, data = run(folder, tmp_path / 'out', sensors='laser')
+    assert 'driver profile yohatad_naoqi_driver2' in p.stdout, p.stdout
+    assert any('robot is at rest' in r for r in data['laser']['reasons']), data['laser']

@@ -34,7 +34,7 @@ def _found(plan: 'TestPlan', listened: Sequence[str], types: dict) -> Tuple[int,
 def driver_of(source: 'Ros2BagSource', plan: 'TestPlan') -> Tuple[str, str]:
     """(driver profile, why) for a ROS 2 recording of Pepper."""
     topics = {s.name: s.topic for s in plan.sensors if s.topic}
-    for odom_topic in (topics.get('odometry'), '/pepper_odom'):
+    for odom_topic in dict.fromkeys((topics.get('odometry'), '/odom', '/pepper_odom')):
         if odom_topic:
             first = source.peek(odom_topic)
             if first and getattr(first[0].header, 'frame_id', '') == 'pepper_odom':
