@@ -25,6 +25,7 @@ SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the a
               'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
 INTEGRATION_FILES = {
     'test_audio_bridge.py', 'test_bag_platform_hint.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
+    'test_ros2_bags.py', 'test_ros2_bad_recordings.py',
     'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_emulator_cli.py', 'test_graph.py',
     'test_history.py', 'test_launch.py', 'test_naoqi_endpoint.py', 'test_recording.py',
     'test_rostest.py',

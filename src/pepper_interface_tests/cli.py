@@ -157,8 +157,19 @@ def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[Config
 
 def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
     """Check the recorded bag `bag` (the --bag of `cli`) against the plan."""
-    from .sources.bag import BagSource
-    source = BagSource(bag)
+    from .sources.ros2bag import Ros2BagSource, open_recording
+    source = open_recording(bag)
+    notes = list(source.notes)    # e.g. records at bogus times left out of the window
+    if isinstance(source, Ros2BagSource):    # naoqi_driver2's topics and driver profile
+        from .sources.ros2plan import recording_plan
+        names = [s.name for s in plan.sensors
+                 if s.skip_reason is None and not traits(s.sensor).drives_itself]
+        try:
+            plan, picked = recording_plan(plan, cli, source, names)
+        except ConfigError:
+            source.close()
+            raise
+        notes += picked
     # a bag is checked as a whole, every topic at once, from its start to its end
     duration = cli.duration if cli.duration is not None else max(source.length + 0.2, 0.2)
     active = []
@@ -167,7 +178,6 @@ def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
             s = settings.SensorPlan(s.sensor, s.topic, s.expect, 'not checked from a bag (needs a live robot)')
         active.append(s)
     plan = settings.replace(plan, mode='parallel', duration=duration, sensors=tuple(active))
-    notes = list(source.notes)    # e.g. records at bogus times left out of the window
     if not cli.topics:            # the wrong platform: suggest the other one when it fits
         from .sources.bag import platform_hint
         other = 'simulator' if plan.platform == 'robot' else 'robot'

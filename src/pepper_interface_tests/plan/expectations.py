@@ -179,6 +179,9 @@ class Expect:
     # the driver profile (a name under `drivers:`) whose keys this sensor starts from; the
     # sensor's own keys override the profile's. None: no profile
     driver: Optional[str] = _field(text('naoqi_driver'))
+    # why this driver may publish nothing at all while healthy (said with a "no message"
+    # reason, e.g. a laser whose driver stops while the robot is at rest). None: nothing said
+    silence_note: Optional[str] = _field(text('the driver publishes no scan while the robot is at rest'))
 
     @classmethod
     def field_names(cls) -> Tuple[str, ...]:

@@ -47,6 +47,10 @@ OPTIONS: Tuple[Opt, ...] = (
         'folder where the configuration\'s topics file is looked up (default data/)', 'DIR'),
     Opt('expectations', '--expectations', TEXT, 'files',
         'expectations file (default config/sensorExpectations.yaml)', 'FILE'),
+    Opt('driver', '--driver', TEXT, 'files',
+        'driver profile of the expectations file (a name under "drivers:", e.g. '
+        'yohatad_naoqi_driver2); default: each sensor\'s own, and for a ROS 2 recording the '
+        'naoqi_driver2 profile the recording shows', 'NAME'),
     Opt('output_dir', '--output-dir', TEXT, 'files',
         'where results go (default data/ of the package when writable, else '
         '$ROS_HOME/pepper_interface_tests, $ROS_HOME being ~/.ros unless set)', 'DIR'),
@@ -101,6 +105,7 @@ class Options:
     topics: Optional[str] = None
     topics_dir: Optional[str] = None
     expectations: Optional[str] = None
+    driver: Optional[str] = None
     platform: Optional[str] = None
     mode: Optional[str] = None
     duration: Optional[float] = None

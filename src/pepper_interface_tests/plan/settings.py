@@ -127,9 +127,11 @@ def read_topics(path: str) -> Dict[str, str]:
     return topics
 
 
-def read_expectations(path: str, platform: str) -> Dict[str, expectations.Expect]:
-    """Expectations file -> {sensor name: frozen, typed expectations} for one platform."""
-    return expectations.load(path, platform)
+def read_expectations(path: str, platform: str,
+                      driver: Optional[str] = None) -> Dict[str, expectations.Expect]:
+    """Expectations file -> {sensor name: frozen, typed expectations} for one platform (and
+    driver profile, when given)."""
+    return expectations.load(path, platform, driver)
 
 
 # ---------------------------------------------------------------- the plan
@@ -167,7 +169,7 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
         topics_dir = options.topics_dir or os.path.join(pkg, 'data')
         topics_path = os.path.abspath(_resolve(config.get(key, default_name), topics_dir))
     topics = read_topics(topics_path)
-    expectations = read_expectations(expect_path, platform)
+    expectations = read_expectations(expect_path, platform, options.driver)
 
     output_dir = os.path.abspath(os.path.expanduser(options.output_dir)) if options.output_dir \
         else default_output_dir()

@@ -159,6 +159,13 @@ class StreamCheck:
             warnings.append(text)
 
     def _arrival_reasons(self, elapsed: float, lookup: Optional[Lookup]) -> List[str]:
+        reasons = self._arrival(elapsed, lookup)
+        note = self.expect.silence_note
+        if note and not self.stats.count and not self.wrong_types:
+            reasons = [r + ' (%s)' % note for r in reasons]
+        return reasons
+
+    def _arrival(self, elapsed: float, lookup: Optional[Lookup]) -> List[str]:
         topic = self.topic or ''
         if self.wrong_types:
             types = ', '.join(sorted(self.wrong_types))

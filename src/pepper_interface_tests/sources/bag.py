@@ -58,6 +58,28 @@ class BagSource:
     live = False
 
     def __init__(self, path: str) -> None:
+        self.path = path
+        self.types: Dict[str, str] = {}      # topic -> ROS 1 type name ('sensor_msgs/LaserScan')
+        self.notes: List[str] = []
+        self._open(path)
+        times = sorted(self._record_times())
+        self.begin, self.end, before, after = dense_span(times)
+        if before or after:
+            odd = [t for t in times if t < self.begin or t > self.end]
+            self.notes.append(
+                '%d record%s at odd times left out (%s%s); no record for more than %g s '
+                'separates them from the %d records checked, from %s to %s (%.1f s)'
+                % (len(odd), '' if len(odd) == 1 else 's', ', '.join(_when(t) for t in odd[:3]),
+                   ', ...' if len(odd) > 3 else '', MAX_SILENCE, len(times) - len(odd),
+                   _when(self.begin), _when(self.end), self.end - self.begin))
+        self.now = self.begin
+        self.runs: Dict[str, List[Listener]] = {}     # topic -> the windows listening to it
+        self._reader: Optional[Iterator[Record]] = None   # the records, opened at the first tick
+        self._pending: Optional[Record] = None            # the next record, read but not yet due
+        self._conns: Dict[Tuple[str, str], Dict[str, Any]] = {}   # (type, md5sum) -> connection header fields
+
+    def _open(self, path: str) -> None:
+        """Open the ROS 1 bag at `path` and fill self.types."""
         import rosbag
         if not os.path.exists(path):
             raise ConfigError('bag file not found', path, fix='give --bag an existing .bag file')
@@ -69,25 +91,8 @@ class BagSource:
                                   '"rosbag reindex" if it was not closed' % path) from None
         info = self.bag.get_type_and_topic_info()
         self.types = {t: v.msg_type for t, v in info.topics.items()}
-        times = sorted(self._record_times())
-        self.begin, self.end, before, after = dense_span(times)
-        self.notes: List[str] = []
-        if before or after:
-            odd = [t for t in times if t < self.begin or t > self.end]
-            self.notes.append(
-                '%d record%s at odd times left out (%s%s); no record for more than %g s '
-                'separates them from the %d records checked, from %s to %s (%.1f s)'
-                % (len(odd), '' if len(odd) == 1 else 's', ', '.join(_when(t) for t in odd[:3]),
-                   ', ...' if len(odd) > 3 else '', MAX_SILENCE, len(times) - len(odd),
-                   _when(self.begin), _when(self.end), self.end - self.begin))
-        self.path = path
-        self.now = self.begin
-        self.runs: Dict[str, List[Listener]] = {}     # topic -> the windows listening to it
-        self._reader: Optional[Iterator[Record]] = None   # read_messages, opened at the first tick
-        self._pending: Optional[Record] = None            # the next record, read but not yet due
-        self._conns: Dict[Tuple[str, str], Dict[str, Any]] = {}   # (type, md5sum) -> connection header fields
 
-    def _record_times(self):
+    def _record_times(self) -> Iterator[float]:
         """Record times of every message, from the bag's index (already in memory: no data is read)."""
         for entries in self.bag._connection_indexes.values():
             for entry in entries:
