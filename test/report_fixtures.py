@@ -133,12 +133,14 @@ def rate_series(rate, seconds):
 
 def sensor(name, verdict='PASS', **kw):
     """A SensorResult of the catalog's sensor `name` with plausible defaults, for report tests.
-    `values` and `series` are given as a run's JSON holds them (keys and lists) and read into
-    the family's values dataclass as sensorTestHistory reads that JSON back."""
+    `values`, `series` and `stats` are given as a run's JSON holds them (keys and lists) and read
+    into the family's values dataclass and a StreamSummary as sensorTestHistory reads that JSON
+    back."""
     from pepper_interface_tests import codec
     from pepper_interface_tests.plan import catalog
     from pepper_interface_tests.results import SensorResult
     from pepper_interface_tests.sensors import families
+    from pepper_interface_tests.stats import StreamSummary
     s = catalog.SENSORS[name]
     fields = dict(name=name, title=name.upper(), topic='/t/' + name, msg_type=s.msg_type, verdict=verdict,
                   messages=30, rate_hz=10.0, expected_rate_hz=[4.0, 16.0], window_s=3.0, started_at=0.0,
@@ -149,6 +151,8 @@ def sensor(name, verdict='PASS', **kw):
         series = {'rate_hz': rate_series(fields['rate_hz'], fields['window_s'])}
     if series and 'rate_hz' in series:
         fields['rate_series'] = [tuple(p) for p in series['rate_hz']]
+    if isinstance(fields.get('stats'), dict):
+        fields['stats'] = codec.from_json(StreamSummary, fields['stats'])
     values = fields.pop('values', None)
     if values is not None or series:
         fields['values'] = codec.join(families.values_of(s.family), values, series)

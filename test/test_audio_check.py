@@ -36,11 +36,11 @@ def test_levels_rate_and_the_four_channel_wav(tmp_path):
     c.start()
     c = feed(c, buffers(12))
     assert c.failure_reasons() == [] and c.warning_reasons() == []
-    assert c.values['sample_rate_hz'] == 48000.0
-    assert c.values['samples_per_channel'] == 12 * 4096
+    assert c.result_values().sample_rate_hz == 48000.0
+    assert c.result_values().samples_per_channel == 12 * 4096
     for name in CHANNELS:   # a sine of amplitude 3000: RMS -23.8 dBFS, peak -20.8 dBFS
-        assert abs(c.values['channels'][name]['rms_dbfs'] - (-23.78)) < 0.05
-        assert abs(c.values['channels'][name]['peak_dbfs'] - (-20.77)) < 0.05
+        assert abs(c.result_values().channels[name].rms_dbfs - (-23.78)) < 0.05
+        assert abs(c.result_values().channels[name].peak_dbfs - (-20.77)) < 0.05
     data, rate = soundfile.read(os.path.join(str(tmp_path), 'out', 'microphoneOutput.wav'), dtype='int16')
     info = soundfile.info(os.path.join(str(tmp_path), 'out', 'microphoneOutput.wav'))
     assert (info.channels, info.samplerate, info.subtype) == (4, 48000, 'PCM_16')
@@ -89,7 +89,7 @@ def test_clipping_and_gaps_are_reported(tmp_path):
     warnings = ' | '.join(c.warning_reasons())
     assert 'microphone rearLeft clips in ' in warnings and '(max_clipping_share 1%)' in warnings
     assert '1 gap in the audio stream (pause > 3 buffer periods), longest 1.09 s' in c.warning_reasons()
-    assert c.values['channels']['rearLeft']['clipping_share'] > 0.01
+    assert c.result_values().channels['rearLeft'].clipping_share > 0.01
 
 
 def test_sequential_mode_records_each_microphone_in_turn(tmp_path):
@@ -187,6 +187,6 @@ def test_a_start_up_burst_does_not_read_as_a_wrong_sample_rate(tmp_path):
         return c
     healthy = burst_then(4096 / 48000.0)
     assert healthy.failure_reasons() == [], healthy.failure_reasons()
-    assert healthy.values['sample_rate_hz'] == 48000.0
+    assert healthy.result_values().sample_rate_hz == 48000.0
     slow = burst_then(4096 / 44100.0)
     assert slow.failure_reasons() == ['sample rate 44100 Hz, expected 48000 Hz +- 5%']

@@ -4,6 +4,7 @@ import json
 import os
 import subprocess
 import sys
+from dataclasses import asdict
 
 import numpy as np
 import pytest
@@ -58,9 +59,10 @@ def test_good_frames_pass_with_the_spec_fields_and_measured_values(tmp_path):
     c = feed(make_check('frontCamera', tmp_path, record=False), good(12))
     assert c.failure_reasons() == [] and c.warning_reasons() == []
     assert c.first_fields == [('Image Width', 160), ('Image Height', 120), ('Encoding', 'rgb8'), ('Step', 480)]
-    assert c.values['width'] == 160 and c.values['height'] == 120 and c.values['step'] == 480
-    assert 100 < c.values['brightness_mean']['mean'] < 160
-    assert c.values['longest_identical_run'] == 1
+    v = c.result_values()
+    assert v.width == 160 and v.height == 120 and v.step == 480
+    assert 100 < v.brightness_mean.mean < 160
+    assert v.longest_identical_run == 1
     assert 'video' not in c.artifacts      # record=False
 
 
@@ -133,7 +135,7 @@ def test_frozen_needs_frozen_frames_identical_frames_in_a_row(tmp_path, repeats,
     same = image(pattern(160, 120, 99), 'rgb8')
     frames = good(3) + [same] * repeats + [image(pattern(160, 120, 50 + i), 'rgb8') for i in range(3)]
     c = feed(make_check('bottomCamera', tmp_path, record=False), frames)
-    assert c.values['longest_identical_run'] == repeats
+    assert c.result_values().longest_identical_run == repeats
     text = ' | '.join(c.failure_reasons())
     assert ('image frozen: %d identical consecutive frames' % repeats in text) is frozen, text
 
@@ -146,7 +148,7 @@ def test_frozen_is_exact_a_change_in_one_pixel_is_a_new_frame(tmp_path):
         px[61, 37, 1] = i                          # one byte, outside any strided sample
         frames.append(image(px, 'rgb8'))
     c = feed(make_check('bottomCamera', tmp_path, record=False), frames)
-    assert c.values['longest_identical_run'] == 1 and c.failure_reasons() == []
+    assert c.result_values().longest_identical_run == 1 and c.failure_reasons() == []
 
 
 def test_frozen_frames_late_in_the_window_are_found(tmp_path):
@@ -171,8 +173,8 @@ def test_eight_bit_encodings_are_read_in_place_with_the_same_statistics(tmp_path
              [image(px, encoding)] * 2)
     assert c.failure_reasons() == [] and c.converted == 2
     colour = px[:, :, :3] if px.ndim == 3 else px
-    assert abs(c.values['brightness_mean']['mean'] - colour[::8, ::8].mean()) < 0.01
-    assert abs(c.values['brightness_spread']['mean'] - colour[::8, ::8].std()) < 0.01
+    assert abs(c.result_values().brightness_mean.mean - colour[::8, ::8].mean()) < 0.01
+    assert abs(c.result_values().brightness_spread.mean - colour[::8, ::8].std()) < 0.01
 
 
 def test_decode_reads_the_wire_format_like_genpy_without_copying_the_pixels(tmp_path):
@@ -208,7 +210,7 @@ def test_constant_grey_image_fails_as_constant(tmp_path):
     grey = [image(np.full((120, 160, 3), 128, np.uint8), 'rgb8') for _ in range(4)]
     c = feed(make_check('frontCamera', tmp_path, record=False), grey)
     assert any('image constant (pixel spread below 2) in 4 of 4 frames' in r for r in c.failure_reasons())
-    assert c.values['frames_constant'] == 4 and c.values['frames_black'] == 0
+    assert c.result_values().frames_constant == 4 and c.result_values().frames_black == 0
 
 
 def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
@@ -217,8 +219,8 @@ def test_stereo_reports_two_views_and_fails_identical_halves(tmp_path):
         return image(np.concatenate([view, view if same else np.roll(view, 5, axis=1)], axis=1), 'rgb8')
     c = feed(make_check('stereoCamera', tmp_path, record=False), [pair(i, False) for i in range(4)])
     assert c.failure_reasons() == []
-    assert c.values['stereo'] == {'width': 320, 'height': 90, 'view_width': 160, 'view_height': 90,
-                                  'identical_views': 0}
+    assert asdict(c.result_values().stereo) == {'width': 320, 'height': 90, 'view_width': 160,
+                                                'view_height': 90, 'identical_views': 0}
     c = feed(make_check('stereoCamera', tmp_path, record=False), [pair(i, True) for i in range(4)])
     assert 'stereo left and right views are identical in 4 of 4 messages' in c.failure_reasons()
 

@@ -31,7 +31,7 @@ def depth(i, w=160, h=120, rng=None):
 
 def test_a_healthy_depth_stream_passes(tmp_path):
     c = feed(make_check('depthCamera', tmp_path, record=False), [depth(i) for i in range(20)])
-    assert c.failure_reasons() == [] and c.values['longest_identical_run'] == 1
+    assert c.failure_reasons() == [] and c.result_values().longest_identical_run == 1
 
 
 def test_frozen_depth_fails_from_when_it_froze(tmp_path):

@@ -1,6 +1,7 @@
 """Depth check (sensors/depth.py): 16UC1 mm (Pepper, RealSense), 32FC1 m (simulator), wrong
 encodings, valid share and median limits, the fixed-range colour video; and through sensorTest."""
 import os
+from dataclasses import asdict
 
 import numpy as np
 import pytest
@@ -28,9 +29,9 @@ def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
     # flat synthetic frames: a real Xtion's noise is absent, so its noise rules are off here
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
     assert c.failure_reasons() == []
-    d = c.values['depth_m']
-    assert d['min'] == 1.5 and d['max'] == 1.59 and abs(d['median'] - 1.545) < 1e-6
-    assert abs(c.values['valid_share']['mean'] - 0.9) < 1e-6
+    d = c.result_values().depth_m
+    assert d.min == 1.5 and d.max == 1.59 and abs(d.median - 1.545) < 1e-6
+    assert abs(c.result_values().valid_share.mean - 0.9) < 1e-6
     assert c.first_fields == [('Image Width', 160), ('Image Height', 120), ('Encoding', '16UC1'), ('Step', 320)]
 
 
@@ -48,15 +49,15 @@ def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
     frames = [image(m, '32FC1') for _ in range(5)]
     c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), frames)
     assert c.failure_reasons() == []
-    assert c.values['depth_m'] == {'min': 2.0, 'median': 2.0, 'max': 2.0}
-    assert abs(c.values['valid_share']['mean'] - 80 / 120) < 1e-3
+    assert asdict(c.result_values().depth_m) == {'min': 2.0, 'median': 2.0, 'max': 2.0}
+    assert abs(c.result_values().valid_share.mean - 80 / 120) < 1e-3
 
 
 def test_realsense_aligned_depth_16uc1(tmp_path):
     a = np.tile(np.linspace(300, 4000, 640).astype(np.uint16), (480, 1))
     c = feed(make_check('realsenseDepthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
     assert c.failure_reasons() == []
-    assert c.values['width'] == 640 and c.values['depth_m']['min'] == 0.3
+    assert c.result_values().width == 640 and c.result_values().depth_m.min == 0.3
 
 
 def test_a_colour_image_on_a_depth_topic_is_a_wrong_encoding(tmp_path):
@@ -114,8 +115,8 @@ def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_pa
     assert c.prepare_frame(frames[0], 'depth_mm')[1] == 'yuv420p'
     assert c.prepare_frame(frames[0][:119, :159], 'depth_mm')[1] == 'bgr0'
     c = feed(c, [image(f, '16UC1') for f in frames])
-    video = c.values['video']
-    assert video['frames_written'] == 8 and (video['width'], video['height']) == (160, 120), video
+    video = c.result_values().video
+    assert video.frames_written == 8 and (video.width, video.height) == (160, 120), video
     import cv2
     cap = cv2.VideoCapture(os.path.join(str(tmp_path), 'out', 'depthCameraOutput.mp4'))
     ok, decoded = cap.read()
@@ -130,7 +131,7 @@ def test_one_valid_pixel_anywhere_is_not_an_all_zero_frame(tmp_path):
     a = np.zeros((120, 160), np.uint16)
     a[57, 93] = 1200                               # outside the every-4th-pixel sample
     c = feed(make_check('depthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
-    assert c.values['frames_all_zero'] == 0
+    assert c.result_values().frames_all_zero == 0
     assert not any('depth all zero' in r or 'no valid pixel' in r for r in c.failure_reasons())
 
 
@@ -141,7 +142,7 @@ def test_big_endian_and_padded_rows_are_read_right(tmp_path):
     msg = image(padded, '16UC1', width=160)
     msg.is_bigendian = 1
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), [msg] * 3)
-    assert c.failure_reasons() == [] and c.values['depth_m']['median'] == 1.5
+    assert c.failure_reasons() == [] and c.result_values().depth_m.median == 1.5
 
 
 # ---------------------------------------------------------------- through sensorTest

@@ -20,6 +20,7 @@ from pepper_interface_tests.sensors.values import Spread
 from pepper_interface_tests.sensors.values.audio import AudioValues
 from pepper_interface_tests.sensors.values.camera import CameraValues
 from pepper_interface_tests.sensors.values.laser import BeamKind, LaserValues, LastScan
+from pepper_interface_tests.stats import DelaySummary, StreamStats, StreamSummary
 
 FIXTURE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'fixtures', 'emulator-run-v1.json')
 
@@ -105,3 +106,40 @@ def test_every_family_registers_a_frozen_values_dataclass_with_defaults():
         assert fam.values.__dataclass_params__.frozen, fam.name
         empty = fam.values()                          # every field has a default
         assert codec.join(fam.values, *codec.split(empty)) == empty
+
+
+def test_stream_statistics_read_back_typed_and_are_written_with_the_same_keys():
+    data = old_run()
+    run = read_back(data)
+    for old, s in zip(data['sensors'], run.sensors):
+        assert isinstance(s.stats, StreamSummary), old['name']
+        assert s.stats.messages == old['stats']['messages'] and s.stats.clock == 'wall'
+        delay = old['stats']['delay_s']
+        assert s.stats.delay_s == (DelaySummary(**delay) if delay is not None else None), old['name']
+        assert results.summary_line(s).startswith('%d messages in' % old['messages'])
+    fresh = StreamStats(start=0.0)
+    for i in range(5):
+        fresh.add(0.1 * i)                               # no header: no delay
+    written = codec.to_json(fresh.summary())
+    assert list(written) == list(old_run()['sensors'][0]['stats'])   # the same keys, in order
+    assert written['delay_s'] is None and written['stamp_rate_hz'] is None
+    not_listened = results.SensorResult('imu', 'IMU', '/imu', 'sensor_msgs/Imu', results.SKIPPED)
+    assert not_listened.stats is None and results.sensor_dict(not_listened)['stats'] == {}
+    assert results.read_run({'sensors': [results.sensor_dict(not_listened)]}).sensors[0].stats is None
+
+
+def test_the_real_time_factor_is_written_on_the_sim_clock_only_and_null_when_unknown():
+    sim = dataclasses.replace(StreamStats(start=0.0, clock='sim').summary(), real_time_factor=0.6)
+    assert codec.to_json(sim)['real_time_factor'] == 0.6
+    assert 'real_time_factor' not in codec.to_json(StreamStats(start=0.0).summary())
+    unknown = json.loads(json.dumps(codec.to_json(dataclasses.replace(sim, real_time_factor=math.nan))))
+    assert 'real_time_factor' in unknown and unknown['real_time_factor'] is None
+    back = codec.from_json(StreamSummary, unknown)
+    assert math.isnan(back.real_time_factor) and codec.to_json(back) == unknown     # null stays null
+
+
+def test_stream_statistics_that_do_not_fit_leave_the_verdict():
+    data = old_run()
+    data['sensors'][0]['stats'] = {'messages': 'many', 'delay_s': 3}
+    run = read_back(data)
+    assert run.sensors[0].stats is None and run.sensors[0].verdict == data['sensors'][0]['verdict']

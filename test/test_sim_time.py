@@ -22,13 +22,13 @@ def test_stats_measure_rates_on_the_sim_clock():
     for i in range(11):
         s.add(0.4 * i, 100.0 + 0.2 * i, 100.0 + 0.2 * i + 0.01, 100.0 + 0.2 * i + 0.01)
     assert s.rate == pytest.approx(5.0) and s.stamp_rate == pytest.approx(5.0)
-    assert s.summary()['clock'] == 'sim'
+    assert s.summary().clock == 'sim'
     assert s.gaps(0.3) == []                      # 0.4 s of wall time between messages is no gap
     assert round(s.rate_series(end=102.1)[0][1], 1) == 5.0    # bins on the sim clock
     wall = StreamStats(start=0.0)
     for i in range(11):
         wall.add(0.4 * i)
-    assert wall.rate == pytest.approx(2.5) and wall.summary()['clock'] == 'wall'
+    assert wall.rate == pytest.approx(2.5) and wall.summary().clock == 'wall'
 
 
 def _spawn(master, procs, *args):

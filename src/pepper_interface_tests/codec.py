@@ -6,6 +6,8 @@ it back by the fields' types: null -> NaN for a `float` (not `Optional[float]`) 
 item, an Enum from its value, a dict's int keys from their JSON text, a missing key -> the
 field's default. Field metadata (made by the helpers below) says how a field is written:
 - `optional()`: written only when not None (a value the check measures only in some runs);
+- `optional_number()`: the same for a float whose NaN says "there, but unknown": NaN is written
+  as null and a null read back as NaN (not None: None is not written);
 - `nullable()`: written as null when None (None says something: e.g. "no microphone listened");
 - `series(key)`: a time series or plot data: written under the sensor's "series" key, not its
   "values" (`split` / `join`), under the JSON name `key` when given (`series_optional(key)`:
@@ -20,7 +22,7 @@ from enum import Enum
 from typing import Any, Dict, Optional, Tuple, Type, TypeVar, Union, get_args, get_origin, get_type_hints
 
 T = TypeVar('T')
-OMIT, SERIES, NAME = 'omit_none', 'series', 'json_name'
+OMIT, SERIES, NAME, NAN = 'omit_none', 'series', 'json_name', 'null_is_nan'
 
 
 class CodecError(ValueError):
@@ -30,6 +32,12 @@ class CodecError(ValueError):
 def optional(**kw: Any) -> Any:
     """A field written only when it is not None (default None)."""
     return dataclasses.field(default=None, metadata={OMIT: True}, **kw)
+
+
+def optional_number() -> Any:
+    """A float field written only when it is not None (default None); NaN written as null and
+    read back as NaN."""
+    return dataclasses.field(default=None, metadata={OMIT: True, NAN: True})
 
 
 def nullable() -> Any:
@@ -97,8 +105,8 @@ def join(cls: Type[T], values: Any, plots: Any, strict: bool = False) -> T:  # c
     for f in dataclasses.fields(cls):  # type: ignore[arg-type]
         src = plots if f.metadata.get(SERIES) else values
         if json_name(f) in src:
-            kwargs[f.name] = from_json(hints[f.name], src[json_name(f)], strict,
-                                       '%s.%s' % (cls.__name__, json_name(f)))
+            kwargs[f.name] = _field_value(f, hints[f.name], src[json_name(f)], strict,
+                                          '%s.%s' % (cls.__name__, json_name(f)))
     try:
         return cls(**kwargs)
     except TypeError as e:        # a required field missing
@@ -146,6 +154,12 @@ def from_json(tp: Any, data: Any, strict: bool = False, where: str = '') -> Any:
     return _plain(tp, data, where)
 
 
+def _field_value(f: 'dataclasses.Field', tp: Any, data: Any, strict: bool, where: str) -> Any:
+    if data is None and f.metadata.get(NAN):
+        return math.nan
+    return from_json(tp, data, strict, where)
+
+
 def _dataclass(cls, data, strict, where):
     if not isinstance(data, dict):
         raise CodecError('%s: expected an object, got %r' % (where, data))
@@ -155,7 +169,7 @@ def _dataclass(cls, data, strict, where):
         unknown = [k for k in data if k not in fields]
         if unknown:
             raise CodecError('%s has no field %s' % (where, ', '.join(map(str, unknown))))
-    kwargs = {f.name: from_json(hints[f.name], data[key], strict, '%s.%s' % (where, key))
+    kwargs = {f.name: _field_value(f, hints[f.name], data[key], strict, '%s.%s' % (where, key))
               for key, f in fields.items() if key in data}
     try:
         return cls(**kwargs)

@@ -14,6 +14,7 @@ from enum import Enum
 from typing import Any, Callable, Dict, List, Optional, Tuple, Type
 
 from . import codec
+from .stats import StreamSummary
 
 
 class Verdict(str, Enum):
@@ -89,7 +90,8 @@ class SensorResult:
     started_at: Optional[float] = None   # seconds since the run's start
     ended_at: Optional[float] = None
     fields: List[List[str]] = field(default_factory=list)  # first message, the spec's fields
-    stats: Dict = field(default_factory=dict)              # the stream's numbers (stats.StreamStats.summary)
+    # the stream's numbers (stats.StreamStats.summary); None: not listened (written as {})
+    stats: Optional[StreamSummary] = None
     # what the family's check measured: its frozen values dataclass (sensors/values/<family>.py,
     # the row's `values` in sensors/families.py), None when nothing was measured
     values: Optional[Any] = None
@@ -159,7 +161,7 @@ class RunResult:
         }
 
 
-_APART = ('values', 'family', 'rate_series')    # written by sensor_dict itself
+_APART = ('stats', 'values', 'family', 'rate_series')    # written by sensor_dict itself
 
 
 def sensor_dict(s: SensorResult, with_series: bool = False) -> Dict[str, Any]:
@@ -172,6 +174,7 @@ def sensor_dict(s: SensorResult, with_series: bool = False) -> Dict[str, Any]:
         if f.name == 'msg_type':
             d['family'] = s.family
         elif f.name == 'stats':
+            d['stats'] = codec.to_json(s.stats) if s.stats is not None else {}
             values, plots = codec.split(s.values) if s.values is not None else ({}, {})
             d['values'] = values
             if with_series:
@@ -201,9 +204,9 @@ def summary_line(r: SensorResult) -> str:
         if r.expected_rate_hz:
             rate += ', expected %g-%g Hz' % tuple(r.expected_rate_hz)
         parts.append(rate)
-    delay = (r.stats or {}).get('delay_s')
-    if delay:
-        parts.append('delay %.3f s mean, %.3f s max' % (delay['mean'], delay['max']))
+    delay = r.stats.delay_s if r.stats is not None else None
+    if delay is not None and delay.mean is not None and delay.max is not None:
+        parts.append('delay %.3f s mean, %.3f s max' % (delay.mean, delay.max))
     if r.stopped_because:
         parts.append('stopped: ' + r.stopped_because)
     return ', '.join(parts)
@@ -258,7 +261,7 @@ def _read_sensor(s, values_of, family_of):
         window_s=_num(s.get('window_s'), 0.0), stopped_because=_text(s.get('stopped_because')),
         started_at=_num(s.get('started_at'), None), ended_at=_num(s.get('ended_at'), None),
         fields=[[str(x) for x in f] for f in s.get('fields') or [] if isinstance(f, list)],
-        stats=_dict(s.get('stats')), artifacts=_dict(s.get('artifacts')), family=family or '')
+        stats=_read_stats(s.get('stats')), artifacts=_dict(s.get('artifacts')), family=family or '')
     cls = values_of(r.family) if values_of is not None and r.family else None
     if cls is not None:
         try:
@@ -273,6 +276,16 @@ def _read_sensor(s, values_of, family_of):
 
 
 _VERDICTS = {v.value for v in Verdict}
+
+
+def _read_stats(v: Any) -> Optional[StreamSummary]:
+    """A sensor's "stats" read back; None when empty (not listened) or not a StreamSummary."""
+    if not isinstance(v, dict) or not v:
+        return None
+    try:
+        return codec.from_json(StreamSummary, v)
+    except codec.CodecError:
+        return None             # stats of another version that do not fit: the verdict stays
 
 
 def _text(v: Any) -> str:

@@ -10,9 +10,15 @@ Clock: rates, intervals, jitter, gaps and the rate series are measured on `clock
 wall time but is 5 Hz on the clock its driver runs on.
 'record' labels a bag's record times (receive times too): `rosbag record` takes them from
 ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
+
+`StreamStats.summary()` hands the numbers over as a frozen `StreamSummary` (a sensor's
+SensorResult.stats, its "stats" in the JSON, written and read back by codec.py).
 """
 import math
-from typing import Any, Dict, List, Optional, Tuple
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Tuple
+
+from .codec import nullable, optional_number
 
 
 def _rate(times):
@@ -30,6 +36,33 @@ def _std(values):
         return None
     m = _mean(values)
     return math.sqrt(sum((v - m) ** 2 for v in values) / (len(values) - 1))
+
+
+@dataclass(frozen=True)
+class DelaySummary:
+    """ROS time at reception minus header stamp (s)."""
+    min: Optional[float] = nullable()
+    mean: Optional[float] = nullable()
+    max: Optional[float] = nullable()
+
+
+@dataclass(frozen=True)
+class StreamSummary:
+    """A stream's numbers at the end of its window (JSON "stats", docs/results.md). The counts
+    are None only in a JSON that lacked them (they are always measured)."""
+    messages: Optional[int] = nullable()
+    clock: Optional[str] = nullable()                  # 'wall', 'sim' or 'record': rates measured on it
+    rate_hz: Optional[float] = nullable()              # from receive times
+    stamp_rate_hz: Optional[float] = nullable()        # from header stamps
+    jitter_s: Optional[float] = nullable()             # std of the receive intervals
+    max_interval_s: Optional[float] = nullable()
+    first_message_after_s: Optional[float] = nullable()
+    zero_stamps: Optional[int] = nullable()
+    backwards_stamps: Optional[int] = nullable()
+    repeated_stamps: Optional[int] = nullable()
+    delay_s: Optional[DelaySummary] = nullable()       # None: no headers (or no ROS time)
+    # on the simulation clock only (not written otherwise); NaN: /clock not running, unknown
+    real_time_factor: Optional[float] = optional_number()
 
 
 class StreamStats:
@@ -150,20 +183,13 @@ class StreamStats:
             start += width
         return out
 
-    def summary(self) -> Dict[str, Any]:
+    def summary(self) -> StreamSummary:
         def r(x: Optional[float], nd: int = 3) -> Optional[float]:
             return None if x is None else round(x, nd)
         delay = self.delay_summary()
-        return {
-            'messages': self.count,
-            'clock': self.clock,
-            'rate_hz': r(self.rate),
-            'stamp_rate_hz': r(self.stamp_rate),
-            'jitter_s': r(self.jitter, 4),
-            'max_interval_s': r(self.max_interval),
-            'first_message_after_s': r(self.first_latency),
-            'zero_stamps': self.zero_stamps,
-            'backwards_stamps': self.backwards,
-            'repeated_stamps': self.repeated,
-            'delay_s': {k: r(v, 4) for k, v in delay.items()} if delay else None,
-        }
+        return StreamSummary(
+            messages=self.count, clock=self.clock, rate_hz=r(self.rate), stamp_rate_hz=r(self.stamp_rate),
+            jitter_s=r(self.jitter, 4), max_interval_s=r(self.max_interval),
+            first_message_after_s=r(self.first_latency), zero_stamps=self.zero_stamps,
+            backwards_stamps=self.backwards, repeated_stamps=self.repeated,
+            delay_s=DelaySummary(r(delay['min'], 4), r(delay['mean'], 4), r(delay['max'], 4)) if delay else None)

@@ -48,6 +48,7 @@ LevelMonitor: a separate subscriber used by the speech check to tell whether the
 sentence was heard (level rise over the baseline before speaking).
 """
 import collections
+import dataclasses
 import math
 import os
 import threading
@@ -59,6 +60,8 @@ import numpy as np
 from ..media.recording import WavWriter
 from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from .base import Check, StuckRun, TrailingRun, fmt
+from .values import Point
+from .values.audio import AudioValues, ChannelLevel, WavFile
 
 if TYPE_CHECKING:
     import subprocess
@@ -139,8 +142,8 @@ class AudioCheck(Check):
         self.gaps: List[Tuple[float, float]] = []   # (t, pause)
         self.writers: Dict[str, WavWriter] = {}
         self.player: Optional[subprocess.Popen] = None   # playing the recording (--play-audio)
-        for name in CHANNELS:
-            self.series['level_dbfs_' + name] = []
+        self.level_series: Dict[str, List[Point]] = {name: [] for name in CHANNELS}   # dBFS over time
+        self.found: Optional[AudioValues] = None
         self.stuck = StuckRun(self.expect.stuck_buffers)
         self.last_block = None
         self.dying = [TrailingRun() for _ in CHANNELS]
@@ -186,6 +189,9 @@ class AudioCheck(Check):
 
     def settled(self) -> bool:
         return self.count >= 12
+
+    def result_values(self) -> Optional[AudioValues]:
+        return self.found
 
     # ---- per message --------------------------------------------------------------------
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
@@ -233,9 +239,9 @@ class AudioCheck(Check):
             self.stuck.repeat(same, t)
         for i, run in enumerate(self.dying):
             run.add(sq[i] == 0 or dbfs(math.sqrt(sq[i] / n)) < self.silence, t)
-        if len(self.series['level_dbfs_rearLeft']) < SERIES_MAX:
+        if len(self.level_series['rearLeft']) < SERIES_MAX:
             for i, name in enumerate(CHANNELS):
-                self.series['level_dbfs_' + name].append(
+                self.level_series[name].append(
                     (round(t, 3), _db_value(dbfs(math.sqrt(sq[i] / n)))))
         if self.recording:
             self._record(block, t)
@@ -268,18 +274,20 @@ class AudioCheck(Check):
     def finish(self) -> None:
         for w in self.writers.values():
             w.close()
-        self._report_files()
+        recordings = self._report_files()
+        series = self.level_series
+        found = AudioValues(mic_mode=self.mode, recordings=recordings, level_rear_left=list(series['rearLeft']),
+                            level_rear_right=list(series['rearRight']), level_front_left=list(series['frontLeft']),
+                            level_front_right=list(series['frontRight']))
+        self.found = found
         if not self.samples:
             return
-        self.values['samples_per_channel'] = self.samples
-        self.values['buffer_sizes'] = dict(self.lengths)
         rate = self.measured_rate()
-        self.values['sample_rate_hz'] = round(rate, 1) if rate else None
-        self.values['sample_rate_expected_hz'] = self.rate
         band = self.rate_band()
+        derived_band = None
         if band and self.buffer_tolerance is not None and not self.expect.rate:
             size = self.lengths.most_common(1)[0][0]
-            self.values['message_rate_band_hz'] = band
+            derived_band = band
             self.notes.append('Message rate band %s-%s Hz from %d Hz / %d samples per buffer '
                               '+- %s%%' % (fmt(band[0], 2), fmt(band[1], 2), self.rate, size,
                                            fmt(100 * float(self.buffer_tolerance), 1)))
@@ -290,35 +298,39 @@ class AudioCheck(Check):
                       % (rate, self.rate, fmt(100 * self.tolerance, 1)))
         else:
             self.notes.append('Sample rate %.0f Hz (expected %d)' % (rate, self.rate))
-        levels = collections.OrderedDict()
+        levels: Dict[str, ChannelLevel] = collections.OrderedDict()
         for i, name in enumerate(CHANNELS):
             rms = math.sqrt(self.energy[i] / self.samples)
-            level = {'rms_dbfs': _db_value(dbfs(rms)), 'peak_dbfs': _db_value(dbfs(float(self.peak[i]))),
-                     'clipping_share': round(float(self.clipped[i]) / self.samples, 6),
-                     'all_zero': bool(self.nonzero[i] == 0)}
+            level = ChannelLevel(_db_value(dbfs(rms)), _db_value(dbfs(float(self.peak[i]))),
+                                 round(float(self.clipped[i]) / self.samples, 6), bool(self.nonzero[i] == 0))
             levels[name] = level
-            if level['all_zero']:
+            if level.all_zero:
                 self.fail('microphone %s is silent: all samples are zero' % name)
             elif dbfs(rms) < self.silence:
                 self.fail('microphone %s is silent: RMS %s dBFS below silence_dbfs %s'
                           % (name, fmt(dbfs(rms), 1), fmt(self.silence, 1)))
             else:
                 self._judge_death(name, i)
-            if level['clipping_share'] > self.max_clipping:
+            share = level.clipping_share or 0.0
+            if share > self.max_clipping:
                 self.warn('microphone %s clips in %.2f%% of its samples (max_clipping_share %s%%)'
-                          % (name, 100 * level['clipping_share'], fmt(100 * self.max_clipping, 2)))
-        self.values['channels'] = levels
-        self.values['longest_identical_run'] = self.stuck.longest
+                          % (name, 100 * share, fmt(100 * self.max_clipping, 2)))
         stuck = self.stuck.finding('buffers', 'stuck_buffers')
         if stuck:
             self.fail('microphone stream stuck: ' + stuck)
         self.notes.append('Levels (RMS / peak dBFS): ' + ', '.join(
-            '%s %s / %s' % (n, fmt(v['rms_dbfs'], 1), fmt(v['peak_dbfs'], 1)) for n, v in levels.items()))
+            '%s %s / %s' % (n, fmt(v.rms_dbfs, 1), fmt(v.peak_dbfs, 1)) for n, v in levels.items()))
+        gaps = None
         if self.gaps:
             longest = max(g for _, g in self.gaps)
-            self.values['gaps'] = [[round(a, 3), round(b, 3)] for a, b in self.gaps[:50]]
+            gaps = [[round(a, 3), round(b, 3)] for a, b in self.gaps[:50]]
             self.warn('%d gap%s in the audio stream (pause > 3 buffer periods), longest %.2f s'
                       % (len(self.gaps), '' if len(self.gaps) == 1 else 's', longest))
+        self.found = dataclasses.replace(
+            found, samples_per_channel=self.samples, buffer_sizes=dict(self.lengths),
+            sample_rate_hz=round(rate, 1) if rate else None, sample_rate_expected_hz=self.rate,
+            message_rate_band_hz=derived_band, channels=levels, longest_identical_run=self.stuck.longest,
+            gaps=gaps)
         self._play()
 
     def _judge_death(self, name, i):
@@ -331,26 +343,26 @@ class AudioCheck(Check):
                   '%s s below silence_dbfs %s)' % (name, fmt(since[0], 2), since[1], fmt(since[2], 1),
                                                    fmt(self.silence, 1)))
 
-    def _report_files(self):
-        self.values['mic_mode'] = self.mode
-        files: Dict[str, Dict[str, Any]] = collections.OrderedDict()
+    def _report_files(self) -> Optional[Dict[str, WavFile]]:
+        """The WAV files written (file name -> what it holds; None: none), as artifacts and a note."""
+        files: Dict[str, WavFile] = collections.OrderedDict()
         for name, w in self.writers.items():
             if w.error:
                 self.warn(w.error)
             elif w.written:
-                files[name] = {'channels': w.channels, 'sample_rate': w.samplerate, 'subtype': w.subtype,
-                               'seconds': round(w.seconds, 3)}
+                files[name] = WavFile(w.channels, w.samplerate, w.subtype, round(w.seconds, 3))
         if files:
-            self.values['recordings'] = files
             self.artifacts['audio'] = 'microphoneOutput.wav' if 'microphoneOutput.wav' in files else next(iter(files))
             for c in CHANNELS:
                 key = 'microphoneOutput_%s.wav' % c
                 if key in files:
                     self.artifacts['audio_' + c] = key
-            self.notes.append('audio: ' + ', '.join('%s (%d ch, %s s)' % (n, f['channels'], fmt(f['seconds'], 1))
+            self.notes.append('audio: ' + ', '.join('%s (%d ch, %s s)' % (n, f.channels, fmt(f.seconds, 1))
                                                     for n, f in files.items()))
-        elif not self.recording:
+            return files
+        if not self.recording:
             self.notes.append('recording off')
+        return None
 
     def _play(self):
         if not getattr(self.ctx.options, 'play_audio', None):

@@ -245,10 +245,11 @@ class Check:
 
     def result_values(self) -> Optional[Any]:
         """The family's frozen values dataclass (its row's `values` in sensors/families.py),
-        asked after close(). A check may build and return it itself (range, joints, imu, speech do). None (the
-        default): the window builds it from `values` and `series` by codec.py's rules (their
-        keys are the dataclass's JSON names; a key it lacks is a programming error, named in
-        the notes), or leaves it None when both are empty (nothing measured)."""
+        asked after close(). A check builds and returns it itself (every family but laser and
+        odometry does). None (the default): the window builds it from `values` and `series` by
+        codec.py's rules (their keys are the dataclass's JSON names; a key it lacks is a
+        programming error, named in the notes), or leaves it None when both are empty (nothing
+        measured)."""
         return None
 
     def skip_reason(self) -> Optional[str]:

@@ -27,12 +27,14 @@ Artifacts: `video` (the catalog's mp4 name), `first_frame`, `last_frame` (JPEG).
 import math
 import os
 import struct
-from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type, TypeVar
 
 import numpy as np
 
 from ..media.recording import VideoRecorder, save_jpeg, to_bgr
 from .base import Acc, Check, StuckRun, TrailingRun, fmt, same_bytes
+from .values import Point
+from .values.camera import CameraValues, ImageValues, Stereo, VideoSummary
 
 if TYPE_CHECKING:
     import genpy
@@ -49,6 +51,7 @@ BYTES_PER_PIXEL = {
     'bayer_rggb8': 1, 'bayer_bggr8': 1, 'bayer_gbrg8': 1, 'bayer_grbg8': 1,
 }
 SERIES_MAX = 2000
+V = TypeVar('V', bound=ImageValues)   # an image family's values
 _U32 = struct.Struct('<I')
 _HEADER = struct.Struct('<3I')       # seq, stamp secs, stamp nsecs
 _SIZE = struct.Struct('<2I')         # height, width
@@ -141,6 +144,7 @@ class ImageCheck(Check):
         self.viewer = ctx.services.viewer
         self.converted = 0
         self.sizes: Dict[Tuple[int, int, str], int] = {}   # (w, h, encoding) -> count, when it changes
+        self.video: Optional[VideoSummary] = None          # the recorder's summary, once closed
 
     def decode(self, buff: bytes) -> 'genpy.Message':
         """sensor_msgs/Image from its serialized bytes with `data` a memoryview into `buff`:
@@ -246,19 +250,13 @@ class ImageCheck(Check):
     # ---- end -----------------------------------------------------------------------------
     def finish_media(self) -> None:
         """Close the recorder, write JPEG artifacts, report the recording."""
-        if self.geometry:
-            w, h, enc, step = self.geometry
-            self.values['width'], self.values['height'] = w, h
-            self.values['encoding'], self.values['step'] = enc, step
-        if len(self.sizes) > 1:
-            self.values['geometries'] = {'%dx%d %s' % k: n for k, n in self.sizes.items()}
         rec = self.recorder
         if rec is None:
             if not self.recording and self.plan.sensor.video:
                 self.notes.append('recording off')
             return
         summary = rec.close()
-        self.values['video'] = summary
+        self.video = VideoSummary(**summary)
         for note in rec.notes:
             self.notes.append('video: ' + note)
         if summary['file']:
@@ -281,6 +279,13 @@ class ImageCheck(Check):
             if save_jpeg(os.path.join(self.ctx.output_dir, name), *image):
                 self.artifacts[kind] = name
 
+    def image_values(self, cls: Type[V], **own: Any) -> V:
+        """The family's values (`cls`, an ImageValues) with what every image check measured
+        (the first message's geometry, the geometries when it changed, the video) and `own`."""
+        w, h, enc, step = self.geometry if self.geometry else (None, None, None, None)
+        geometries = {'%dx%d %s' % k: n for k, n in self.sizes.items()} if len(self.sizes) > 1 else None
+        return cls(width=w, height=h, encoding=enc, step=step, geometries=geometries, video=self.video, **own)
+
 
 class CameraCheck(ImageCheck):
     family = 'camera'
@@ -300,10 +305,14 @@ class CameraCheck(ImageCheck):
         self.stuck = StuckRun(self.frozen_frames)
         self.black_run = TrailingRun()
         self.same_halves = 0
-        self.series['brightness'] = []
+        self.brightness_series: List[Point] = []
+        self.found: Optional[CameraValues] = None
 
     def settled(self) -> bool:
         return self.count >= self.frozen_frames + 1
+
+    def result_values(self) -> Optional[CameraValues]:
+        return self.found
 
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
@@ -321,8 +330,8 @@ class CameraCheck(ImageCheck):
         std = math.sqrt(max(0.0, int(np.square(small).sum(dtype=np.uint64)) / n - mean * mean))
         self.brightness.add(mean)
         self.spread.add(std)
-        if len(self.series['brightness']) < SERIES_MAX:
-            self.series['brightness'].append((round(t, 3), round(mean, 2)))
+        if len(self.brightness_series) < SERIES_MAX:
+            self.brightness_series.append((round(t, 3), round(mean, 2)))
         bad = None
         if mean < self.min_brightness:
             self.black += 1
@@ -352,18 +361,17 @@ class CameraCheck(ImageCheck):
     def finish(self) -> None:
         self.finish_media()
         n = self.converted
-        self.values['brightness_mean'] = self.brightness.as_dict(2)
-        self.values['brightness_spread'] = self.spread.as_dict(2)
-        self.values['frames_black'] = self.black
-        self.values['frames_constant'] = self.constant
-        self.values['longest_identical_run'] = self.stuck.longest
+        stereo = None
         if self.stereo and self.geometry:
             w, h = self.geometry[0], self.geometry[1]
-            self.values['stereo'] = {'width': w, 'height': h, 'view_width': w // 2, 'view_height': h,
-                                     'identical_views': self.same_halves}
+            stereo = Stereo(w, h, w // 2, h, self.same_halves)
             self.notes.append('Stereo: %dx%d, two views of %dx%d' % (w, h, w // 2, h))
             if w != 2 * (w // 2):
                 self.fail('stereo width %d is not twice a view width' % w)
+        self.found = self.image_values(
+            CameraValues, brightness_mean=self.brightness.spread(2), brightness_spread=self.spread.spread(2),
+            frames_black=self.black, frames_constant=self.constant,
+            longest_identical_run=self.stuck.longest, stereo=stereo, brightness=list(self.brightness_series))
         if not n:
             return
         self.notes.append('Brightness mean %s; spread (std) %s (0-255, every %dth row and column)'

@@ -38,6 +38,8 @@ import numpy as np
 from ..media.recording import YUV420P, to_bgr
 from .base import Acc, StuckRun, TrailingRun, fmt, same_bytes
 from .camera import SERIES_MAX, ImageCheck
+from .values import Point
+from .values.depth import DepthValues, MedianSpread
 
 if TYPE_CHECKING:
     import genpy
@@ -100,11 +102,15 @@ class DepthCheck(ImageCheck):
         self._lut: Optional[np.ndarray] = None     # millimetres -> packed BGR0 pixel (uint32)
         self._jet: Optional[np.ndarray] = None     # 0..255 -> packed BGR0 pixel
         self._yuv: Dict[str, Tuple[np.ndarray, np.ndarray]] = {}   # 'mm' / 'index' -> (Y table, packed U|V table)
-        self.series['median_depth_m'] = []
-        self.series['valid_share'] = []
+        self.median_series: List[Point] = []
+        self.valid_series: List[Point] = []
+        self.found: Optional[DepthValues] = None
 
     def settled(self) -> bool:
         return self.count >= 5
+
+    def result_values(self) -> Optional[DepthValues]:
+        return self.found
 
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
@@ -152,9 +158,9 @@ class DepthCheck(ImageCheck):
                     out = int(np.count_nonzero((values < lo_mm) | (values > hi_mm)))
                     if out > values.size / 2:
                         self.outside += 1
-        if len(self.series['valid_share']) < SERIES_MAX:
-            self.series['valid_share'].append((round(t, 3), round(share, 4)))
-            self.series['median_depth_m'].append((round(t, 3), None if median is None else round(median, 4)))
+        if len(self.valid_series) < SERIES_MAX:
+            self.valid_series.append((round(t, 3), round(share, 4)))
+            self.median_series.append((round(t, 3), None if median is None else round(median, 4)))
         kind = 'depth_mm' if scale != 1.0 else 'depth_m'
         if self.viewer is not None:
             self.viewer.post(self.plan.name, to_bgr(*self.colour_map(depth, kind)))
@@ -247,20 +253,22 @@ class DepthCheck(ImageCheck):
 
     def finish(self) -> None:
         self.finish_media()
-        self.values['video_range_m'] = list(self.video_range)
-        self.values['frames_all_zero'] = self.all_zero
-        if not self.converted:
+        converted = bool(self.converted)    # the rest is measured on converted frames only
+        median = float(np.median(self.medians)) if self.medians else None
+        depth_m = MedianSpread(round(self.lo.lo or 0.0, 4) if self.lo.n else None,
+                               round(median, 4) if median is not None else None,
+                               round(self.hi.hi or 0.0, 4) if self.hi.n else None)
+        self.found = self.image_values(
+            DepthValues, video_range_m=list(self.video_range), frames_all_zero=self.all_zero,
+            valid_share=self.share.spread(4) if converted else None, depth_m=depth_m if converted else None,
+            longest_identical_run=self.stuck.longest if converted else None,
+            median_depth_m=list(self.median_series), valid_series=list(self.valid_series))
+        if not converted:
             return
         mean_share = self.share.total / self.share.n if self.share.n else 0.0
-        self.values['valid_share'] = self.share.as_dict(4)
-        median = float(np.median(self.medians)) if self.medians else None
-        self.values['depth_m'] = {'min': round(self.lo.lo or 0.0, 4) if self.lo.n else None,
-                                  'median': round(median, 4) if median is not None else None,
-                                  'max': round(self.hi.hi or 0.0, 4) if self.hi.n else None}
         if median is not None:
             self.notes.append('Depth min %s, median %s, max %s m; valid pixels %.1f%% (mean)'
                               % (fmt(self.lo.lo, 3), fmt(median, 3), fmt(self.hi.hi, 3), 100 * mean_share))
-        self.values['longest_identical_run'] = self.stuck.longest
         frozen = self.stuck.finding('frames', 'frozen_frames')
         if frozen:
             self.fail('depth image frozen: ' + frozen)

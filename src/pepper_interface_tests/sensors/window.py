@@ -9,6 +9,8 @@ Subscriber callbacks call `feed_raw` from their own threads; everything else run
 runner's thread; `lock` guards what both touch. Observers see the window only through the
 frozen `progress()` snapshot.
 """
+import dataclasses
+import math
 import threading
 from typing import Any, Callable, Dict, List, Optional, Type
 
@@ -250,14 +252,15 @@ class SensorRun:
         if self.clock.on_sim_time:
             clock_end = self.clock.sim_stopped_at
             rtf = self.clock.real_time_factor(elapsed)
-            summary['real_time_factor'] = rtf
+            # NaN: on sim time, factor unknown (written as null)
+            summary = dataclasses.replace(summary, real_time_factor=math.nan if rtf is None else rtf)
             notes.append('rates measured on the simulation clock (/use_sim_time); real-time '
                          'factor %s' % (fmt(rtf, 2) if rtf is not None else 'unknown: /clock not running'))
         return SensorResult(
             name=self.sensor.name, title=self.sensor.title, topic=self.plan.topic,
             msg_type=self.sensor.msg_type, verdict=verdict, reasons=reasons, warnings=warnings,
-            notes=notes, messages=messages, rate_hz=summary['rate_hz'],
-            stamp_rate_hz=summary['stamp_rate_hz'],
+            notes=notes, messages=messages, rate_hz=summary.rate_hz,
+            stamp_rate_hz=summary.stamp_rate_hz,
             expected_rate_hz=list(band) if band and not drives else None,
             nominal_rate_hz=self.expect.nominal,
             received_type=next(iter(self.stream.wrong_types), None)

@@ -147,8 +147,7 @@ def _flatten(prefix: str, value: Any, out: List[Tuple[str, str]], depth: int = 0
 
 
 def stats_rows(r: SensorResult) -> List[Tuple[str, Any]]:
-    s = r.stats if isinstance(r.stats, dict) else {}
-    delay = s.get('delay_s') if isinstance(s.get('delay_s'), dict) else {}
+    s = r.stats
     band = r.expected_rate_hz
     ok = in_band(r)
     rows = [('messages', num(r.messages)),
@@ -158,15 +157,15 @@ def stats_rows(r: SensorResult) -> List[Tuple[str, Any]]:
                                                    num(r.nominal_rate_hz, 2, 'Hz'))),
             ('window', '%s, %s' % (num(r.window_s, 1, 's'), r.stopped_because or '-')),
             ('started at', num(r.started_at, 1, 's into the run'))]
-    if s:
-        rows += [('first message after', num(s.get('first_message_after_s'), 3, 's')),
-                 ('jitter (std of intervals)', num(s.get('jitter_s'), 4, 's')),
-                 ('longest interval', num(s.get('max_interval_s'), 3, 's')),
-                 ('delay now - stamp', '%s mean, %s max' % (num(delay.get('mean'), 4, 's'),
-                                                            num(delay.get('max'), 4, 's'))
-                  if delay else '-'),
+    if s is not None:
+        delay = s.delay_s
+        rows += [('first message after', num(s.first_message_after_s, 3, 's')),
+                 ('jitter (std of intervals)', num(s.jitter_s, 4, 's')),
+                 ('longest interval', num(s.max_interval_s, 3, 's')),
+                 ('delay now - stamp', '%s mean, %s max' % (num(delay.mean, 4, 's'), num(delay.max, 4, 's'))
+                  if delay is not None else '-'),
                  ('zero / backwards / repeated stamps', '%s / %s / %s' % (
-                     num(s.get('zero_stamps')), num(s.get('backwards_stamps')), num(s.get('repeated_stamps'))))]
+                     num(s.zero_stamps), num(s.backwards_stamps), num(s.repeated_stamps)))]
     if r.received_type and r.received_type != r.msg_type:
         rows.append(('received type', Span(r.received_type, cls='fail-text')))
     return rows
