@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Dict, Optional, Tuple
 
 from ..plan import catalog
-from ..sensors import families
+from ..sensors import families, touch
 from .profiles import MIC_CHANNELS
 
 # fault name -> (takes a value?, check families it applies to (sensors/families.py); None = every one)
@@ -45,6 +45,11 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'twist_mismatch': (False, ('odometry',)),
     'far_depth': (False, ('depth',)),
     'flat_depth': (False, ('depth',)),
+    # touch sensors, bumpers and the robot's health (emulator/events.py)
+    'dead_zone': (True, ('touch',)),
+    'jammed': (True, ('touch',)),
+    'hot_joint': (True, ('health',)),
+    'empty_battery': (False, ('health',)),
 }
 
 # canonical sensor name -> its family, for validation before a profile is built: every sensor
@@ -84,6 +89,10 @@ class Faults:
     twist_mismatch: bool = False    # odometry: twist says 0.4 m/s whatever the pose does
     far_depth: bool = False         # depth: every pixel about 20 m
     flat_depth: bool = False        # depth: every pixel 1.5 m
+    dead_zone: Tuple[str, ...] = ()     # touch: these zones send nothing
+    jammed: Tuple[str, ...] = ()        # touch: pressed 1 s after the first subscriber, never released
+    hot_joint: Optional[float] = None   # health: HipPitch at this temperature (°C)
+    empty_battery: bool = False         # health: 12 %, not charging
 
     def describe(self) -> str:
         out = []
@@ -92,7 +101,7 @@ class Faults:
             default = getattr(HEALTHY, name)
             if value != default:
                 out.append(name if value is True else '%s=%s' % (
-                    name, ','.join(value) if isinstance(value, tuple) else value))
+                    name, '|'.join(value) if isinstance(value, tuple) else value))
         return ','.join(out)
 
 
@@ -155,11 +164,26 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
             if takes_value and not value:
                 raise FaultError('fault "%s" of %s needs a value, e.g. %s'
                                  % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3', 'after': 'after=1.5',
-                                                  'silent_channel': 'silent_channel=rearRight'}[fault]))
+                                                  'silent_channel': 'silent_channel=rearRight',
+                                                  'dead_zone': 'dead_zone=front', 'jammed': 'jammed=back',
+                                                  'hot_joint': 'hot_joint=76'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
                 values['rate'] = _number(name, fault, value)
+            elif fault == 'hot_joint':
+                values[fault] = _number(name, fault, value)
+            elif fault in ('dead_zone', 'jammed'):
+                zones = [z.id for z in touch.zones_of(catalog.SENSORS[name].msg_type)[1]]
+                chosen = list(values.get(fault, ()))
+                for z in (c.strip() for c in value.replace('+', '|').split('|')):
+                    match = [c for c in zones if c.lower() == z.lower()]
+                    if not match:
+                        raise FaultError('unknown zone "%s" of %s; valid zones: %s'
+                                         % (z, name, ', '.join(zones)))
+                    if match[0] not in chosen:
+                        chosen.append(match[0])
+                values[fault] = tuple(chosen)
             elif fault in ('die_after', 'after'):
                 values[fault] = _number(name, fault, value, positive_only=False)
             elif fault == 'silent_channel':

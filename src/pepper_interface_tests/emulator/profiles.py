@@ -207,6 +207,13 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
                        'camera_color_optical_frame', 640, 480, '16UC1', view='realsense',
                        hfov=1.2043),
         ]
+    # naoqi_driver.cpp:838-894: the touch events (one message per change: the rate here is how
+    # often the emulator looks for one); :648-660 the diagnostics on /diagnostics at 1 Hz
+    # (share/boot_config.json "diag"). An older topics file without these keys: not published.
+    for key, family, hz in (('headTouch', 'touch', 20.0), ('handTouch', 'touch', 20.0),
+                            ('bumper', 'touch', 20.0), ('robotHealth', 'health', 1.0)):
+        if key in topics:
+            sensors.append(SensorSpec(key, family, topics[key], hz))
     notes = []
     if stock:
         # src/event/audio.cpp:62-66, 107-113, 177-186: AudioBuffer, 48 kHz, channelMap [3,5,0,2],

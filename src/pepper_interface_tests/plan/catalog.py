@@ -14,7 +14,7 @@ class Sensor(NamedTuple):
     title: str                 # heading in sensorTestOutput.dat ("BACK SONAR")
     aliases: Tuple[str, ...]   # other spellings found in the original files (matched case-insensitively)
     msg_type: str              # ROS message type, "pkg/Type"
-    family: str                # check family: range, laser, camera, depth, audio, joints, odometry, imu, speech
+    family: str                # check family (sensors/families.py): range, laser, camera, ... touch, health
     camera: Optional[str]      # camera group for --cameras: 'pepper', 'realsense' or None
     simulator: bool            # True when the Gazebo simulator provides this sensor
     video: Optional[str]       # file name of the recording, or None
@@ -52,6 +52,18 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     Sensor('imu', 'IMU', ('IMU', 'imuBase'), 'sensor_msgs/Imu', 'imu', None, False, None),
     Sensor('speech', 'SPEECH', ('Speech', 'speaker', 'loudspeaker'), 'std_msgs/String',
            'speech', None, False, None),
+    # naoqi_driver's touch events (src/naoqi_driver.cpp:838-894): naoqi_bridge_msgs types, read
+    # from the definition their connection carries (sources/naoqi_msgs.py); this package's own
+    # copies (msg/, same md5sums) are accepted too
+    Sensor('headTouch', 'HEAD TOUCH', ('HeadTouch', 'head_touch', 'tactile'), 'naoqi_bridge_msgs/HeadTouch',
+           'touch', None, False, None, ('pepper_interface_tests/HeadTouch',)),
+    Sensor('handTouch', 'HAND TOUCH', ('HandTouch', 'hand_touch'), 'naoqi_bridge_msgs/HandTouch',
+           'touch', None, False, None, ('pepper_interface_tests/HandTouch',)),
+    Sensor('bumper', 'BUMPER', ('Bumper', 'bumpers'), 'naoqi_bridge_msgs/Bumper',
+           'touch', None, False, None, ('pepper_interface_tests/Bumper',)),
+    # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp)
+    Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
+           'diagnostic_msgs/DiagnosticArray', 'health', None, False, None),
 ])
 
 # Keys of the topics files that belong to the actuator test; sensorTest ignores them.
@@ -72,6 +84,26 @@ NO_PUBLISHER_HINTS = {
                     'naoqi_driver publishes it on a stereo head only; on such a robot set '
                     'stereoCamera false in the input file',
 }
+
+# Why a sensor is SKIPPED in the simulator, where it has a known reason (default: "not
+# available in the simulator"). pepper_virtual (awesomebytes/pepper_virtual, master) has no
+# touch, bumper or diagnostics publisher: the words appear only as frame names in
+# pepper_gazebo_plugin/config/pepper_sensors.rviz.
+_NOT_SIMULATED = ('the Gazebo simulator (pepper_virtual) publishes no %s: its source has no '
+                  'such publisher, only the frames in its RViz configuration')
+SIMULATOR_SKIP = {
+    'headTouch': _NOT_SIMULATED % 'head touch events',
+    'handTouch': _NOT_SIMULATED % 'hand touch events',
+    'bumper': _NOT_SIMULATED % 'bumper events',
+    'robotHealth': 'the Gazebo simulator (pepper_virtual) publishes no naoqi_driver diagnostics '
+                   '(no joint temperatures, no battery): its source has no /diagnostics publisher',
+}
+
+
+def simulator_skip_reason(name: str) -> str:
+    """Why sensor `name`, absent from the simulator, is SKIPPED there."""
+    return SIMULATOR_SKIP.get(name, 'not available in the simulator')
+
 
 _LOOKUP: Dict[str, str] = {}
 for _s in SENSORS.values():

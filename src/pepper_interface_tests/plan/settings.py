@@ -202,7 +202,7 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
         sensor = catalog.SENSORS[name]
         skip = None
         if platform == 'simulator' and not sensor.simulator:
-            skip = 'not available in the simulator'
+            skip = catalog.simulator_skip_reason(name)
         else:
             skip = selection.excluded_by_cameras(sensor, cameras)
         topic = topics.get(name)

@@ -52,6 +52,14 @@ class Traits:
     audio: bool = False
     # listens through the microphones while it runs (speech: was the sentence heard?)
     hears: bool = False
+    # asks a person to act (touch sensors): with a person there (an interactive terminal or
+    # --guided) a live run offers the check an operator (sensors/guide.py) that prompts
+    guided: bool = False
+    # the topic is shared by many nodes (/diagnostics): several publishers are normal
+    shared_topic: bool = False
+    # its WARN or FAIL explains other sensors' failures (the robot's health): shown at the top
+    # of the summary
+    headline: bool = False
 
     @property
     def records_media(self) -> bool:
@@ -82,6 +90,9 @@ FAMILIES: Dict[str, Family] = {f.name: f for f in [
     Family('imu', 'imu:ImuCheck', 'imu'),
     Family('speech', 'speech:SpeechCheck', 'speech',
            Traits(periodic=False, drives_itself=True, live_only=True, hears=True)),
+    Family('touch', 'touch:TouchCheck', 'touch', Traits(periodic=False, guided=True)),
+    Family('health', 'health:HealthCheck', 'health',
+           Traits(periodic=False, shared_topic=True, headline=True)),
 ]}
 
 

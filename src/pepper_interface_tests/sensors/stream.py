@@ -146,7 +146,7 @@ class StreamCheck:
         return Judgement(reasons, warnings)
 
     def _publisher_reasons(self, reasons: List[str], warnings: List[str]) -> None:
-        if len(self.publishers) < 2:
+        if len(self.publishers) < 2 or self.traits.shared_topic:
             return
         text = '%d publishers deliver on %s: %s' % (len(self.publishers), self.topic,
                                                     ', '.join(self.publishers))

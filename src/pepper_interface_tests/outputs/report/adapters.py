@@ -10,6 +10,8 @@ import re
 from typing import Any, Callable, Dict, Optional
 
 from ...results import RunResult, SensorResult, printable
+from ...sensors.health import HealthValues, JointRow
+from ...sensors.touch import TouchValues, ZoneRow
 from .values import (
     AudioValues,
     CameraValues,
@@ -157,10 +159,41 @@ def _speech(r: SensorResult, run: RunResult) -> SpeechValues:
     return SpeechValues(v.get('text'), [str(s) for s in subs], v.get('heard'), number(v.get('level_rise_db')))
 
 
+def _rows(items: Any, cls: Any) -> tuple:
+    """Dicts of a dataclass's fields -> its objects (unknown keys dropped, bad items skipped)."""
+    names = set(cls.__dataclass_fields__)
+    out = []
+    for item in items if isinstance(items, (list, tuple)) else []:
+        if isinstance(item, dict):
+            try:
+                out.append(cls(**{k: v for k, v in item.items() if k in names}))
+            except TypeError:
+                continue
+    return tuple(out)
+
+
+def _touch(r: SensorResult, run: RunResult) -> Optional[TouchValues]:
+    v = r.values
+    if 'zones' not in v:
+        return None
+    return TouchValues(str(v.get('mode') or '-'), _rows(v.get('zones'), ZoneRow))
+
+
+def _health(r: SensorResult, run: RunResult) -> Optional[HealthValues]:
+    v = r.values
+    if 'driver_arrays' not in v:
+        return None
+    return HealthValues(v.get('driver_arrays') or 0, v.get('battery_percent'), v.get('charging'),
+                        v.get('fully_charged'), v.get('battery_level'), v.get('battery_message'),
+                        number(v.get('highest_temperature_c')), _rows(v.get('hottest'), JointRow),
+                        _rows(v.get('hot'), JointRow))
+
+
 Adapter = Callable[[SensorResult, RunResult], Optional[FamilyValues]]
 ADAPTERS: Dict[str, Adapter] = {
     'range': _range, 'laser': _laser, 'camera': _camera, 'depth': _depth, 'audio': _audio,
-    'joints': _joints, 'odometry': _odometry, 'imu': _imu, 'speech': _speech}
+    'joints': _joints, 'odometry': _odometry, 'imu': _imu, 'speech': _speech,
+    'touch': _touch, 'health': _health}
 
 
 def adapt(family: Optional[str], result: SensorResult, run: RunResult) -> Optional[FamilyValues]:

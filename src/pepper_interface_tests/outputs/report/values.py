@@ -5,7 +5,11 @@ Today adapters.py builds them from the checks' dicts; a check may later produce 
 directly (then its adapter goes, and the view does not change).
 """
 from dataclasses import dataclass, field
-from typing import Any, Dict, Iterable, List, Optional, Tuple, Union
+from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Tuple, Union
+
+if TYPE_CHECKING:
+    from ...sensors.health import HealthValues
+    from ...sensors.touch import TouchValues
 
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')   # sensors/audio.py order
 
@@ -186,5 +190,6 @@ class SpeechValues:
 
 
 # what adapters.adapt returns and views.render takes: one family's values
+# (the touch and health families' values are their checks' own frozen dataclasses)
 FamilyValues = Union[RangeValues, LaserScanValues, CameraValues, DepthValues, AudioValues, JointValues,
-                     OdometryValues, ImuValues, SpeechValues]
+                     OdometryValues, ImuValues, SpeechValues, 'TouchValues', 'HealthValues']

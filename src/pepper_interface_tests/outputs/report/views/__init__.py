@@ -10,11 +10,12 @@ from typing import TYPE_CHECKING, List, Optional
 from ....results import SensorResult
 from ..blocks import Block
 from ..values import FamilyValues
-from . import audio, camera, depth, imu, joints, laser, odometry, speech
+from . import audio, camera, depth, health, imu, joints, laser, odometry, speech, touch
 from . import range as range_view
 
 VIEWS = {'range': range_view, 'laser': laser, 'camera': camera, 'depth': depth, 'audio': audio,
-         'joints': joints, 'odometry': odometry, 'imu': imu, 'speech': speech}
+         'joints': joints, 'odometry': odometry, 'imu': imu, 'speech': speech, 'touch': touch,
+         'health': health}
 
 if TYPE_CHECKING:
     from ..page import View
