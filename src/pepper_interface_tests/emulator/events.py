@@ -18,7 +18,7 @@ empty_battery (12 %, not charging).
 """
 import threading
 import time
-from typing import TYPE_CHECKING, Dict, List, Tuple, Type
+from typing import TYPE_CHECKING, Any, Dict, List, Tuple, Type
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -44,7 +44,7 @@ JOINTS = tuple(joint_limits.LIMITS)
 class TouchPublisher(StreamPublisher):
     """One touch topic; `touch(zone_id)` presses a zone for PRESS_S s (the operator)."""
 
-    def __init__(self, *args, **kwargs) -> None:
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)
         self.field, self.zones = touch.zones_of(self.spec.msg_type)
         self.ids = [z.id for z in self.zones]
