@@ -117,36 +117,46 @@ class HealthPublisher(StreamPublisher):
         return temps
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
-        msg = DiagnosticArray()
-        worst, hottest, hot = 0, 0.0, ''
-        for joint, temp in self.temperatures(t).items():
-            level, words = (0, 'OK') if temp < 68 else (1, 'Hot') if temp < 74 else (2, 'Too hot')
-            lo, hi, vel, _ = joint_limits.LIMITS[joint]
-            msg.status.append(_status('naoqi_driver_joints:' + joint, joint, level, words, [
-                ('Temperature', _num(temp)), ('Stiffness', '1'), ('minAngle', _num(lo or 0.0)),
-                ('maxAngle', _num(hi or 0.0)), ('maxVelocity', _num(vel)), ('maxTorque', '0')]))
-            worst, hottest = max(worst, level), max(hottest, temp)
-            if level >= 1:
-                hot += '\n%s: %s°C' % (joint, _num(temp))
-        msg.status.append(_status('naoqi_driver_joints:Status', 'joints', worst,
-                                  ('OK', 'WARN', 'ERROR')[worst], [
-                                      ('Highest Temperature', _num(hottest)), ('Highest Stiffness', '1'),
-                                      ('Lowest Stiffness', '1'), ('Lowest Stiffness without Hands', '1'),
-                                      ('Hot Joints', hot)]))
         pct = EMPTY_BATTERY if self.faults.empty_battery else HEALTHY_BATTERY
-        charging = False
-        if pct > 60:
-            level, text = 0, 'Battery OK (%4d%% left)' % pct
-        elif pct > 30:
-            level, text = 1, 'Battery discharging (%4d%% left)' % pct
-        else:
-            level, text = 2, 'Battery almost empty (%4d%% left)' % pct
-        msg.status.append(_status('naoqi_driver_battery:Status', 'battery', level, text, [
-            ('Percentage', str(pct)), ('Charging', str(charging)), ('Fully Charged', 'False')]))
-        msg.status.append(_status('naoqi_driver_battery:Current', 'battery', level,
-                                  'Total Current:  -1.2 Ampere (discharging)', [('Current', '-1.2')]))
-        msg.status.append(_status('naoqi_driver_computer:CPU', '', 0, '', [('Temperature', '-1')]))
-        return msg
+        return driver_array(self.temperatures(t), pct, charging=False)
+
+
+def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
+                 fully_charged: bool = False) -> DiagnosticArray:
+    """The DiagnosticArray naoqi_driver builds (diagnostics.cpp:134-313) from joint temperatures
+    (°C) and the battery's charge (%) and flags."""
+    msg = DiagnosticArray()
+    worst, hottest, hot = 0, 0.0, ''
+    for joint, temp in temperatures.items():
+        level, words = (0, 'OK') if temp < 68 else (1, 'Hot') if temp < 74 else (2, 'Too hot')
+        lo, hi, vel, _ = joint_limits.LIMITS.get(joint, (0.0, 0.0, 0.0, 0))
+        msg.status.append(_status('naoqi_driver_joints:' + joint, joint, level, words, [
+            ('Temperature', _num(temp)), ('Stiffness', '1'), ('minAngle', _num(lo or 0.0)),
+            ('maxAngle', _num(hi or 0.0)), ('maxVelocity', _num(vel)), ('maxTorque', '0')]))
+        worst, hottest = max(worst, level), max(hottest, temp)
+        if level >= 1:
+            hot += '\n%s: %s°C' % (joint, _num(temp))
+    msg.status.append(_status('naoqi_driver_joints:Status', 'joints', worst, ('OK', 'WARN', 'ERROR')[worst], [
+        ('Highest Temperature', _num(hottest)), ('Highest Stiffness', '1'), ('Lowest Stiffness', '1'),
+        ('Lowest Stiffness without Hands', '1'), ('Hot Joints', hot)]))
+    if charging:
+        level, text = 0, 'Charging (%4d%%)' % percent
+    elif percent > 60:
+        level, text = 0, 'Battery OK (%4d%% left)' % percent
+    elif percent > 30:
+        level, text = 1, 'Battery discharging (%4d%% left)' % percent
+    else:
+        level, text = 2, 'Battery almost empty (%4d%% left)' % percent
+    if fully_charged:
+        level = 0       # :264-268; the message stays the charge's (:270-271)
+    msg.status.append(_status('naoqi_driver_battery:Status', 'battery', level, text, [
+        ('Percentage', str(percent)), ('Charging', str(charging)), ('Fully Charged', str(fully_charged))]))
+    current = 1.5 if charging else -1.2
+    msg.status.append(_status('naoqi_driver_battery:Current', 'battery', level,
+                              'Total Current: %5g Ampere (%s)' % (current, 'charging' if charging else 'discharging'),
+                              [('Current', _num(current))]))
+    msg.status.append(_status('naoqi_driver_computer:CPU', '', 0, '', [('Temperature', '-1')]))
+    return msg
 
 
 EVENT_PUBLISHERS: Dict[str, Type[StreamPublisher]] = {'touch': TouchPublisher, 'health': HealthPublisher}

@@ -14,6 +14,7 @@ import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
 from ..observer import RunObserver
+from ..plan import catalog
 from ..progress import Progress
 from ..results import (
     FAIL,
@@ -27,6 +28,7 @@ from ..results import (
     param_lines,
     printable,
 )
+from ..sensors.families import traits
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -263,6 +265,7 @@ class Terminal(RunObserver):
             for i, text in enumerate(textwrap.wrap('INTERRUPTED: %s' % printable(
                     run.interrupt_reason, REASON_LIMIT), width)):
                 self.line(text if not i else '  ' + text)
+        self._headlines(run, width)
         if width - TABLE_FIXED >= MIN_REASON_COLUMN:
             self._table(run, width)
         else:
@@ -274,6 +277,22 @@ class Terminal(RunObserver):
             self.line('PASS* = passed with %d warning%s to read (not a failure)'
                       % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
+
+    def _headlines(self, run: RunResult, width: int) -> None:
+        """Above the table: the sensors whose state explains the others' (Traits.headline: the
+        robot's health), with their figures, and in capitals when they warn or fail."""
+        for r in run.sensors:
+            if r.verdict not in (PASS, FAIL) or not traits(catalog.SENSORS[r.name]).headline:
+                continue
+            bad = r.verdict == FAIL or bool(r.warnings)
+            state = FAIL if r.verdict == FAIL else 'WARN' if r.warnings else 'OK'
+            head = '%s %s: ' % (r.title if bad else r.name, state)
+            text = head + '; '.join([printable(t, REASON_LIMIT) for t in r.reasons + r.warnings + r.notes])
+            for i, part in enumerate(textwrap.wrap(text, width, subsequent_indent='    ',
+                                                   break_on_hyphens=False)):
+                self.line(self._paint(part, FAIL if r.verdict == FAIL else SKIPPED if bad else PASS)
+                          if i == 0 else part)
+            self.line()
 
     def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance

@@ -184,7 +184,7 @@ class HealthCheck(Check):
 
 
 def _joints(rows: List[JointRow]) -> str:
-    return ', '.join('%s %s °C' % (r.joint, fmt(r.temperature_c, 1)) for r in rows)
+    return ', '.join('%s %s°C' % (r.joint, fmt(r.temperature_c, 1)) for r in rows)
 
 
 def _pct(v: HealthValues) -> str:
@@ -201,7 +201,7 @@ def battery_text(v: HealthValues) -> str:
 
 
 def hottest_text(v: HealthValues) -> str:
-    """'hottest joints: HipPitch 45 °C, KneePitch 44 °C, HeadYaw 40 °C'."""
+    """'hottest joints: HipPitch 45°C, KneePitch 44°C, HeadYaw 40°C' (as the driver writes them)."""
     if not v.hottest:
         return 'hottest joints: no joint status from the driver'
     return 'hottest joints: ' + _joints(list(v.hottest))

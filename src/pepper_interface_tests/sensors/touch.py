@@ -220,9 +220,10 @@ class TouchCheck(Check):
         elif op.skipped():
             self._next('skipped by the operator')
         elif z.first_press is None and elapsed - self.asked_at >= self.wait:
+            self.fail('%s was not pressed within %g s of asking (a dead sensor, or a zone already '
+                      'held down before the run: the driver sends only changes)'
+                      % (self._name(self.asking), self.wait))
             self._next('not pressed within %g s' % self.wait)
-            self.fail('%s was not pressed within %g s of asking (a dead zone, or a bumper '
-                      'jammed before the run?)' % (self._name(self.asking), self.wait))
         elif z.pressed_at is not None and z.stuck:
             self._next('stuck')
 
@@ -263,6 +264,9 @@ class TouchCheck(Check):
         skipped = [r.zone for r in rows if r.outcome == 'skipped by the operator']
         if skipped:
             self.warn('skipped by the operator (not tested): %s' % ', '.join(skipped))
+        if self.guided:
+            self.notes.append('guided: %s' % '; '.join(
+                '%s %s' % (r.zone, r.outcome) for r in rows if self.zones[r.index].asked))
         touched = [r.zone for r in rows if r.presses]
         if touched:
             self.notes.append('touched: %s' % '; '.join(
