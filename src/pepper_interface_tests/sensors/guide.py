@@ -7,7 +7,9 @@ test rig can follow, and the sentence on the robot's speech topic (naoqi_driver 
 arrives on /speech: src/naoqi_driver.cpp:939). The person skips the zone being asked by typing
 s and Enter; the touch checks ask in turn (one sensor at a time, also in parallel mode).
 """
+import shutil
 import sys
+import textwrap
 import threading
 from typing import Any, Iterable, Optional, TextIO
 
@@ -62,7 +64,9 @@ class Guide:
             tty = self.out.isatty()
         except (AttributeError, ValueError):
             tty = False
-        self.out.write(('\r\033[K' if tty else '') + text + '\n')
+        width = max(40, shutil.get_terminal_size((80, 24)).columns)
+        lines = textwrap.wrap(text, width, subsequent_indent=' ' * 6, break_on_hyphens=False) or [text]
+        self.out.write(('\r\033[K' if tty else '') + '\n'.join(lines) + '\n')
         self.out.flush()
 
     def turn(self, owner: str) -> bool:

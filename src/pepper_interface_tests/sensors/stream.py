@@ -191,7 +191,8 @@ class StreamCheck:
             return out
         if self.traits.periodic:
             self._rate_reasons(band, out, warnings)
-        self._stamp_reasons(out, warnings)
+        if not self.traits.shared_topic:   # many nodes' stamps interleave on a shared topic
+            self._stamp_reasons(out, warnings)
         if self.traits.periodic:
             self._silence_reasons(elapsed, band, out, warnings)
         return out
