@@ -16,7 +16,7 @@ import rospy
 
 from pepper_interface_tests.emulator.events import JOINTS, driver_array
 from pepper_interface_tests.sources import naoqi_msgs
-from rosmaster import kill_group, script, spawn, wait_registered, wait_until
+from rosmaster import Master, kill_group, script, spawn, wait_registered, wait_until
 
 pytestmark = pytest.mark.integration     # every test here starts real processes
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -38,10 +38,12 @@ class Emulator:
 
 
 @pytest.fixture(scope='module')
-def healthy(module_master, tmp_path_factory):
-    emu = Emulator(module_master, tmp_path_factory.mktemp('emu'), '--operator', 'true')
-    yield module_master
-    emu.stop()
+def healthy(tmp_path_factory):
+    """A master of its own with a healthy emulator and its operator."""
+    with Master() as master:
+        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--operator', 'true')
+        yield master
+        emu.stop()
 
 
 def sensor_test(master, out, *args, env=None, timeout=200):
@@ -113,11 +115,13 @@ def test_unattended_nobody_touching_is_skipped_and_the_exit_code_unaffected(heal
 
 
 @pytest.fixture(scope='module')
-def faulty(module_master, tmp_path_factory):
-    emu = Emulator(module_master, tmp_path_factory.mktemp('emu'), '--operator', 'true', '--faults',
-                   'headTouch:dead_zone=middle;bumper:jammed=back;robotHealth:hot_joint=76,empty_battery')
-    yield module_master
-    emu.stop()
+def faulty(tmp_path_factory):
+    """A master of its own with an emulator with one fault of each kind, and its operator."""
+    with Master() as master:
+        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--operator', 'true', '--faults',
+                       'headTouch:dead_zone=middle;bumper:jammed=back;robotHealth:hot_joint=76,empty_battery')
+        yield master
+        emu.stop()
 
 
 def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
@@ -136,7 +140,8 @@ def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
     health = res['robotHealth']
     assert health['verdict'] == 'FAIL'
     assert 'HipPitch 76°C: let the robot cool down' in health['reasons'][0]
-    assert 'battery almost empty: 12 % left' in health['reasons'][1] and 'charge it before testing' in health['reasons'][1]
+    battery = health['reasons'][1]
+    assert 'battery almost empty: 12 % left' in battery and 'charge it before testing' in battery
     # the health headline comes first, above the table
     summary = out[out.index('ROBOT HEALTH FAIL'):]
     assert re.search(r'^headTouch +FAIL', summary, re.M) and re.search(r'^robotHealth +FAIL', summary, re.M)
@@ -226,7 +231,8 @@ def test_a_bag_is_judged_unattended(tmp_path):
     t0 = 1000.0
     with rosbag.Bag(path, 'w') as bag:
         for i, (button, state) in enumerate([(0, 1), (0, 0), (1, 1), (1, 0)]):
-            bag.write('/naoqi_driver/head_touch', head(button=button, state=state), rospy.Time.from_sec(t0 + 0.5 + i * 0.3))
+            at = rospy.Time.from_sec(t0 + 0.5 + i * 0.3)
+            bag.write('/naoqi_driver/head_touch', head(button=button, state=state), at)
         for k in range(4):
             temps = {j: 36.0 for j in JOINTS}
             temps['KneePitch'] = 70.0

@@ -65,7 +65,8 @@ def test_too_hot_fails_saying_what_to_do(tmp_path):
     c = make(tmp_path)
     j = run(c, [driver_array(temps(HipPitch=75.5), 85, False)] * 2)
     assert j.verdict == FAIL
-    assert j.reasons[0].startswith('too hot (the driver\'s ERROR, 74 °C and above): HipPitch 75.5°C: let the robot cool down')
+    assert j.reasons[0].startswith('too hot (the driver\'s ERROR, 74 °C and above): HipPitch 75.5°C: '
+                                   'let the robot cool down')
 
 
 def test_the_worst_level_of_the_window_counts(tmp_path):
