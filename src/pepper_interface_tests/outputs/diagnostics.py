@@ -125,6 +125,8 @@ def result_status(r: SensorResult) -> Status:
         ('expected rate (Hz)', _band(r.expected_rate_hz)), ('nominal rate (Hz)', r.nominal_rate_hz),
         ('window (s)', _num(r.window_s, 1)), ('stopped because', r.stopped_because),
         ('reasons', '; '.join(r.reasons)), ('warnings', '; '.join(r.warnings))]
+    if r.notes:     # what a check measured (the robot's battery and hottest joints, ...)
+        pairs.append(('notes', '; '.join(r.notes)))
     pairs += [('file ' + kind, name) for kind, name in r.artifacts.items()]
     return Status(level, text, _values(pairs))
 
