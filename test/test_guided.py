@@ -100,7 +100,7 @@ def test_guided_with_the_emulated_operator_passes_every_zone(healthy, tmp_path):
     assert health['values']['battery_percent'] == 85
     assert any(n.startswith('hottest joints: ') for n in health['notes'])
     assert '  >>> [headTouch/front] Touch the front of my head' in out
-    assert 'robotHealth OK: battery 85 %, not charging (driver: OK); hottest joints:' in out.replace('\n    ', ' ')
+    assert 'robotHealth OK: battery 85%, not charging (driver: OK); hottest joints:' in out.replace('\n    ', ' ')
 
 
 def test_unattended_nobody_touching_is_skipped_and_the_exit_code_unaffected(healthy, tmp_path):
@@ -141,7 +141,7 @@ def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
     assert health['verdict'] == 'FAIL'
     assert 'HipPitch 76°C: let the robot cool down' in health['reasons'][0]
     battery = health['reasons'][1]
-    assert 'battery almost empty: 12 % left' in battery and 'charge it before testing' in battery
+    assert 'battery almost empty: 12% left' in battery and 'charge it before testing' in battery
     # the health headline comes first, above the table
     summary = out[out.index('ROBOT HEALTH FAIL'):]
     assert re.search(r'^headTouch +FAIL', summary, re.M) and re.search(r'^robotHealth +FAIL', summary, re.M)
@@ -251,5 +251,5 @@ def test_a_bag_is_judged_unattended(tmp_path):
     health = res['robotHealth']
     assert health['verdict'] == 'PASS'
     assert 'hot (the driver\'s WARN, 68-74 °C): KneePitch 70°C' in health['warnings']
-    assert 'battery discharging: 50 % left' in ' '.join(health['warnings'])
+    assert 'battery discharging: 50% left' in ' '.join(health['warnings'])
     assert 'ROBOT HEALTH WARN' in proc.stdout

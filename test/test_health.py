@@ -47,7 +47,7 @@ def test_all_ok_passes_with_battery_and_hottest_joints_in_the_notes(tmp_path):
     c = make(tmp_path)
     j = run(c, [driver_array(temps(KneePitch=41.5), 85, False)] * 2)
     assert j.verdict == PASS and not j.warnings, j
-    assert 'battery 85 %, not charging (driver: OK)' in c.notes
+    assert 'battery 85%, not charging (driver: OK)' in c.notes
     assert c.notes[-1].startswith('hottest joints: KneePitch 41.5°C, ')
     assert c.values['battery_percent'] == 85 and c.values['charging'] is False
     assert c.values['hottest'][0] == {'joint': 'KneePitch', 'temperature_c': 41.5, 'level': 'OK', 'message': 'OK'}
@@ -78,9 +78,9 @@ def test_the_worst_level_of_the_window_counts(tmp_path):
 
 @pytest.mark.parametrize('percent, charging, full, verdict, words', [
     (61, False, False, PASS, None),
-    (60, False, False, PASS, 'battery discharging: 60 % left (the driver warns at 60 % or less'),
-    (31, False, False, PASS, 'battery discharging: 31 % left'),
-    (30, False, False, FAIL, 'battery almost empty: 30 % left (the driver\'s ERROR, 30 % or less and not '
+    (60, False, False, PASS, 'battery discharging: 60% left (the driver warns at 60 % or less'),
+    (31, False, False, PASS, 'battery discharging: 31% left'),
+    (30, False, False, FAIL, 'battery almost empty: 30% left (the driver\'s ERROR, 30 % or less and not '
                              'charging): charge it before testing'),
     (12, True, False, PASS, None),           # charging: the driver says OK (diagnostics.cpp:240-244)
     (100, False, True, PASS, None),
@@ -95,7 +95,7 @@ def test_battery_follows_the_driver_levels(tmp_path, percent, charging, full, ve
     else:
         assert 'battery' not in text
     state = 'fully charged' if full else 'charging' if charging else 'not charging'
-    assert c.notes[0].startswith('battery %d %%, %s' % (percent, state))
+    assert c.notes[0].startswith('battery %d%%, %s' % (percent, state))
 
 
 def own_status_array():

@@ -188,15 +188,15 @@ def _joints(rows: List[JointRow]) -> str:
 
 
 def _pct(v: HealthValues) -> str:
-    return '%s %% left' % ('?' if v.battery_percent is None else v.battery_percent)
+    return '%s%% left' % ('?' if v.battery_percent is None else v.battery_percent)
 
 
 def battery_text(v: HealthValues) -> str:
-    """'battery 85 %, not charging (driver: OK)'."""
+    """'battery 85%, not charging (driver: OK)'."""
     if v.battery_percent is None and v.charging is None:
         return 'battery: no status from the driver'
     state = 'fully charged' if v.fully_charged else 'charging' if v.charging else 'not charging'
-    return 'battery %s %%, %s (driver: %s)' % ('?' if v.battery_percent is None else v.battery_percent,
+    return 'battery %s%%, %s (driver: %s)' % ('?' if v.battery_percent is None else v.battery_percent,
                                                state, v.battery_level or '?')
 
 

@@ -64,6 +64,12 @@ def family(r: SensorResult) -> Optional[str]:
     return sensor.family if sensor else None
 
 
+def headline(r: SensorResult) -> bool:
+    """The sensor's state explains other sensors' (Traits.headline: the robot's health)."""
+    fam = family(r)
+    return fam is not None and families.family(fam).traits.headline
+
+
 def drives_itself(r: SensorResult) -> bool:
     """A sensor whose check acts instead of listening (speech): it has no stream rate to plot."""
     fam = family(r)
@@ -234,6 +240,11 @@ def header(run: RunResult) -> Dict[str, Any]:
         'counts': [(verdict_class(v), '%d %s' % (counts.get(v, 0), words.get(v, v))) for v in order],
         'interrupted': clean(run.interrupt_reason or 'run interrupted') if run.interrupted else None,
         'failed': [(anchor(r.name), r.name) for r in run.sensors if r.verdict == FAIL],
+        # a family whose WARN or FAIL explains the others' (the robot's health), first
+        'headlines': [(anchor(r.name), r.title, 'bad' if r.verdict == FAIL else 'warn',
+                       clean('; '.join(r.reasons + r.warnings + r.notes)))
+                      for r in run.sensors
+                      if headline(r) and (r.verdict == FAIL or (r.verdict == PASS and r.warnings))],
         'all_passed': bool(run.sensors) and not run.interrupted and all(r.verdict in PASSING for r in run.sensors),
     }
 
