@@ -117,3 +117,22 @@ def test_no_driver_status_fails_within_the_wait_and_other_nodes_statuses_are_ign
     assert j.reasons == ['no naoqi_driver diagnostics on /diagnostics within 2 s (1 array from other nodes '
                          'only): the driver\'s diagnostics are off (converters.diag.enabled in its '
                          'boot_config.json) or naoqi_driver is not running']
+
+
+def test_the_report_shows_the_battery_and_the_hottest_joints(tmp_path):
+    import json
+
+    from pepper_interface_tests.outputs.report import adapters, views
+    from pepper_interface_tests.outputs.report.blocks import KV, Table
+    from pepper_interface_tests.results import RunResult, SensorResult
+    c = make(tmp_path)
+    run(c, [driver_array(temps(HipPitch=70.0), 45, False)] * 2)
+    values = json.loads(json.dumps(c.values))
+    r = SensorResult('robotHealth', 'ROBOT HEALTH', '/diagnostics', 'diagnostic_msgs/DiagnosticArray', PASS,
+                     values=values)
+    blocks = views.render('health', r, adapters.adapt('health', r, RunResult('robot', 'parallel', 0.0)), None)
+    kv = dict((k, getattr(v, 'text', v)) for k, v in [b for b in blocks if isinstance(b, KV)][0].rows)
+    assert kv['charge'] == '45 %' and kv['charging'] == 'not charging' and kv['driver level'] == 'WARN'
+    tables = [b for b in blocks if isinstance(b, Table)]
+    assert tables[0].rows[0][0] == 'HipPitch' and tables[0].rows[0][1] == '70.0 °C'
+    assert [row[0] for row in tables[1].rows] == ['HipPitch']     # the hot joints

@@ -279,3 +279,23 @@ def test_the_guided_window_is_the_operator_budget(tmp_path):
     assert c.window(10.0) == 10.0
     c = make('bumper', tmp_path, operator=Person(None, {}))
     assert c.window(10.0) == 100.0
+
+
+def test_the_report_shows_a_table_of_zones(tmp_path):
+    """What the check measured, through JSON-like values, becomes the report's zone table."""
+    import json
+
+    from pepper_interface_tests.outputs.report import adapters, views
+    from pepper_interface_tests.outputs.report.blocks import Table
+    from pepper_interface_tests.results import RunResult, SensorResult
+    c = make('bumper', tmp_path, max_press=2.0)
+    events(c, 'Bumper', [(1.0, 0, 1), (1.25, 0, 0), (2.0, 2, 1)])
+    judged(c, 5.0)
+    values = json.loads(json.dumps(c.values))        # as the JSON file keeps them
+    r = SensorResult('bumper', 'BUMPER', '/t/bumper', 'naoqi_bridge_msgs/Bumper', FAIL, values=values)
+    blocks = views.render('touch', r, adapters.adapt('touch', r, RunResult('robot', 'parallel', 0.0)), None)
+    table = [b for b in blocks if isinstance(b, Table)][0]
+    assert table.head == ['zone', 'id / index', 'presses', 'pressed at', 'released at', 'held for', 'outcome']
+    rows = [[getattr(cell, 'text', cell) for cell in row] for row in table.rows]
+    assert rows[0] == ['the front right bumper', 'bumper/right 0', '1', '1.00 s', '1.25 s', '0.25 s', 'touched']
+    assert rows[2][0] == 'the back bumper' and rows[2][-1] == 'stuck' and rows[2][4] == '-'

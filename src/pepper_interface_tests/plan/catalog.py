@@ -86,17 +86,16 @@ NO_PUBLISHER_HINTS = {
 }
 
 # Why a sensor is SKIPPED in the simulator, where it has a known reason (default: "not
-# available in the simulator"). pepper_virtual (awesomebytes/pepper_virtual, master) has no
-# touch, bumper or diagnostics publisher: the words appear only as frame names in
-# pepper_gazebo_plugin/config/pepper_sensors.rviz.
-_NOT_SIMULATED = ('the Gazebo simulator (pepper_virtual) publishes no %s: its source has no '
-                  'such publisher, only the frames in its RViz configuration')
+# available in the simulator"). awesomebytes/pepper_virtual (simulation_that_works) has no
+# touch, bumper or diagnostics publisher (the words appear only as frame names in
+# pepper_gazebo_plugin/config/pepper_sensors.rviz), and the model's Gazebo bumper sensors are
+# commented out (awesomebytes/pepper_robot pepperGazeboCPU.xacro:578-652; docs/drivers.md).
+_NOT_SIMULATED = 'the Gazebo simulator (pepper_virtual) publishes no %s: its source has no such publisher'
 SIMULATOR_SKIP = {
     'headTouch': _NOT_SIMULATED % 'head touch events',
     'handTouch': _NOT_SIMULATED % 'hand touch events',
-    'bumper': _NOT_SIMULATED % 'bumper events',
-    'robotHealth': 'the Gazebo simulator (pepper_virtual) publishes no naoqi_driver diagnostics '
-                   '(no joint temperatures, no battery): its source has no /diagnostics publisher',
+    'bumper': _NOT_SIMULATED % 'bumper events' + ' (the model\'s Gazebo bumper sensors are commented out)',
+    'robotHealth': _NOT_SIMULATED % 'naoqi_driver diagnostics (joint temperatures, battery) on /diagnostics',
 }
 
 
