@@ -299,3 +299,21 @@ def test_the_report_shows_a_table_of_zones(tmp_path):
     rows = [[getattr(cell, 'text', cell) for cell in row] for row in table.rows]
     assert rows[0] == ['the front right bumper', 'bumper/right 0', '1', '1.00 s', '1.25 s', '0.25 s', 'touched']
     assert rows[2][0] == 'the back bumper' and rows[2][-1] == 'stuck' and rows[2][4] == '-'
+
+
+def test_files_older_than_the_new_sensors_keep_working(tmp_path):
+    """An input file without the new keys does not run them; a topics file without them gives
+    the robot's driver topics (with a note saying so)."""
+    old_topics = tmp_path / 'oldTopics.dat'
+    old_topics.write_text('BackSonar /naoqi_driver/sonar/back\nLaser /naoqi_driver/laser\n')
+    old_input = tmp_path / 'oldInput.ini'
+    old_input.write_text('backSonar true\nlaser true\n')
+    plan = settings.load_plan(settings.Options(platform='robot', topics=str(old_topics), input=str(old_input),
+                                               output_dir=str(tmp_path / 'out')))
+    assert [s.name for s in plan.sensors] == ['backSonar', 'laser']
+    assert 'headTouch, handTouch, bumper, robotHealth (not in oldInput.ini)' in plan.notes[0]
+    plan = settings.load_plan(settings.Options(platform='robot', topics=str(old_topics), output_dir=str(tmp_path),
+                                               sensors=('laser', 'headTouch', 'robotHealth')))
+    assert {s.name: s.topic for s in plan.sensors} == {
+        'laser': '/naoqi_driver/laser', 'headTouch': '/naoqi_driver/head_touch', 'robotHealth': '/diagnostics'}
+    assert "headTouch: no key in oldTopics.dat, listening on naoqi_driver's /naoqi_driver/head_touch" in plan.notes

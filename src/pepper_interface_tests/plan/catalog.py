@@ -19,6 +19,8 @@ class Sensor(NamedTuple):
     simulator: bool            # True when the Gazebo simulator provides this sensor
     video: Optional[str]       # file name of the recording, or None
     also: Tuple[str, ...] = ()   # other message types accepted on the topic, besides msg_type
+    # the robot's topic when the topics file has no key for it (a file older than the sensor)
+    driver_topic: Optional[str] = None
 
 
 SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
@@ -55,15 +57,16 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     # naoqi_driver's touch events (src/naoqi_driver.cpp:838-894): naoqi_bridge_msgs types, read
     # from the definition their connection carries (sources/naoqi_msgs.py); this package's own
     # copies (msg/, same md5sums) are accepted too
+    # (topics in the driver's private namespace, NodeHandle("~"): naoqi_driver.cpp:991)
     Sensor('headTouch', 'HEAD TOUCH', ('HeadTouch', 'head_touch', 'tactile'), 'naoqi_bridge_msgs/HeadTouch',
-           'touch', None, False, None, ('pepper_interface_tests/HeadTouch',)),
+           'touch', None, False, None, ('pepper_interface_tests/HeadTouch',), '/naoqi_driver/head_touch'),
     Sensor('handTouch', 'HAND TOUCH', ('HandTouch', 'hand_touch'), 'naoqi_bridge_msgs/HandTouch',
-           'touch', None, False, None, ('pepper_interface_tests/HandTouch',)),
+           'touch', None, False, None, ('pepper_interface_tests/HandTouch',), '/naoqi_driver/hand_touch'),
     Sensor('bumper', 'BUMPER', ('Bumper', 'bumpers'), 'naoqi_bridge_msgs/Bumper',
-           'touch', None, False, None, ('pepper_interface_tests/Bumper',)),
-    # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp)
+           'touch', None, False, None, ('pepper_interface_tests/Bumper',), '/naoqi_driver/bumper'),
+    # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp; naoqi_driver.cpp:652)
     Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
-           'diagnostic_msgs/DiagnosticArray', 'health', None, False, None),
+           'diagnostic_msgs/DiagnosticArray', 'health', None, False, None, (), '/diagnostics'),
 ])
 
 # Keys of the topics files that belong to the actuator test; sensorTest ignores them.
