@@ -317,3 +317,19 @@ def test_files_older_than_the_new_sensors_keep_working(tmp_path):
     assert {s.name: s.topic for s in plan.sensors} == {
         'laser': '/naoqi_driver/laser', 'headTouch': '/naoqi_driver/head_touch', 'robotHealth': '/diagnostics'}
     assert "headTouch: no key in oldTopics.dat, listening on naoqi_driver's /naoqi_driver/head_touch" in plan.notes
+
+
+def test_guided_mode_needs_a_person_or_the_option():
+    class Tty:
+        def __init__(self, tty):
+            self.tty = tty
+
+        def isatty(self):
+            return self.tty
+    from pepper_interface_tests.sensors.guide import guided_mode
+    assert guided_mode(None, Tty(True), Tty(True))
+    assert not guided_mode(None, Tty(True), Tty(False))          # output to a pipe or a file
+    assert not guided_mode(None, Tty(False), Tty(True))          # no keyboard (CI, a service)
+    assert not guided_mode(None, Tty(True), Tty(True), launched=True)   # roslaunch's terminal
+    assert guided_mode(True, Tty(False), Tty(False), launched=True)
+    assert not guided_mode(False, Tty(True), Tty(True))

@@ -21,7 +21,7 @@ from ..progress import Progress
 from ..sensors.families import family, traits
 from . import files, formats
 from .atomicfile import write_error
-from .terminal import columns
+from .terminal import columns, under_roslaunch
 
 if TYPE_CHECKING:
     from ..media.viewer import Viewer
@@ -188,7 +188,8 @@ def observers_for(plan: 'TestPlan', ctx: 'RunContext', source_name: str,
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
         from ..sensors.guide import guided_mode
-        if any(traits(s.sensor).guided for s in plan.active) and guided_mode(opts.guided):
+        if any(traits(s.sensor).guided for s in plan.active) and \
+                guided_mode(opts.guided, launched=under_roslaunch()):
             obs.append(Guidance(plan, ctx))
         if any(traits(s.sensor).images for s in plan.active):
             obs.append(LiveView(ctx))

@@ -21,10 +21,14 @@ DONE = '[done]'
 SKIP_HINT = '(type s and Enter to skip this zone)'
 
 
-def guided_mode(option: Optional[bool], stdin: Any = None, stdout: Any = None) -> bool:
-    """--guided / --no-guided, else: a person is there when stdin and stdout are a terminal."""
+def guided_mode(option: Optional[bool], stdin: Any = None, stdout: Any = None,
+                launched: bool = False) -> bool:
+    """--guided / --no-guided, else: a person is there when stdin and stdout are a terminal and
+    the node was not started by a launch file (`launched`: roslaunch hands its terminal on)."""
     if option is not None:
         return option
+    if launched:
+        return False
     stdin = sys.stdin if stdin is None else stdin
     stdout = sys.stdout if stdout is None else stdout
     try:
