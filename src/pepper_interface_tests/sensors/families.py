@@ -22,8 +22,9 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
 3. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
    config/sensorExpectations.yaml;
 4. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
-5. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
-6. its report view outputs/report/views/<view>.py;
+5. its emulator publisher (emulator/publishers.py, or emulator/events.py for event topics)
+   shaped after the driver, and its faults;
+6. its report view outputs/report/views/<view>.py (found by name: nothing else lists it);
 7. its rows in docs/checks.md and docs/drivers.md.
 Nothing else (the runner, the sources, the outputs) names a family.
 """
