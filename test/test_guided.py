@@ -203,19 +203,25 @@ def test_a_driver_s_own_indices_are_judged_and_own_diagnostics_never_count(maste
              spawn([sys.executable, os.path.join(HERE, 'touch_publisher.py'), 'Bumper', '/t/bumper',
                     '3:1@0.3'], master.env()),
              spawn([sys.executable, os.path.join(HERE, 'touch_publisher.py'), 'diagnostics', 'sensorTest'],
-                   master.env())]
+                   master.env()),
+             spawn(['rostopic', 'pub', '-r', '2', '/t/hand', 'std_msgs/String', 'data: touched'], master.env(),
+                   stdout=subprocess.DEVNULL)]
     topics = tmp_path / 'topics.dat'
-    topics.write_text('headTouch /t/head\nbumper /t/bumper\nrobotHealth /diagnostics\n')
+    topics.write_text('headTouch /t/head\nhandTouch /t/hand\nbumper /t/bumper\nrobotHealth /diagnostics\n')
     try:
-        wait_registered(master, published=['/t/head', '/t/bumper', '/diagnostics'])
+        wait_registered(master, published=['/t/head', '/t/hand', '/t/bumper', '/diagnostics'])
         rc, out, res = sensor_test(master, tmp_path, '--topics', str(topics), '--mode', 'parallel',
-                                   '--sensors', 'headTouch,bumper,robotHealth', '--duration', '4', '--wait', '3')
+                                   '--sensors', 'headTouch,handTouch,bumper,robotHealth', '--duration', '4',
+                                   '--wait', '3')
     finally:
         for p in procs:
             kill_group(p)
     assert res['headTouch']['verdict'] == 'PASS', res['headTouch']
     zones = {z['id']: z['outcome'] for z in res['headTouch']['values']['zones']}
     assert zones == {'headTouch/front': 'touched', 'headTouch/middle': 'not touched', 'headTouch/rear': 'touched'}
+    assert res['handTouch']['verdict'] == 'FAIL'     # a wrong type fails as for every sensor
+    assert res['handTouch']['reasons'] == ['topic /t/hand carries std_msgs/String, expected '
+                                           'naoqi_bridge_msgs/HandTouch or pepper_interface_tests/HandTouch']
     assert res['bumper']['verdict'] == 'FAIL'
     assert 'bumper 3 is outside the driver\'s list (0-2: right, left, back)' in res['bumper']['reasons'][0]
     health = res['robotHealth']
