@@ -282,7 +282,8 @@ class Terminal(RunObserver):
         """Above the table: the sensors whose state explains the others' (Traits.headline: the
         robot's health), with their figures, and in capitals when they warn or fail."""
         for r in run.sensors:
-            if r.verdict not in (PASS, FAIL) or not traits(catalog.SENSORS[r.name]).headline:
+            sensor = catalog.SENSORS.get(r.name)
+            if sensor is None or r.verdict not in (PASS, FAIL) or not traits(sensor).headline:
                 continue
             bad = r.verdict == FAIL or bool(r.warnings)
             state = FAIL if r.verdict == FAIL else 'WARN' if r.warnings else 'OK'
