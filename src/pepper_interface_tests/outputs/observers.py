@@ -13,6 +13,7 @@ Guidance: in guided mode, an operator that prompts is offered to the touch check
 import os
 import sys
 import textwrap
+import time
 from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
@@ -147,7 +148,6 @@ class Guidance(RunObserver):
             if self.ctx.services.operator is not None:   # interrupted: the guided part ends too
                 self.ctx.services.operator = None
                 self.guide.done()
-            import time
             time.sleep(0.3)         # let "[done]" reach the prompt's subscribers
             self.guide.close()
             self.guide = None
