@@ -333,3 +333,19 @@ def test_guided_mode_needs_a_person_or_the_option():
     assert not guided_mode(None, Tty(True), Tty(True), launched=True)   # roslaunch's terminal
     assert guided_mode(True, Tty(False), Tty(False), launched=True)
     assert not guided_mode(False, Tty(True), Tty(True))
+
+
+def test_a_touch_window_waiting_for_a_touch_is_not_a_silent_sensor():
+    """/diagnostics and the terminal's progress line: an event topic with nothing yet is listening
+    (OK), not 'waiting for data' (STALE) nor 'silent' as a stream would be."""
+    from pepper_interface_tests.outputs.diagnostics import OK, STALE, live_status
+    from pepper_interface_tests.outputs.terminal import progress_text
+    from pepper_interface_tests.progress import Progress
+
+    def progress(name, periodic):
+        return Progress(name, 'touch', '/t', 't/T', False, 60.0, 5.0, 12.0, 0, 0, None, None, None, None,
+                        (), False, periodic)
+    touch_p, laser_p = progress('bumper', False), progress('laser', True)
+    assert live_status(touch_p).level == OK and 'listening for events' in live_status(touch_p).message
+    assert live_status(laser_p).level == STALE
+    assert '1 silent (laser)' in progress_text([touch_p, laser_p], 0.0)

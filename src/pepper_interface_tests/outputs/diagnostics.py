@@ -82,6 +82,8 @@ def live_status(p: Progress) -> Status:
     if p.drives_itself:
         state, text = 'running', 'running (%.0f s), %d sent' % (elapsed, count)
         level = OK
+    elif count == 0 and not p.periodic:      # an event topic (touch): nothing until a touch
+        state, text, level = 'listening', 'listening for events, none yet (%.0f s)' % elapsed, OK
     elif count == 0:
         state = 'waiting for data'
         text = 'waiting for the first message (%.1f s of %.1f s)' % (elapsed, p.wait)

@@ -149,7 +149,7 @@ def progress_text(runs: Sequence[Progress], now: float, failed_done: Sequence[st
     for r in runs:
         if _troubled(r):
             failing.append(r.name)
-        elif not r.drives_itself and r.received == 0:
+        elif not r.drives_itself and r.received == 0 and r.periodic:   # events: silence is normal
             silent.append(r.name)
         else:
             receiving += 1

@@ -160,7 +160,8 @@ class SensorRun:
                 wait=self.wait, elapsed=now - self.began, count=self.count, received=stats.count,
                 rate=None if drives else stats.rate, stamp_rate=None if drives else stats.stamp_rate,
                 rate_band=(float(band[0]), float(band[1])) if band else None, nominal=self.expect.nominal,
-                problems=tuple(self.problems_so_far()), wrong_type=bool(self.stream.wrong_types))
+                problems=tuple(self.problems_so_far()), wrong_type=bool(self.stream.wrong_types),
+                periodic=self.traits.periodic)
 
     def due(self, now: float) -> str:
         """Why the window should end now, or '' to keep listening."""
