@@ -41,7 +41,7 @@ class Emulator:
 def healthy(tmp_path_factory):
     """A master of its own with a healthy emulator and its operator."""
     with Master() as master:
-        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--operator', 'true')
+        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--touch', 'true', '--operator', 'true')
         yield master
         emu.stop()
 
@@ -118,7 +118,7 @@ def test_unattended_nobody_touching_is_skipped_and_the_exit_code_unaffected(heal
 def faulty(tmp_path_factory):
     """A master of its own with an emulator with one fault of each kind, and its operator."""
     with Master() as master:
-        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--operator', 'true', '--faults',
+        emu = Emulator(master, tmp_path_factory.mktemp('emu'), '--touch', 'true', '--operator', 'true', '--faults',
                        'headTouch:dead_zone=middle;bumper:jammed=back;robotHealth:hot_joint=76,empty_battery')
         yield master
         emu.stop()
@@ -147,6 +147,25 @@ def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
     assert re.search(r'^headTouch +FAIL', summary, re.M) and re.search(r'^robotHealth +FAIL', summary, re.M)
     # (the report line holds the long temporary path whole)
     assert all(len(line) <= 80 for line in out.splitlines() if not line.startswith('report: ')), out
+
+
+def test_a_driver_without_touch_converters_fails_by_its_setting_and_nobody_is_asked(master, tmp_path):
+    """The CSSR4Africa fork's boot_config.json disables the touch events (the emulator's robot
+    profile follows it): guided, nobody is asked to touch, and each sensor fails naming the
+    driver setting, not a dead zone."""
+    emu = Emulator(master, tmp_path, '--operator', 'true')
+    try:
+        rc, out, res = sensor_test(master, tmp_path, '--guided', '--sensors', 'headTouch,bumper,robotHealth')
+    finally:
+        emu.stop()
+    assert rc == 1, out
+    assert '>>> [headTouch' not in out and '>>> [bumper' not in out and '[done]' in out, out
+    for name, converter in (('headTouch', 'touch_head'), ('bumper', 'bumper')):
+        assert res[name]['verdict'] == 'FAIL'
+        assert len(res[name]['reasons']) == 1, res[name]['reasons']
+        reason = res[name]['reasons'][0]
+        assert reason.startswith('no publisher on /naoqi_driver/') and 'converters %s enabled' % converter in reason
+    assert res['robotHealth']['verdict'] == 'PASS'
 
 
 def read_until(fd, text, buf, timeout):

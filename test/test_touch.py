@@ -192,6 +192,9 @@ class Person:
             return True
         return False
 
+    def publishing(self, topic):
+        return self.plan.get('publishing', True)
+
     def ask(self, zone_id, text):
         self.asked.append((zone_id, text))
         self.skip = self.plan.get(zone_id) == 'skip'
@@ -272,6 +275,18 @@ def test_guided_a_zone_held_down_fails_as_stuck_and_the_next_is_asked(tmp_path):
     j = run_guided(c, person, 'Bumper')
     assert j.verdict == FAIL and 'the front right bumper (bumper 0) stuck' in j.reasons[0]
     assert len(person.asked) == 3 and c.values['zones'][0]['outcome'].startswith('stuck')
+
+
+def test_guided_nobody_is_asked_when_nothing_publishes_the_topic(tmp_path):
+    """The CSSR4Africa fork disables the touch converters: no prompt for a topic with no publisher
+    (the stream rules fail it, naming the driver setting)."""
+    c = make('headTouch', tmp_path)
+    person = Person(c, {'publishing': False})
+    c.operator = person
+    j = run_guided(c, person, 'HeadTouch', limit=5.0)
+    assert person.asked == [] and c.done()
+    assert [z['outcome'] for z in c.values['zones']] == ['not asked: no publisher on the topic'] * 3
+    assert not j.reasons and j.skip is None     # the generic rule's reason comes from the stream
 
 
 def test_the_guided_window_is_the_operator_budget(tmp_path):

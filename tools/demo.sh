@@ -47,7 +47,7 @@ for attempt in $(seq "$attempts"); do
     echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge (ports: master" \
          "$MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log: $LOG)"
     setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
-        realsense:=true operator:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
+        realsense:=true touch:=true operator:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
     LAUNCH=$!
     disown "$LAUNCH"  # stop() reaps it; no "Killed" line from bash
     # Prints the failure's lines and exits 3 when a port was taken (retry), 2 for anything else.

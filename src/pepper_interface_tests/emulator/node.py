@@ -26,6 +26,9 @@ Private params (each also a command-line option, which wins):
                       the driver's boot_config.json: VGA for robot, QVGA for robot-stock)
   ~topics_file        topics file (default data/pepperTopics.dat or data/simulatorTopics.dat)
   ~seed               seed of the noise generators            (0)
+  ~touch              robot profiles: the touch event topics (head, hands, bumpers), as a
+                      driver whose boot_config.json enables them (robot-stock: true, as
+                      stock naoqi_driver; robot: false, as the CSSR fork's boot_config.json)
   ~operator           an emulated operator follows /sensorTest/prompt and touches each zone
                       the guided check asks for                (false)
 Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no master).
@@ -55,7 +58,7 @@ NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
                 faults='', rate_factor=1.0, camera_resolution='', topics_file='', seed=0,
                 audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
-                audio_buffer=0, operator=False)
+                audio_buffer=0, operator=False, touch='')
 
 
 class EmulatorConfig:
@@ -100,9 +103,11 @@ class EmulatorConfig:
                 self.ignored.append('~realsense (the simulator has no RealSense camera)')
             self.audio = 'off'
             self.realsense = False
+        # '' = the driver's boot_config.json: stock enables the touch events, the CSSR fork not
+        self.touch = None if v['touch'] in ('', None) else settings.parse_bool(v['touch'], key='~touch')
         self.profile_spec = build_profile(self.profile, v['topics_file'] or None, self.realsense,
                                           self.audio, self.camera_resolution, self.head,
-                                          self.audio_buffer or None)
+                                          self.audio_buffer or None, self.touch)
         self.faults = parse_faults(v['faults'])
         published = [s.name for s in self.profile_spec.sensors]
         for name in self.faults:
@@ -186,6 +191,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
+    p.add_argument('--touch', choices=('true', 'false'), help='robot profiles: publish the touch '
+                   'events (head, hands, bumpers) as a driver whose boot_config.json enables them '
+                   '(default: robot-stock true as stock naoqi_driver, robot false as the CSSR fork)')
     p.add_argument('--operator', choices=('true', 'false'), help='an emulated operator who touches '
                    'each zone sensorTest\'s guided check asks for on /sensorTest/prompt (default false)')
     return p

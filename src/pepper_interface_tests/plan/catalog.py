@@ -86,6 +86,17 @@ NO_PUBLISHER_HINTS = {
     'stereoCamera': 'a Pepper head with an Xtion depth camera (Pepper 1.7) has no stereo camera: '
                     'naoqi_driver publishes it on a stereo head only; on such a robot set '
                     'stereoCamera false in the input file',
+    # naoqi_driver.cpp:603-605 (converters.bumper / touch_hand / touch_head); the CSSR4Africa
+    # fork's share/boot_config.json sets all three "enabled": false, stock's true
+    'headTouch': 'naoqi_driver publishes the head\'s touch events only with converters touch_head '
+                 'enabled in its share/boot_config.json (the CSSR4Africa fork disables it): enable it '
+                 'and restart the driver, or set headTouch false in the input file',
+    'handTouch': 'naoqi_driver publishes the hands\' touch events only with converters touch_hand '
+                 'enabled in its share/boot_config.json (the CSSR4Africa fork disables it): enable it '
+                 'and restart the driver, or set handTouch false in the input file',
+    'bumper': 'naoqi_driver publishes the bumpers\' events only with converters bumper enabled in '
+              'its share/boot_config.json (the CSSR4Africa fork disables it): enable it and restart '
+              'the driver, or set bumper false in the input file',
 }
 
 # Why a sensor is SKIPPED in the simulator, where it has a known reason (default: "not

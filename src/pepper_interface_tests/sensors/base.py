@@ -136,6 +136,9 @@ class Operator(Protocol):
     def turn(self, owner: str) -> bool:
         """True when sensor `owner` may ask now (no other sensor is asking)."""
 
+    def publishing(self, topic: str) -> Optional[bool]:
+        """Whether anything publishes `topic` now (False: nobody to touch it for); None: unknown."""
+
     def ask(self, zone_id: str, text: str) -> None:
         """Ask for one zone: on the terminal, on /sensorTest/prompt, through the loudspeaker."""
 

@@ -79,6 +79,14 @@ class Guide:
             return True
         return False
 
+    def publishing(self, topic: str) -> Optional[bool]:
+        try:
+            import rosgraph
+            published = rosgraph.Master(rospy.get_name()).getPublishedTopics('')
+        except Exception:   # the master is the run's business (sources/live.py): unknown here
+            return None
+        return any(t == topic for t, _ in published)
+
     def ask(self, zone_id: str, text: str) -> None:
         with self.lock:
             self._skip, self._asking = False, True

@@ -135,6 +135,8 @@ class TouchCheck(Check):
         self.now = 0.0
         self.order = [i for i, z in enumerate(self.zones) if z.asked]   # zones still to ask
         self.asking: Optional[int] = None
+        self.asked_any = False
+        self.topic = plan.topic or ''
         self.asked_at = 0.0
         self._done = False
 
@@ -208,6 +210,14 @@ class TouchCheck(Check):
                 return
             if not op.turn(self.plan.sensor.name):
                 return
+            if not self.asked_any and op.publishing(self.topic) is False:
+                # nothing publishes the topic (the driver's converter disabled, the driver not
+                # running): nobody is asked to touch for nothing; the stream rules say why
+                for i in self.order:
+                    self.state[i].outcome = 'not asked: no publisher on the topic'
+                self.order = []
+                return
+            self.asked_any = True
             self.asking = self.order.pop(0)
             self.asked_at = elapsed
             zone = self.zones[self.asking]
