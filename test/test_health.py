@@ -136,3 +136,23 @@ def test_the_report_shows_the_battery_and_the_hottest_joints(tmp_path):
     tables = [b for b in blocks if isinstance(b, Table)]
     assert tables[0].rows[0][0] == 'HipPitch' and tables[0].rows[0][1] == '70.0 °C'
     assert [row[0] for row in tables[1].rows] == ['HipPitch']     # the hot joints
+
+
+def test_the_emulator_builds_the_array_as_diagnostics_cpp():
+    """Names, levels, words and value formats of src/converters/diagnostics.cpp:159-305."""
+    a = driver_array(temps(HipPitch=70.0, KneePitch=80.0), 45, False)
+    names = [s.name for s in a.status]
+    assert names[:len(JOINTS)] == ['naoqi_driver_joints:' + j for j in JOINTS]
+    assert names[len(JOINTS):] == ['naoqi_driver_joints:Status', 'naoqi_driver_battery:Status',
+                                   'naoqi_driver_battery:Current', 'naoqi_driver_computer:CPU']
+    by = {s.name: s for s in a.status}
+    assert (by['naoqi_driver_joints:HipPitch'].level, by['naoqi_driver_joints:HipPitch'].message) == (1, 'Hot')
+    assert (by['naoqi_driver_joints:KneePitch'].level, by['naoqi_driver_joints:KneePitch'].message) == (2, 'Too hot')
+    joints = by['naoqi_driver_joints:Status']
+    assert (joints.level, joints.message) == (2, 'ERROR')
+    assert {kv.key: kv.value for kv in joints.values}['Hot Joints'] == '\nHipPitch: 70°C\nKneePitch: 80°C'
+    battery = by['naoqi_driver_battery:Status']
+    assert (battery.level, battery.message) == (1, 'Battery discharging (  45% left)')
+    assert [(kv.key, kv.value) for kv in battery.values] == [('Percentage', '45'), ('Charging', 'False'),
+                                                              ('Fully Charged', 'False')]
+    assert driver_array(temps(), 20, True).status[-3].message == 'Charging (  20%)'

@@ -364,3 +364,14 @@ def test_a_touch_window_waiting_for_a_touch_is_not_a_silent_sensor():
     assert live_status(touch_p).level == OK and 'listening for events' in live_status(touch_p).message
     assert live_status(laser_p).level == STALE
     assert '1 silent (laser)' in progress_text([touch_p, laser_p], 0.0)
+
+
+def test_the_emulator_faults_name_the_driver_zones():
+    from pepper_interface_tests.emulator.faults import FaultError, parse_faults
+    f = parse_faults('bumper:jammed=back;headTouch:dead_zone=Middle|rear;robotHealth:hot_joint=76,empty_battery')
+    assert f['bumper'].jammed == ('back',) and f['headTouch'].dead_zone == ('middle', 'rear')
+    assert f['robotHealth'].hot_joint == 76.0 and f['robotHealth'].empty_battery
+    with pytest.raises(FaultError, match='unknown zone "front" of bumper; valid zones: right, left, back'):
+        parse_faults('bumper:jammed=front')
+    with pytest.raises(FaultError, match='does not apply to headTouch'):
+        parse_faults('headTouch:hot_joint=70')
