@@ -64,16 +64,16 @@ def family(r: SensorResult) -> Optional[str]:
     return sensor.family if sensor else None
 
 
+def periodic(r: SensorResult) -> bool:
+    """The sensor streams at a rate (not speech, not an event topic such as a touch sensor)."""
+    fam = family(r)
+    return fam is None or families.family(fam).traits.periodic
+
+
 def headline(r: SensorResult) -> bool:
     """The sensor's state explains other sensors' (Traits.headline: the robot's health)."""
     fam = family(r)
     return fam is not None and families.family(fam).traits.headline
-
-
-def drives_itself(r: SensorResult) -> bool:
-    """A sensor whose check acts instead of listening (speech): it has no stream rate to plot."""
-    fam = family(r)
-    return fam is not None and families.family(fam).traits.drives_itself
 
 
 def in_band(r: SensorResult) -> Optional[bool]:
@@ -129,7 +129,7 @@ def rates_figure(run: RunResult) -> Optional[str]:
     rows = []
     for r in run.sensors:
         if r.verdict == SKIPPED or not isinstance(r.series, dict) or not r.series.get('rate_hz') \
-                or drives_itself(r):
+                or not periodic(r):    # speech, event topics (touch): no rate to draw
             continue
         edges, rates = rate_steps(r)
         start = r.started_at or 0.0
