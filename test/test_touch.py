@@ -375,3 +375,17 @@ def test_the_emulator_faults_name_the_driver_zones():
         parse_faults('bumper:jammed=front')
     with pytest.raises(FaultError, match='does not apply to headTouch'):
         parse_faults('headTouch:hot_joint=70')
+
+
+def test_guided_a_touch_before_the_prompt_does_not_pass_the_zone(tmp_path):
+    """A zone touched (and released) before it is asked for must be touched again when asked;
+    nothing then: it fails after --touch-wait, it does not wait for ever."""
+    c = make('bumper', tmp_path)
+    person = Person(c, {'bumper/right': 'dead', 'bumper/left': 'dead', 'bumper/back': 'dead'})
+    c.operator = person
+    c.feed(msg('Bumper', 1, 1), 0.0)
+    c.feed(msg('Bumper', 1, 0), 0.05)
+    j = run_guided(c, person, 'Bumper', limit=20.0)
+    assert c.done()
+    assert [z['outcome'] for z in c.values['zones']] == ['not pressed within 3 s'] * 3
+    assert len(j.reasons) == 3

@@ -108,8 +108,8 @@ class TouchValues:
 
 
 class _ZoneState:
-    __slots__ = ('presses', 'pressed_at', 'released_at', 'first_press', 'first_release', 'outcome',
-                 'stuck')
+    __slots__ = ('presses', 'pressed_at', 'released_at', 'first_press', 'first_release', 'last_press',
+                 'outcome', 'stuck')
 
     def __init__(self) -> None:
         self.presses = 0
@@ -117,6 +117,7 @@ class _ZoneState:
         self.released_at: Optional[float] = None    # last release
         self.first_press: Optional[float] = None
         self.first_release: Optional[float] = None
+        self.last_press: Optional[float] = None      # the latest press
         self.outcome = ''
         self.stuck = False
 
@@ -173,7 +174,7 @@ class TouchCheck(Check):
                                   'release event?)' % self._name(i))
                 return
             z.presses += 1
-            z.pressed_at = t
+            z.pressed_at = z.last_press = t
             if z.first_press is None:
                 z.first_press = t
             self.series.setdefault(self.zones[i].id, []).append((round(t, 3), 1))
@@ -224,12 +225,13 @@ class TouchCheck(Check):
             op.ask('%s/%s' % (self.plan.sensor.name, zone.id), zone.prompt)
             return
         z = self.state[self.asking]
-        if z.released_at is not None and z.released_at >= self.asked_at and z.first_press is not None \
-                and z.pressed_at is None and not z.stuck:
-            self._next('passed')
+        pressed_since = z.last_press is not None and z.last_press >= self.asked_at
+        if z.released_at is not None and z.released_at >= self.asked_at and z.pressed_at is None \
+                and not z.stuck:
+            self._next('passed')      # its press (a hasty operator's, just before the prompt) and release
         elif op.skipped():
             self._next('skipped by the operator')
-        elif z.first_press is None and elapsed - self.asked_at >= self.wait:
+        elif not pressed_since and z.pressed_at is None and elapsed - self.asked_at >= self.wait:
             self.fail('%s was not pressed within %g s of asking (a dead sensor, or a zone already '
                       'held down before the run: the driver sends only changes)'
                       % (self._name(self.asking), self.wait))
