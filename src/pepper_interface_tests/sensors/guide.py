@@ -11,7 +11,7 @@ import shutil
 import sys
 import textwrap
 import threading
-from typing import Any, Iterable, Optional, TextIO
+from typing import Any, Iterable, List, Optional, TextIO
 
 import rospy
 from std_msgs.msg import String
@@ -79,13 +79,22 @@ class Guide:
             return True
         return False
 
-    def publishing(self, topic: str) -> Optional[bool]:
-        try:
-            import rosgraph
-            published = rosgraph.Master(rospy.get_name()).getPublishedTopics('')
-        except Exception:   # the master is the run's business (sources/live.py): unknown here
-            return None
-        return any(t == topic for t, _ in published)
+    def publishing(self, topic: str, timeout: float = 1.0) -> Optional[bool]:
+        """Asked in a thread of its own for at most `timeout` s: a stalled master must not hold
+        the run's loop (it is the master watch's business, sources/live.py); None: unknown."""
+        answer: List[Optional[bool]] = []
+
+        def ask() -> None:
+            try:
+                import rosgraph
+                published = rosgraph.Master(rospy.get_name()).getPublishedTopics('')
+                answer.append(any(t == topic for t, _ in published))
+            except Exception:   # the master went away: unknown here
+                answer.append(None)
+        t = threading.Thread(target=ask, daemon=True, name='guide-lookup')
+        t.start()
+        t.join(timeout)
+        return answer[0] if answer else None
 
     def ask(self, zone_id: str, text: str) -> None:
         with self.lock:
