@@ -48,7 +48,12 @@ def test_traits_say_what_the_string_tests_guessed():
     assert families.family('camera').traits.images and families.family('depth').traits.images
     assert families.family('audio').traits.audio and families.family('audio').traits.records_media
     assert not families.family('laser').traits.records_media
-    assert all(f.traits.periodic for f in families.FAMILIES.values() if not f.traits.drives_itself)
+    events = {'touch', 'health'}    # one message per change / a topic every node shares
+    assert all(f.traits.periodic for f in families.FAMILIES.values()
+               if not f.traits.drives_itself and f.name not in events)
+    assert not any(families.family(n).traits.periodic for n in events)
+    assert families.family('touch').traits.guided and families.family('health').traits.headline
+    assert families.family('health').traits.shared_topic
 
 
 def test_the_emulator_publishes_under_family_names():

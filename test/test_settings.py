@@ -460,8 +460,11 @@ def test_simulator_skips_what_the_simulator_lacks(files):
     plan = load_plan(files.options(platform='simulator'))
     skipped = {s.name: s.skip_reason for s in plan.sensors if s.skip_reason}
     assert set(skipped) == {'microphone', 'imu', 'stereoCamera', 'speech',
-                            'realsenseRGBCamera', 'realsenseDepthCamera'}
+                            'realsenseRGBCamera', 'realsenseDepthCamera',
+                            'headTouch', 'handTouch', 'bumper', 'robotHealth'}
     assert all('simulator' in r for r in skipped.values())
+    for name in ('headTouch', 'handTouch', 'bumper', 'robotHealth'):   # why, in words
+        assert 'pepper_virtual' in skipped[name] and 'publishes no' in skipped[name]
     assert {s.name: s.topic for s in plan.active} == {n: '/sim/' + n for n in sim_names}
     assert plan.files['topics'] == files.sim
 

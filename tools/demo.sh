@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job without a robot: start the Pepper emulator, the NAOqi endpoint and the audio
 # bridge (pepperEmulator.launch) on free ports, wait for their topics, run sensorTest in
-# parallel mode over every robot sensor, then stop everything. Exit code = sensorTest's
+# parallel mode over every robot sensor (the touch sensors and bumpers in a guided check that
+# the emulated operator answers), then stop everything. Exit code = sensorTest's
 # (2 when the emulator could not start). Extra arguments go to sensorTest, e.g.
 #   tools/demo.sh --quick   or   --duration 5
 # Ports: three distinct free ports below the kernel's ephemeral range (rosmaster.free_ports);
@@ -46,7 +47,7 @@ for attempt in $(seq "$attempts"); do
     echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge (ports: master" \
          "$MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log: $LOG)"
     setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
-        realsense:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
+        realsense:=true touch:=true operator:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
     LAUNCH=$!
     disown "$LAUNCH"  # stop() reaps it; no "Killed" line from bash
     # Prints the failure's lines and exits 3 when a port was taken (retry), 2 for anything else.
@@ -72,8 +73,8 @@ PY
 done
 
 python scripts/sensorTest --platform robot --mode parallel \
-    --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech \
-    --no-show "$@"
+    --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,bumper,robotHealth \
+    --guided --no-show "$@"
 rc=$?
 stop
 exit $rc

@@ -23,6 +23,7 @@ class Progress:
     nominal: Optional[float]
     problems: Tuple[str, ...]    # provisional problems: bad headers, the check's failures so far
     wrong_type: bool             # a message of another type arrived
+    periodic: bool = True        # False: an event topic (touch), where silence is normal
 
     @property
     def left(self) -> float:

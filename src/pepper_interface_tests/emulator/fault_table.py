@@ -43,7 +43,8 @@ EFFECTS = {
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',
-              'odometry': 'odometry', 'imu': 'imu'}
+              'odometry': 'odometry', 'imu': 'imu', 'touch': 'touch, bumper',
+              'health': 'robotHealth'}
 
 
 def applies_to(kinds: Optional[Sequence[str]]) -> str:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any, Dict, Optional, Tuple
 
 from ..plan import catalog
-from ..sensors import families
+from ..sensors import families, touch
 from .profiles import MIC_CHANNELS
 
 # fault name -> (takes a value?, check families it applies to (sensors/families.py); None = every one)
@@ -48,6 +48,11 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'dead_board': (True, ('laser',)),
     'nan_board': (True, ('laser',)),
     'spike': (False, ('odometry',)),
+    # touch sensors, bumpers and the robot's health (emulator/events.py)
+    'dead_zone': (True, ('touch',)),
+    'jammed': (True, ('touch',)),
+    'hot_joint': (True, ('health',)),
+    'empty_battery': (False, ('health',)),
 }
 # the laser's boards, in slot order (naoqi_driver laser.cpp:166-205: right, front, left)
 LASER_BOARDS = ('right', 'front', 'left')
@@ -92,6 +97,10 @@ class Faults:
     dead_board: Optional[str] = None    # laser: this board stopped (ALMemory x = y = 0)
     nan_board: Optional[str] = None     # laser: this board NaN throughout (yohatad's fork)
     spike: bool = False             # odometry: the pose leaps 25 m for one message in eight
+    dead_zone: Tuple[str, ...] = ()     # touch: these zones send nothing
+    jammed: Tuple[str, ...] = ()        # touch: pressed 1 s after the first subscriber, never released
+    hot_joint: Optional[float] = None   # health: HipPitch at this temperature (°C)
+    empty_battery: bool = False         # health: 12 %, not charging
 
     def describe(self) -> str:
         out = []
@@ -100,7 +109,7 @@ class Faults:
             default = getattr(HEALTHY, name)
             if value != default:
                 out.append(name if value is True else '%s=%s' % (
-                    name, ','.join(value) if isinstance(value, tuple) else value))
+                    name, '|'.join(value) if isinstance(value, tuple) else value))
         return ','.join(out)
 
 
@@ -164,12 +173,26 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                 raise FaultError('fault "%s" of %s needs a value, e.g. %s'
                                  % (fault, name, {'rate': 'rate=0.3', 'die_after': 'die_after=3', 'after': 'after=1.5',
                                                   'silent_channel': 'silent_channel=rearRight',
-                                                  'dead_board': 'dead_board=front',
-                                                  'nan_board': 'nan_board=left'}[fault]))
+                                                  'dead_board': 'dead_board=front', 'nan_board': 'nan_board=left',
+                                                  'dead_zone': 'dead_zone=front', 'jammed': 'jammed=back',
+                                                  'hot_joint': 'hot_joint=76'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
                 values['rate'] = _number(name, fault, value)
+            elif fault == 'hot_joint':
+                values[fault] = _number(name, fault, value)
+            elif fault in ('dead_zone', 'jammed'):
+                zones = [z.id for z in touch.zones_of(catalog.SENSORS[name].msg_type)[1]]
+                chosen = list(values.get(fault, ()))
+                for z in (c.strip() for c in value.replace('+', '|').split('|')):
+                    match = [c for c in zones if c.lower() == z.lower()]
+                    if not match:
+                        raise FaultError('unknown zone "%s" of %s; valid zones: %s'
+                                         % (z, name, ', '.join(zones)))
+                    if match[0] not in chosen:
+                        chosen.append(match[0])
+                values[fault] = tuple(chosen)
             elif fault in ('die_after', 'after'):
                 values[fault] = _number(name, fault, value, positive_only=False)
             elif fault == 'silent_channel':

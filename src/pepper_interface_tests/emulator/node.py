@@ -26,12 +26,17 @@ Private params (each also a command-line option, which wins):
                       the driver's boot_config.json: VGA for robot, QVGA for robot-stock)
   ~topics_file        topics file (default data/pepperTopics.dat or data/simulatorTopics.dat)
   ~seed               seed of the noise generators            (0)
+  ~touch              robot profiles: the touch event topics (head, hands, bumpers), as a
+                      driver whose boot_config.json enables them (robot-stock: true, as
+                      stock naoqi_driver; robot: false, as the CSSR fork's boot_config.json)
+  ~operator           an emulated operator follows /sensorTest/prompt and touches each zone
+                      the guided check asks for                (false)
 Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no master).
 """
 import argparse
 import sys
 import threading
-from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Type, Union
 
 import rosgraph
 import rospy
@@ -40,6 +45,7 @@ from std_msgs.msg import String
 from ..outputs.terminal import HelpFormatter
 from ..plan import settings
 from . import faults as faults_mod
+from .events import EVENT_PUBLISHERS, EmulatedOperator
 from .faults import FaultError, parse_faults
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
 from .publishers import AudioPublisher, Clock, ClockPublisher, StreamPublisher, publisher_class
@@ -52,7 +58,7 @@ NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
                 faults='', rate_factor=1.0, camera_resolution='', topics_file='', seed=0,
                 audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
-                audio_buffer=0)
+                audio_buffer=0, operator=False, touch='')
 
 
 class EmulatorConfig:
@@ -89,6 +95,7 @@ class EmulatorConfig:
                                        fix='use one of: ' + ', '.join(RESOLUTIONS))
         self.camera_resolution = res
         self.seed = int(v['seed'])
+        self.operator = settings.parse_bool(v['operator'], key='~operator')
         self.audio_pattern = settings.choice(v['audio_pattern'], ('tones', 'counter'), '~audio_pattern')
         self.ignored: List[str] = []
         if self.profile == 'simulator':
@@ -96,9 +103,11 @@ class EmulatorConfig:
                 self.ignored.append('~realsense (the simulator has no RealSense camera)')
             self.audio = 'off'
             self.realsense = False
+        # '' = the driver's boot_config.json: stock enables the touch events, the CSSR fork not
+        self.touch = None if v['touch'] in ('', None) else settings.parse_bool(v['touch'], key='~touch')
         self.profile_spec = build_profile(self.profile, v['topics_file'] or None, self.realsense,
                                           self.audio, self.camera_resolution, self.head,
-                                          self.audio_buffer or None)
+                                          self.audio_buffer or None, self.touch)
         self.faults = parse_faults(v['faults'])
         published = [s.name for s in self.profile_spec.sensors]
         for name in self.faults:
@@ -182,6 +191,11 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
+    p.add_argument('--touch', choices=('true', 'false'), help='robot profiles: publish the touch '
+                   'events (head, hands, bumpers) as a driver whose boot_config.json enables them '
+                   '(default: robot-stock true as stock naoqi_driver, robot false as the CSSR fork)')
+    p.add_argument('--operator', choices=('true', 'false'), help='an emulated operator who touches '
+                   'each zone sensorTest\'s guided check asks for on /sensorTest/prompt (default false)')
     return p
 
 
@@ -199,6 +213,7 @@ class Emulator:
         self.source: Optional[AudioSource] = None
         self.speech: Optional[Union[DirectSpeech, NaoqiSpeech]] = None
         self.speech_sub: Optional[rospy.Subscriber] = None
+        self.operator: Optional[EmulatedOperator] = None
 
     def start(self) -> None:
         cfg = self.config
@@ -213,7 +228,7 @@ class Emulator:
         for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
             pub: StreamPublisher
-            cls = publisher_class(spec)
+            cls: Type[StreamPublisher] = EVENT_PUBLISHERS.get(spec.family) or publisher_class(spec)
             seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource
@@ -233,6 +248,8 @@ class Emulator:
             else:
                 self.speech = NaoqiSpeech(cfg.naoqi_url)
             self.speech_sub = rospy.Subscriber(topic, String, self._on_speech, queue_size=10)
+        if cfg.operator:
+            self.operator = EmulatedOperator(self.threads)
         if self.clock_thread is not None:
             self.clock_thread.start()
         for t in self.threads:
@@ -269,6 +286,8 @@ class Emulator:
                 pass
         if self.speech_sub is not None:
             self.speech_sub.unregister()
+        if self.operator is not None:
+            self.operator.close()
         if self.speech is not None:
             self.speech.close()
         if self.clock_thread is not None:

@@ -143,7 +143,7 @@ def default_resolution(profile: str) -> str:
 
 def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',
                   resolution: Optional[str] = None, stock: bool = False, head: str = 'stereo',
-                  audio_buffer: Optional[int] = None) -> Profile:
+                  audio_buffer: Optional[int] = None, touch: Optional[bool] = None) -> Profile:
     """naoqi_driver on a physical Pepper (NAOqi 2.5): the CSSR4Africa fork (robot) or stock
     ros-naoqi/naoqi_driver (robot-stock), plus the RealSense D435i when asked.
     Every number is the driver's; file:line references are to ros-naoqi/naoqi_driver master
@@ -207,6 +207,18 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
                        'camera_color_optical_frame', 640, 480, '16UC1', view='realsense',
                        hfov=1.2043),
         ]
+    # naoqi_driver.cpp:838-894: the touch events (one message per change: the rate here is how
+    # often the emulator looks for one), when boot_config.json enables them: stock
+    # share/boot_config.json does (bumper, touch_hand, touch_head "enabled": true), the CSSR fork's
+    # does not ("enabled": false), so `touch` defaults to `stock`; :648-660 the diagnostics on
+    # /diagnostics at 1 Hz ("diag", enabled in both). A topics file without these keys: not published.
+    touch = stock if touch is None else touch
+    events = [('robotHealth', 'health', 1.0)]
+    if touch:
+        events = [('headTouch', 'touch', 20.0), ('handTouch', 'touch', 20.0), ('bumper', 'touch', 20.0)] + events
+    for key, family, hz in events:
+        if key in topics:
+            sensors.append(SensorSpec(key, family, topics[key], hz))
     notes = []
     if stock:
         # src/event/audio.cpp:62-66, 107-113, 177-186: AudioBuffer, 48 kHz, channelMap [3,5,0,2],
@@ -268,8 +280,8 @@ def simulator_profile(path: Optional[str] = None) -> Profile:
 
 def build_profile(name: str, path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',
                   resolution: Optional[str] = None, head: str = 'stereo',
-                  audio_buffer: Optional[int] = None) -> Profile:
+                  audio_buffer: Optional[int] = None, touch: Optional[bool] = None) -> Profile:
     if name in ('robot', 'robot-stock'):
         return robot_profile(path, realsense, audio, resolution, stock=name == 'robot-stock',
-                             head=head, audio_buffer=audio_buffer)
+                             head=head, audio_buffer=audio_buffer, touch=touch)
     return simulator_profile(path)

@@ -82,6 +82,8 @@ def live_status(p: Progress) -> Status:
     if p.drives_itself:
         state, text = 'running', 'running (%.0f s), %d sent' % (elapsed, count)
         level = OK
+    elif count == 0 and not p.periodic:      # an event topic (touch): nothing until a touch
+        state, text, level = 'listening', 'listening for events, none yet (%.0f s)' % elapsed, OK
     elif count == 0:
         state = 'waiting for data'
         text = 'waiting for the first message (%.1f s of %.1f s)' % (elapsed, p.wait)
@@ -125,6 +127,8 @@ def result_status(r: SensorResult) -> Status:
         ('expected rate (Hz)', _band(r.expected_rate_hz)), ('nominal rate (Hz)', r.nominal_rate_hz),
         ('window (s)', _num(r.window_s, 1)), ('stopped because', r.stopped_because),
         ('reasons', '; '.join(r.reasons)), ('warnings', '; '.join(r.warnings))]
+    if r.notes:     # what a check measured (the robot's battery and hottest joints, ...)
+        pairs.append(('notes', '; '.join(r.notes)))
     pairs += [('file ' + kind, name) for kind, name in r.artifacts.items()]
     return Status(level, text, _values(pairs))
 

@@ -7,9 +7,12 @@ A file that cannot be written (full disk, ...) is named on
 stderr and recorded in run.write_errors, which makes the exit code 3; the run goes on.
 SpeechHearing: while the speech check runs and the microphone is part of the run, a
 microphone level monitor is offered to it (ctx.services.microphone_levels).
+Guidance: in guided mode, an operator that prompts is offered to the touch checks
+(ctx.services.operator).
 """
 import os
 import sys
+import time
 from typing import TYPE_CHECKING, List, Optional, TextIO
 
 from .. import results
@@ -18,13 +21,14 @@ from ..progress import Progress
 from ..sensors.families import family, traits
 from . import files, formats
 from .atomicfile import write_error
-from .terminal import fill
+from .terminal import fill, under_roslaunch
 
 if TYPE_CHECKING:
     from ..media.viewer import Viewer
     from ..plan.settings import TestPlan
     from ..sensors.audio import LevelMonitor
     from ..sensors.base import RunContext
+    from ..sensors.guide import Guide
     from .history import RunFolder
 
 
@@ -106,6 +110,46 @@ class SpeechHearing(RunObserver):
             self.monitor.stop()
 
 
+class Guidance(RunObserver):
+    """Guided mode (a person is there: a terminal or --guided) in a live run with touch sensors:
+    offers the touch checks an operator that prompts (sensors/guide.py), and publishes "[done]"
+    once every one of them has finished."""
+
+    def __init__(self, plan: 'TestPlan', ctx: 'RunContext') -> None:
+        self.plan, self.ctx = plan, ctx
+        self.guided = {s.name for s in plan.active if traits(s.sensor).guided}
+        self.guide: Optional[Guide] = None
+
+    def run_started(self, run: results.RunResult, plan: 'TestPlan') -> None:
+        from ..plan.settings import read_topics
+        from ..sensors import guide, touch
+        active = [s for s in plan.active if s.name in self.guided]
+        try:
+            speech: Optional[str] = read_topics(plan.files['topics']).get('speech')
+        except Exception:   # the plan read it already; a speech topic is optional here
+            speech = None
+        wait = plan.options.touch_wait or touch.TOUCH_WAIT
+        total = guide.budget([len(touch.asked_zones(s.sensor.msg_type)) for s in active], wait,
+                             max(getattr(s.expect, 'max_press', 0.0) for s in active))
+        self.guide = guide.Guide(total, speech)
+        self.ctx.services.operator = self.guide
+
+    def sensor_done(self, result: results.SensorResult) -> None:
+        self.guided.discard(result.name)
+        if not self.guided and self.guide is not None and self.ctx.services.operator is not None:
+            self.ctx.services.operator = None
+            self.guide.done()
+
+    def run_ended(self, run: results.RunResult) -> None:
+        if self.guide is not None:
+            if self.ctx.services.operator is not None:   # interrupted: the guided part ends too
+                self.ctx.services.operator = None
+                self.guide.done()
+            time.sleep(0.3)         # let "[done]" reach the prompt's subscribers
+            self.guide.close()
+            self.guide = None
+
+
 class LiveView(RunObserver):
     """One window per camera, drawn from the main thread (the runner's tick), when a display
     and OpenCV GUI support exist; otherwise one line says why and the run goes on."""
@@ -140,6 +184,10 @@ def observers_for(plan: 'TestPlan', ctx: 'RunContext', source_name: str,
     obs: List[RunObserver] = []
     if source_name == 'live':
         obs.append(SpeechHearing(plan, ctx))
+        from ..sensors.guide import guided_mode
+        if any(traits(s.sensor).guided for s in plan.active) and \
+                guided_mode(opts.guided, launched=under_roslaunch()):
+            obs.append(Guidance(plan, ctx))
         if any(traits(s.sensor).images for s in plan.active):
             obs.append(LiveView(ctx))
         if opts.diagnostics is not False:

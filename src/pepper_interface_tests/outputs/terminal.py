@@ -14,6 +14,7 @@ import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
 from ..observer import NO_PUBLISHER_AT_ALL, RunObserver
+from ..plan import catalog
 from ..progress import Progress
 from ..results import (
     FAIL,
@@ -27,6 +28,7 @@ from ..results import (
     param_lines,
     printable,
 )
+from ..sensors.families import traits
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -159,7 +161,7 @@ def progress_text(runs: Sequence[Progress], now: float, failed_done: Sequence[st
     for r in runs:
         if _troubled(r):
             failing.append(r.name)
-        elif not r.drives_itself and r.received == 0:
+        elif not r.drives_itself and r.received == 0 and r.periodic:   # events: silence is normal
             silent.append(r.name)
         else:
             receiving += 1
@@ -277,6 +279,7 @@ class Terminal(RunObserver):
             for i, text in enumerate(textwrap.wrap('INTERRUPTED: %s' % printable(
                     run.interrupt_reason, REASON_LIMIT), width)):
                 self.line(text if not i else '  ' + text)
+        self._headlines(run, width)
         if width - TABLE_FIXED >= MIN_REASON_COLUMN:
             self._table(run, width)
         else:
@@ -288,6 +291,23 @@ class Terminal(RunObserver):
             self.line('PASS* = passed with %d warning%s to read (not a failure)'
                       % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
+
+    def _headlines(self, run: RunResult, width: int) -> None:
+        """Above the table: the sensors whose state explains the others' (Traits.headline: the
+        robot's health), with their figures, and in capitals when they warn or fail."""
+        for r in run.sensors:
+            sensor = catalog.SENSORS.get(r.name)
+            if sensor is None or r.verdict not in (PASS, FAIL) or not traits(sensor).headline:
+                continue
+            bad = r.verdict == FAIL or bool(r.warnings)
+            state = FAIL if r.verdict == FAIL else 'WARN' if r.warnings else 'OK'
+            head = '%s %s: ' % (r.title if bad else r.name, state)
+            text = head + '; '.join([printable(t, REASON_LIMIT) for t in r.reasons + r.warnings + r.notes])
+            for i, part in enumerate(textwrap.wrap(text, width, subsequent_indent='    ',
+                                                   break_on_hyphens=False)):
+                self.line(self._paint(part, FAIL if r.verdict == FAIL else SKIPPED if bad else PASS)
+                          if i == 0 else part)
+            self.line()
 
     def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance

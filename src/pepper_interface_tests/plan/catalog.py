@@ -14,11 +14,13 @@ class Sensor(NamedTuple):
     title: str                 # heading in sensorTestOutput.dat ("BACK SONAR")
     aliases: Tuple[str, ...]   # other spellings found in the original files (matched case-insensitively)
     msg_type: str              # ROS message type, "pkg/Type"
-    family: str                # check family: range, laser, camera, depth, audio, joints, odometry, imu, speech
+    family: str                # check family (sensors/families.py): range, laser, camera, ... touch, health
     camera: Optional[str]      # camera group for --cameras: 'pepper', 'realsense' or None
     simulator: bool            # True when the Gazebo simulator provides this sensor
     video: Optional[str]       # file name of the recording, or None
     also: Tuple[str, ...] = ()   # other message types accepted on the topic, besides msg_type
+    # the robot's topic when the topics file has no key for it (a file older than the sensor)
+    driver_topic: Optional[str] = None
 
 
 SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
@@ -52,6 +54,19 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     Sensor('imu', 'IMU', ('IMU', 'imuBase'), 'sensor_msgs/Imu', 'imu', None, False, None),
     Sensor('speech', 'SPEECH', ('Speech', 'speaker', 'loudspeaker'), 'std_msgs/String',
            'speech', None, False, None),
+    # naoqi_driver's touch events (src/naoqi_driver.cpp:838-894): naoqi_bridge_msgs types, read
+    # from the definition their connection carries (sources/naoqi_msgs.py); this package's own
+    # copies (msg/, same md5sums) are accepted too
+    # (topics in the driver's private namespace, NodeHandle("~"): naoqi_driver.cpp:991)
+    Sensor('headTouch', 'HEAD TOUCH', ('HeadTouch', 'head_touch', 'tactile'), 'naoqi_bridge_msgs/HeadTouch',
+           'touch', None, False, None, ('pepper_interface_tests/HeadTouch',), '/naoqi_driver/head_touch'),
+    Sensor('handTouch', 'HAND TOUCH', ('HandTouch', 'hand_touch'), 'naoqi_bridge_msgs/HandTouch',
+           'touch', None, False, None, ('pepper_interface_tests/HandTouch',), '/naoqi_driver/hand_touch'),
+    Sensor('bumper', 'BUMPER', ('Bumper', 'bumpers'), 'naoqi_bridge_msgs/Bumper',
+           'touch', None, False, None, ('pepper_interface_tests/Bumper',), '/naoqi_driver/bumper'),
+    # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp; naoqi_driver.cpp:652)
+    Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
+           'diagnostic_msgs/DiagnosticArray', 'health', None, False, None, (), '/diagnostics'),
 ])
 
 # Keys of the topics files that belong to the actuator test; sensorTest ignores them.
@@ -71,7 +86,37 @@ NO_PUBLISHER_HINTS = {
     'stereoCamera': 'a Pepper head with an Xtion depth camera (Pepper 1.7) has no stereo camera: '
                     'naoqi_driver publishes it on a stereo head only; on such a robot set '
                     'stereoCamera false in the input file',
+    # naoqi_driver.cpp:603-605 (converters.bumper / touch_hand / touch_head); the CSSR4Africa
+    # fork's share/boot_config.json sets all three "enabled": false, stock's true
+    'headTouch': 'naoqi_driver publishes the head\'s touch events only with converters touch_head '
+                 'enabled in its share/boot_config.json (the CSSR4Africa fork disables it): enable it '
+                 'and restart the driver, or set headTouch false in the input file',
+    'handTouch': 'naoqi_driver publishes the hands\' touch events only with converters touch_hand '
+                 'enabled in its share/boot_config.json (the CSSR4Africa fork disables it): enable it '
+                 'and restart the driver, or set handTouch false in the input file',
+    'bumper': 'naoqi_driver publishes the bumpers\' events only with converters bumper enabled in '
+              'its share/boot_config.json (the CSSR4Africa fork disables it): enable it and restart '
+              'the driver, or set bumper false in the input file',
 }
+
+# Why a sensor is SKIPPED in the simulator, where it has a known reason (default: "not
+# available in the simulator"). awesomebytes/pepper_virtual (simulation_that_works) has no
+# touch, bumper or diagnostics publisher (the words appear only as frame names in
+# pepper_gazebo_plugin/config/pepper_sensors.rviz), and the model's Gazebo bumper sensors are
+# commented out (awesomebytes/pepper_robot pepperGazeboCPU.xacro:578-652; docs/drivers.md).
+_NOT_SIMULATED = 'the Gazebo simulator (pepper_virtual) publishes no %s: its source has no such publisher'
+SIMULATOR_SKIP = {
+    'headTouch': _NOT_SIMULATED % 'head touch events',
+    'handTouch': _NOT_SIMULATED % 'hand touch events',
+    'bumper': _NOT_SIMULATED % 'bumper events' + ' (the model\'s Gazebo bumper sensors are commented out)',
+    'robotHealth': _NOT_SIMULATED % 'naoqi_driver diagnostics (joint temperatures, battery) on /diagnostics',
+}
+
+
+def simulator_skip_reason(name: str) -> str:
+    """Why sensor `name`, absent from the simulator, is SKIPPED there."""
+    return SIMULATOR_SKIP.get(name, 'not available in the simulator')
+
 
 _LOOKUP: Dict[str, str] = {}
 for _s in SENSORS.values():

@@ -308,9 +308,24 @@ class SpeechExpect(Expect):
     listen_after: float = _field(number(0, example='4.0'), 4.0)
 
 
+@dataclass(frozen=True)
+class TouchExpect(Expect):
+    # a zone pressed for longer than this (s) without a release fails as stuck: a touch or a
+    # deliberate press lasts a second or two, a slow operator's press a few seconds
+    max_press: float = _field(number(0, lo_open=True, example='8.0'), 8.0)
+
+
+@dataclass(frozen=True)
+class HealthExpect(Expect):
+    # the verdict is given once this many arrays of the driver's statuses have arrived
+    # (naoqi_driver publishes them at 1 Hz: share/boot_config.json "diag")
+    arrays: int = _field(whole(1, '2'), 2)
+
+
 FAMILIES: Dict[str, Type[Expect]] = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
             'depth': DepthExpect, 'audio': AudioExpect, 'joints': JointsExpect,
-            'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect}
+            'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect,
+            'touch': TouchExpect, 'health': HealthExpect}
 
 
 def family_of(name: str) -> Type[Expect]:

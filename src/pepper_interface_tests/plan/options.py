@@ -69,6 +69,13 @@ OPTIONS: Tuple[Opt, ...] = (
     Opt('quick', '--quick', ON, 'run',
         'end each sensor\'s window as soon as its verdict is settled (quick_messages, default 10, '
         'spanning at least 0.8 s, and the sensor\'s own checks)'),
+    Opt('guided', '--guided', ON, 'run',
+        'guided check: ask a person to touch each touch zone and bumper in turn (default: when '
+        'stdin and stdout are a terminal)'),
+    Opt('guided', '--no-guided', OFF, 'run',
+        'unattended: judge the touch events that arrive, nobody is asked (default without a terminal)'),
+    Opt('touch_wait', '--touch-wait', SECONDS, 'run',
+        'guided check: seconds to wait for each zone\'s press (default 15)', 'S'),
     Opt('bag', '--bag', TEXT, 'run', 'check a recorded bag instead of live topics (no master needed)',
         'FILE', param=False),
     Opt('debug', '--debug', ON, 'run', 'print one line per received message (stderr)'),
@@ -126,6 +133,8 @@ class Options:
     report: Optional[bool] = None
     debug: Optional[bool] = None
     rerun_failed: Optional[bool] = None
+    guided: Optional[bool] = None
+    touch_wait: Optional[float] = None
 
     def merged(self, other: 'Options') -> 'Options':
         """Values of `other` where given, else ours."""

@@ -204,10 +204,15 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
         sensor = catalog.SENSORS[name]
         skip = None
         if platform == 'simulator' and not sensor.simulator:
-            skip = 'not available in the simulator'
+            skip = catalog.simulator_skip_reason(name)
         else:
             skip = selection.excluded_by_cameras(sensor, cameras)
         topic = topics.get(name)
+        if topic is None and skip is None and platform == 'robot' and sensor.driver_topic:
+            # a topics file older than the sensor: the driver's own topic
+            topic = sensor.driver_topic
+            notes.append('%s: no key in %s, listening on naoqi_driver\'s %s'
+                         % (name, os.path.basename(topics_path), topic))
         if topic is None and skip is None:
             raise ConfigError('no topic for sensor "%s"' % name, topics_path,
                               fix='add a line "%s /topic/name" or disable the sensor in %s'

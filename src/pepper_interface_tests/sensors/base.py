@@ -133,6 +133,27 @@ class Hearing(Protocol):
         """Whether the level rose between `t0` and `t1` (monotonic seconds)."""
 
 
+class Operator(Protocol):
+    """A person asked to act, zone by zone (sensors/guide.py Guide): one sensor asks at a time."""
+
+    budget: float   # seconds the guided part may take in all (every zone of every touch sensor)
+
+    def turn(self, owner: str) -> bool:
+        """True when sensor `owner` may ask now (no other sensor is asking)."""
+
+    def publishing(self, topic: str) -> Optional[bool]:
+        """Whether anything publishes `topic` now (False: nobody to touch it for); None: unknown."""
+
+    def ask(self, zone_id: str, text: str) -> None:
+        """Ask for one zone: on the terminal, on /sensorTest/prompt, through the loudspeaker."""
+
+    def skipped(self) -> bool:
+        """True once the person asked to skip the zone being asked (from the keyboard)."""
+
+    def finished(self, owner: str) -> None:
+        """Sensor `owner` has asked all its zones: the next one may ask."""
+
+
 @dataclass
 class Services:
     """Shared helpers a run offers its checks; each is None when the run has none, and a check
@@ -140,6 +161,7 @@ class Services:
     viewer: Optional['Viewer'] = None                  # live camera windows (media/viewer.py)
     microphone_levels: Optional[Hearing] = None  # what the microphones hear (speech)
     debug: Optional[Callable[[str], None]] = None      # --debug: one line per received message
+    operator: Optional[Operator] = None                # guided mode: a person who touches the robot
 
 
 class RunContext:

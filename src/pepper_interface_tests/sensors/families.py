@@ -37,9 +37,10 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
 4. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
    config/sensorExpectations.yaml;
 5. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
-6. its emulator publisher (emulator/publishers.py) shaped after the driver, and its faults;
+6. its emulator publisher (emulator/publishers.py, or emulator/events.py for event topics)
+   shaped after the driver, and its faults;
 7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
-   dataclass as the check handed it over), found by the row's `view`;
+   dataclass as the check handed it over), found by the row's `view` (nothing else lists it);
 8. its rows in docs/checks.md and docs/drivers.md, its row in the README's "What is checked"
    (a test checks it), and its values' keys in docs/results.md.
 Nothing else (the runner, the sources, the outputs) names a family.
@@ -51,12 +52,14 @@ from typing import TYPE_CHECKING, Any, Dict, Optional, Type
 from .values.audio import AudioValues
 from .values.camera import CameraValues
 from .values.depth import DepthValues
+from .values.health import HealthValues
 from .values.imu import ImuValues
 from .values.joints import JointsValues
 from .values.laser import LaserValues
 from .values.odometry import OdometryValues
 from .values.range import RangeValues
 from .values.speech import SpeechValues
+from .values.touch import TouchValues
 
 if TYPE_CHECKING:
     from ..plan.catalog import Sensor
@@ -79,6 +82,14 @@ class Traits:
     audio: bool = False
     # listens through the microphones while it runs (speech: was the sentence heard?)
     hears: bool = False
+    # asks a person to act (touch sensors): with a person there (an interactive terminal or
+    # --guided) a live run offers the check an operator (sensors/guide.py) that prompts
+    guided: bool = False
+    # the topic is shared by many nodes (/diagnostics): several publishers are normal
+    shared_topic: bool = False
+    # its WARN or FAIL explains other sensors' failures (the robot's health): shown at the top
+    # of the summary
+    headline: bool = False
 
     @property
     def records_media(self) -> bool:
@@ -112,6 +123,9 @@ FAMILIES: Dict[str, Family] = {f.name: f for f in [
     Family('imu', 'imu:ImuCheck', 'imu', values=ImuValues),
     Family('speech', 'speech:SpeechCheck', 'speech',
            Traits(periodic=False, drives_itself=True, live_only=True, hears=True), SpeechValues),
+    Family('touch', 'touch:TouchCheck', 'touch', Traits(periodic=False, guided=True), TouchValues),
+    Family('health', 'health:HealthCheck', 'health',
+           Traits(periodic=False, shared_topic=True, headline=True), HealthValues),
 ]}
 
 

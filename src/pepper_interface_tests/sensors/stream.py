@@ -6,7 +6,8 @@ verdict is the worse of the two (sensors/window.py). The rules, each with its re
 
 - Arrival: a message within --wait; otherwise the reason says which of: no publisher at all,
   the topic advertised with another type (both named), not in the bag, or a publisher that
-  sends nothing. Event-driven families (Traits.periodic False) are exempt: silence is normal.
+  sends nothing. Event-driven families (Traits.periodic False): silence is normal, but a live
+  topic with no publisher at all or advertised with another type fails as above.
 - Type: every message is of an accepted type (subscriptions are rospy.AnyMsg), else it fails
   naming both types; a message that cannot be decoded or checked fails by name.
 - Count and rate (periodic families): at least `min_messages`; the rate from receive times and
@@ -148,7 +149,7 @@ class StreamCheck:
         return Judgement(reasons, warnings)
 
     def _publisher_reasons(self, reasons: List[str], warnings: List[str]) -> None:
-        if len(self.publishers) < 2:
+        if len(self.publishers) < 2 or self.traits.shared_topic:
             return
         text = '%d publishers deliver on %s: %s' % (len(self.publishers), self.topic,
                                                     ', '.join(self.publishers))
@@ -170,9 +171,23 @@ class StreamCheck:
         if self.wrong_types:
             types = ', '.join(sorted(self.wrong_types))
             return ['topic %s carries %s, expected %s' % (topic, types, catalog.expected_types(self.sensor))]
-        if self.stats.count or not self.traits.periodic:
+        if self.stats.count:
             return []
         info = lookup(topic) if lookup else None
+        if not self.traits.periodic:
+            # an event topic: silence is normal (nobody touched), a topic nobody publishes on a
+            # live master or one advertised with another type is not; a bag records a topic only
+            # once a message came (publishers None): silence there too
+            if info is None:
+                return []
+            advertised, publishers = info
+            if advertised and not catalog.accepts_type(self.sensor, advertised):
+                return ['topic %s is advertised as %s, expected %s'
+                        % (topic, advertised, catalog.expected_types(self.sensor))]
+            if publishers == []:
+                return ['no publisher on %s (is the driver running, and is the topic name right?%s)'
+                        % (topic, no_publisher_note(self.sensor.name))]
+            return []
         if info is None:
             return ['no message on %s within %.1f s' % (topic, elapsed)]
         advertised, publishers = info
@@ -200,7 +215,8 @@ class StreamCheck:
             return out
         if self.traits.periodic:
             self._rate_reasons(band, out, warnings)
-        self._stamp_reasons(out, warnings)
+        if not self.traits.shared_topic:   # many nodes' stamps interleave on a shared topic
+            self._stamp_reasons(out, warnings)
         if self.traits.periodic:
             self._silence_reasons(elapsed, band, out, warnings)
         return out

@@ -163,7 +163,8 @@ class SensorRun:
                 wait=self.wait, elapsed=now - self.began, count=self.count, received=stats.count,
                 rate=None if drives else stats.rate, stamp_rate=None if drives else stats.stamp_rate,
                 rate_band=(float(band[0]), float(band[1])) if band else None, nominal=self.expect.nominal,
-                problems=tuple(self.problems_so_far()), wrong_type=bool(self.stream.wrong_types))
+                problems=tuple(self.problems_so_far()), wrong_type=bool(self.stream.wrong_types),
+                periodic=self.traits.periodic)
 
     def due(self, now: float) -> str:
         """Why the window should end now, or '' to keep listening."""
@@ -200,7 +201,11 @@ class SensorRun:
         subscriber callbacks take: the check sees one thread at a time."""
         with self.lock:
             if self.stopped_at is None:
-                self.check.poll(now - self.began)
+                try:
+                    self.check.poll(now - self.began)
+                except Exception as e:  # a check that cannot go on fails its sensor, by name
+                    self.stream.issues.add('poll', 'the check could not go on (%s: %s)'
+                                           % (type(e).__name__, str(e)[:120]))
 
     # ---------------------------------------------------------------- closing
     def stop(self, now: float, reason: str) -> None:
@@ -259,8 +264,10 @@ class SensorRun:
         return SensorResult(
             name=self.sensor.name, title=self.sensor.title, topic=self.plan.topic,
             msg_type=self.sensor.msg_type, verdict=verdict, reasons=reasons, warnings=warnings,
-            notes=notes, messages=messages, rate_hz=summary.rate_hz,
-            stamp_rate_hz=summary.stamp_rate_hz,
+            notes=notes, messages=messages,
+            # an event topic (Traits.periodic False) has no rate: one message per change
+            rate_hz=summary.rate_hz if self.traits.periodic else None,
+            stamp_rate_hz=summary.stamp_rate_hz if self.traits.periodic else None,
             expected_rate_hz=list(band) if band and not drives else None,
             nominal_rate_hz=self.expect.nominal,
             received_type=next(iter(self.stream.wrong_types), None)

@@ -9,7 +9,7 @@ def message_class(type_name: str, definition: Optional[str] = None) -> Type['gen
     """The Python class of a ROS message type, e.g. 'sensor_msgs/Range'.
 
     A type whose package is not installed (naoqi_bridge_msgs/AudioBuffer from stock
-    naoqi_driver) is built from `definition`, the full text every ROS 1 connection header and
+    naoqi_driver, its touch events) is built from `definition`, the full text every ROS 1 connection header and
     every bag connection carries (naoqi_msgs.message_class_from_definition)."""
     if type_name.startswith('naoqi_driver/AudioCustomMsg'):
         type_name = 'pepper_interface_tests/AudioCustomMsg'
@@ -21,6 +21,6 @@ def message_class(type_name: str, definition: Optional[str] = None) -> Type['gen
         from . import naoqi_msgs
         if definition:
             return naoqi_msgs.message_class_from_definition(type_name, definition)
-        if type_name == naoqi_msgs.AUDIO_BUFFER_TYPE:
-            return naoqi_msgs.audio_buffer_class()
+        if type_name in naoqi_msgs.DEFINITIONS:
+            return naoqi_msgs.known_class(type_name)
         raise

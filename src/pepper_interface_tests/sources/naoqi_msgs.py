@@ -51,6 +51,43 @@ PEPPER_CHANNEL_MAP = (3, 5, 0, 2)
 _CLASSES: Dict[Tuple[str, str], Type[genpy.Message]] = {}
 
 
+# The touch events of naoqi_driver (src/event/touch.cpp:246-248): msg/Bumper.msg, HandTouch.msg and
+# HeadTouch.msg of ros-naoqi/naoqi_bridge_msgs (master), comments dropped. This package's own
+# msg/Bumper.msg, HandTouch.msg and HeadTouch.msg have the same definitions (same md5sums).
+TOUCH_DEFINITIONS = {
+    'naoqi_bridge_msgs/Bumper': """uint8 bumper
+uint8 state
+uint8 right=0
+uint8 left=1
+uint8 back=2
+uint8 stateReleased=0
+uint8 statePressed=1
+""",
+    'naoqi_bridge_msgs/HandTouch': """uint8 hand
+uint8 state
+uint8 RIGHT_BACK=0
+uint8 RIGHT_LEFT=1
+uint8 RIGHT_RIGHT=2
+uint8 LEFT_BACK=3
+uint8 LEFT_LEFT=4
+uint8 LEFT_RIGHT=5
+uint8 stateReleased=0
+uint8 statePressed=1
+""",
+    'naoqi_bridge_msgs/HeadTouch': """uint8 button
+uint8 state
+uint8 buttonFront=1
+uint8 buttonMiddle=2
+uint8 buttonRear=3
+uint8 stateReleased=0
+uint8 statePressed=1
+""",
+}
+
+# every naoqi_bridge_msgs type this package knows without the package installed
+DEFINITIONS = dict(TOUCH_DEFINITIONS, **{AUDIO_BUFFER_TYPE: AUDIO_BUFFER_DEFINITION})
+
+
 def message_class_from_definition(type_name: str, definition: str) -> Type[genpy.Message]:
     """A genpy message class for `type_name` built from its full definition text (as found in
     a connection header or a bag); cached per (type, definition)."""
@@ -59,6 +96,11 @@ def message_class_from_definition(type_name: str, definition: str) -> Type[genpy
     if cls is None:
         cls = _CLASSES[key] = genpy.dynamic.generate_dynamic(type_name, definition)[type_name]
     return cls
+
+
+def known_class(type_name: str) -> Type[genpy.Message]:
+    """The class of a naoqi_bridge_msgs type of DEFINITIONS; KeyError for any other type."""
+    return message_class_from_definition(type_name, DEFINITIONS[type_name])
 
 
 def audio_buffer_class() -> Type[genpy.Message]:

@@ -70,10 +70,16 @@ def no_values(fam: Optional[str]) -> Any:
     return cls() if cls is not None else None
 
 
-def drives_itself(r: SensorResult) -> bool:
-    """A sensor whose check acts instead of listening (speech): it has no stream rate to plot."""
+def periodic(r: SensorResult) -> bool:
+    """The sensor streams at a rate (not speech, not an event topic such as a touch sensor)."""
     fam = family(r)
-    return fam is not None and families.family(fam).traits.drives_itself
+    return fam is None or families.family(fam).traits.periodic
+
+
+def headline(r: SensorResult) -> bool:
+    """The sensor's state explains other sensors' (Traits.headline: the robot's health)."""
+    fam = family(r)
+    return fam is not None and families.family(fam).traits.headline
 
 
 def in_band(r: SensorResult) -> Optional[bool]:
@@ -115,7 +121,7 @@ def rate_steps(r: SensorResult) -> Tuple[List[float], List[float]]:
 def rates_figure(run: RunResult) -> Optional[str]:
     rows = []
     for r in run.sensors:
-        if r.verdict == SKIPPED or not r.rate_series or drives_itself(r):
+        if r.verdict == SKIPPED or not r.rate_series or not periodic(r):    # speech, event topics: no rate
             continue
         edges, rates = rate_steps(r)
         start = r.started_at or 0.0
@@ -217,6 +223,11 @@ def header(run: RunResult) -> Dict[str, Any]:
         'counts': [(verdict_class(v), '%d %s' % (counts.get(v, 0), words.get(v, v))) for v in order],
         'interrupted': clean(run.interrupt_reason or 'run interrupted') if run.interrupted else None,
         'failed': [(anchor(r.name), r.name) for r in run.sensors if r.verdict == FAIL],
+        # a family whose WARN or FAIL explains the others' (the robot's health), first
+        'headlines': [(anchor(r.name), r.title, 'bad' if r.verdict == FAIL else 'warn',
+                       clean('; '.join(r.reasons + r.warnings + r.notes)))
+                      for r in run.sensors
+                      if headline(r) and (r.verdict == FAIL or (r.verdict == PASS and r.warnings))],
         'all_passed': bool(run.sensors) and not run.interrupted and all(r.verdict in PASSING for r in run.sensors),
     }
 

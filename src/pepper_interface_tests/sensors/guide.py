@@ -1,0 +1,134 @@
+"""The guided check's operator: asks a person for one zone at a time (sensors/touch.py).
+
+Each prompt goes three ways: a line on the terminal, a latched std_msgs/String on
+/sensorTest/prompt beginning with the zone's id in brackets ("[headTouch/front] Touch the front
+of my head"; "[done]" when the guided part ends), so that a tablet page, a remote operator or a
+test rig can follow, and the sentence on the robot's speech topic (naoqi_driver speaks what
+arrives on /speech: src/naoqi_driver.cpp:939). The person skips the zone being asked by typing
+s and Enter; the touch checks ask in turn (one sensor at a time, also in parallel mode).
+"""
+import shutil
+import sys
+import textwrap
+import threading
+from typing import Any, Iterable, List, Optional, TextIO
+
+import rospy
+from std_msgs.msg import String
+
+PROMPT_TOPIC = '/sensorTest/prompt'
+DONE = '[done]'
+SKIP_HINT = '(type s and Enter to skip this zone)'
+
+
+def guided_mode(option: Optional[bool], stdin: Any = None, stdout: Any = None,
+                launched: bool = False) -> bool:
+    """--guided / --no-guided, else: a person is there when stdin and stdout are a terminal and
+    the node was not started by a launch file (`launched`: roslaunch hands its terminal on)."""
+    if option is not None:
+        return option
+    if launched:
+        return False
+    stdin = sys.stdin if stdin is None else stdin
+    stdout = sys.stdout if stdout is None else stdout
+    try:
+        return bool(stdin.isatty() and stdout.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
+class Guide:
+    """The Operator of a guided run (sensors/base.py Operator)."""
+
+    def __init__(self, budget: float, speech_topic: Optional[str], out: Optional[TextIO] = None,
+                 keys: Optional[TextIO] = None, prompt_topic: str = PROMPT_TOPIC) -> None:
+        self.budget = budget
+        self.out = out or sys.stdout
+        self.keys = keys if keys is not None else sys.stdin
+        self.owner: Optional[str] = None
+        self.lock = threading.Lock()
+        self._skip = False
+        self._asking = False
+        self.prompts = rospy.Publisher(prompt_topic, String, queue_size=10, latch=True)
+        self.speech = rospy.Publisher(speech_topic, String, queue_size=10) if speech_topic else None
+        self.reader = threading.Thread(target=self._read_keys, daemon=True, name='guide-keys')
+        self.reader.start()
+
+    def _read_keys(self) -> None:
+        try:
+            for line in iter(self.keys.readline, ''):
+                if line.strip().lower() in ('s', 'skip'):
+                    with self.lock:
+                        self._skip = self._asking
+        except (OSError, ValueError):   # stdin closed: no keyboard, prompts go on
+            return
+
+    def _line(self, text: str) -> None:
+        try:
+            tty = self.out.isatty()
+        except (AttributeError, ValueError):
+            tty = False
+        width = max(40, shutil.get_terminal_size((80, 24)).columns)
+        lines = textwrap.wrap(text, width, subsequent_indent=' ' * 6, break_on_hyphens=False) or [text]
+        self.out.write(('\r\033[K' if tty else '') + '\n'.join(lines) + '\n')
+        self.out.flush()
+
+    def turn(self, owner: str) -> bool:
+        if self.owner in (None, owner):
+            self.owner = owner
+            return True
+        return False
+
+    def publishing(self, topic: str, timeout: float = 1.0) -> Optional[bool]:
+        """Asked in a thread of its own for at most `timeout` s: a stalled master must not hold
+        the run's loop (it is the master watch's business, sources/live.py); None: unknown."""
+        answer: List[Optional[bool]] = []
+
+        def ask() -> None:
+            try:
+                import rosgraph
+                published = rosgraph.Master(rospy.get_name()).getPublishedTopics('')
+                answer.append(any(t == topic for t, _ in published))
+            except Exception:   # the master went away: unknown here
+                answer.append(None)
+        t = threading.Thread(target=ask, daemon=True, name='guide-lookup')
+        t.start()
+        t.join(timeout)
+        return answer[0] if answer else None
+
+    def ask(self, zone_id: str, text: str) -> None:
+        with self.lock:
+            self._skip, self._asking = False, True
+        self._line('  >>> [%s] %s %s' % (zone_id, text, SKIP_HINT))
+        self.prompts.publish(String(data='[%s] %s' % (zone_id, text)))
+        if self.speech is not None:
+            self.speech.publish(String(data=text))
+
+    def skipped(self) -> bool:
+        with self.lock:
+            if self._skip:
+                self._skip, self._asking = False, False
+                return True
+            return False
+
+    def finished(self, owner: str) -> None:
+        with self.lock:
+            self._asking = False
+        if self.owner == owner:
+            self.owner = None
+
+    def done(self) -> None:
+        """The guided part has ended."""
+        self.prompts.publish(String(data=DONE))
+        self._line('  >>> %s guided check finished' % DONE)
+
+    def close(self) -> None:
+        for pub in (self.prompts, self.speech):
+            if pub is not None:
+                pub.unregister()
+
+
+def budget(zone_counts: Iterable[int], touch_wait: float, max_press: float) -> float:
+    """Seconds the guided part may take: every zone of every touch sensor waited for in full,
+    then held up to the stuck limit, plus a few seconds to start."""
+    return sum(zone_counts) * (touch_wait + max_press) + 5.0
