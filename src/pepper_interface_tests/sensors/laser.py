@@ -56,7 +56,7 @@ from array import array
 from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
 from .base import Acc, Check, StuckRun, fmt
-from .values.laser import BeamKind, LastScan, LaserValues
+from .values.laser import BeamKind, LaserValues, LastScan
 
 if TYPE_CHECKING:
     import genpy
