@@ -3,7 +3,8 @@
 A Check validates one sensor's messages and owns all of its state (no globals, no locks
 needed: the runner feeds one check from one subscriber thread, and reads it only after the
 window has closed). Subclasses override `fields`, `on_message`, and optionally `finish`,
-`settled`, `start`, `poll`.
+`settled`, `start`, `poll`; a check that measures values returns its family's values dataclass
+from `result_values`.
 """
 import math
 from collections import OrderedDict
@@ -189,10 +190,6 @@ class Check:
         self.failures = Tally()     # each kind is a FAIL reason
         self.warnings = Tally()     # reported, do not fail
         self.notes: List[str] = []              # plain information lines
-        # measured values (JSON, report, output file summary)
-        self.values: Dict[str, Any] = OrderedDict()
-        # name -> [(t, value)] for plots (the laser adds its last scan as a dict)
-        self.series: Dict[str, Any] = OrderedDict()
         self.artifacts: Dict[str, str] = OrderedDict()   # kind -> file name in the output folder
         # [(label, value)] of the first message, the spec's fields
         self.first_fields: Optional[List[Tuple[str, Any]]] = None
@@ -266,12 +263,9 @@ class Check:
         return self.warnings.reasons(self.count) + self._end_warnings
 
     def result_values(self) -> Optional[Any]:
-        """The family's frozen values dataclass (its row's `values` in sensors/families.py),
-        asked after close(). A check builds and returns it itself (every family but laser and
-        odometry does). None (the default): the window builds it from `values` and `series` by
-        codec.py's rules (their keys are the dataclass's JSON names; a key it lacks is a
-        programming error, named in the notes), or leaves it None when both are empty (nothing
-        measured)."""
+        """What the check measured: its family's frozen values dataclass (its row's `values` in
+        sensors/families.py), built by the check itself and asked after close(); the JSON and
+        the report are written from it (codec.py). None (the default): nothing measured."""
         return None
 
     def skip_reason(self) -> Optional[str]:

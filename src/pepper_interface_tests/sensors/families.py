@@ -23,13 +23,10 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
    codec.py and sensors/values/__init__.py), every field with a default. A field made with
    codec.optional() is written only when set, codec.nullable() as null when None, codec.series()
    is plot data (the JSON's "series"); enums (with a `description`, as the laser's BeamKind),
-   nested dataclasses, lists and dicts need nothing more. The check either returns an instance
-   from `result_values()` (every family but laser and odometry), or fills `self.values` /
-   `self.series` under the fields' JSON names (the window turns them into the dataclass
-   strictly: a key it lacks is named in the notes). A check that builds a frozen dataclass
-   and puts `dataclasses.asdict(x)` into `self.values` should return `x` from
-   `result_values()` instead. codec.py writes it to the
-   JSON and reads it back (history, --rerun-failed); there is no serializer to write;
+   nested dataclasses, lists and dicts need nothing more. The check builds an instance at the
+   end of its window (in `finish()`) and returns it from `result_values()` (as every family
+   does). codec.py writes it to the JSON and reads it back (history, --rerun-failed); there
+   is no serializer to write;
 3. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
    stream rules of sensors/stream.py then leave out arrival within --wait, min_messages, the
    rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers)

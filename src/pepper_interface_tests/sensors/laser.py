@@ -56,7 +56,7 @@ from array import array
 from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
 from .base import Acc, Check, StuckRun, fmt
-from .values.laser import BeamKind
+from .values.laser import BeamKind, LaserValues, LastScan
 
 if TYPE_CHECKING:
     import genpy
@@ -158,6 +158,7 @@ class LaserCheck(Check):
         # a scan laid out otherwise than the driver's: (scans, first example)
         self.layout_count = 0
         self.layout_example: Optional[str] = None
+        self.found: Optional[LaserValues] = None      # what finish() measured
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
@@ -258,19 +259,6 @@ class LaserCheck(Check):
     def finish(self) -> None:
         counted = max(1, self.beams - self.blind - self.no_return)
         share = self.invalid / counted if self.beams else 0.0
-        self.values['beams'] = self.beams
-        self.values['blind_beams'] = self.blind
-        self.values['no_return_beams'] = self.no_return
-        self.values['invalid_beams'] = self.invalid
-        self.values['invalid_share'] = round(share, 4)
-        self.values['beyond_advertised_max'] = self.beyond
-        self.values['range_m'] = self.valid.as_dict()
-        if self.last_scan:
-            a0, inc, ranges, lo, hi, blind = self.last_scan
-            self.series['last_scan'] = {'angle_min': a0, 'angle_increment': inc,
-                                        'ranges': [r if math.isfinite(r) else None for r in ranges],
-                                        'range_min': lo, 'range_max': hi, 'blind_value': blind,
-                                        'kinds': list(self.last_kinds)}
         if self.count:
             self.notes.append('Valid ranges: %s; invalid beams %.1f%% (%d of %d), blind beams %d, '
                               'no-return beams %d'
@@ -279,20 +267,40 @@ class LaserCheck(Check):
         if self.beyond:
             self.notes.append('%d readings beyond the advertised range (raw distances, valid)'
                               % self.beyond)
-        self.values['longest_identical_run'] = self.stuck.longest
         stuck = self.stuck.finding('scans', 'stuck_scans')
         if stuck:
             self.fail('laser stuck: ' + stuck)
-        self._judge_boards()
+        dead = self._judge_boards()
         if self.layout_count:
-            self.values['other_layout_scans'] = self.layout_count
             self.warn(self._layout_warning())
         limit = self.expect.max_invalid_share
         if self.count and limit is not None and share > limit:
             self.fail('%.0f%% of the beams are invalid (NaN, negative or below range_min, blind '
                       'slots excluded; at most %.0f%% expected)' % (100 * share, 100 * limit))
+        boards = bool(self.boards)
+        self.found = LaserValues(
+            beams=self.beams, blind_beams=self.blind, no_return_beams=self.no_return,
+            invalid_beams=self.invalid, invalid_share=round(share, 4),
+            beyond_advertised_max=self.beyond, range_m=self.valid.spread(),
+            longest_identical_run=self.stuck.longest,
+            other_layout_scans=self.layout_count or None,
+            dead_boards=dead if boards else None,
+            longest_identical_board_run={b.name: b.stuck.longest for b in self.boards} if boards else None,
+            last_scan=self._last_scan())
 
-    def _judge_boards(self) -> None:
+    def _last_scan(self) -> Optional[LastScan]:
+        """The last scan as the report plots it (NaN where a reading was not finite)."""
+        if not self.last_scan:
+            return None
+        a0, inc, ranges, lo, hi, blind = self.last_scan
+        return LastScan(a0, inc, [r if math.isfinite(r) else math.nan for r in ranges], lo, hi, blind,
+                        list(self.last_kinds))
+
+    def result_values(self) -> Optional[LaserValues]:
+        return self.found
+
+    def _judge_boards(self) -> List[str]:
+        """Fails each dead or stuck board -> the names of the dead boards."""
         lo = self.last_scan[3] if self.last_scan else 0.0
         found = [(board, board.dead(lo)) for board in self.boards]
         dead = [board.name for board, text in found if text]
@@ -306,9 +314,7 @@ class LaserCheck(Check):
             stuck = board.stuck_text()
             if stuck:
                 self.fail(stuck)
-        if self.boards:
-            self.values['dead_boards'] = dead
-            self.values['longest_identical_board_run'] = {b.name: b.stuck.longest for b in self.boards}
+        return dead
 
     def _layout_warning(self) -> str:
         expect = self.expect

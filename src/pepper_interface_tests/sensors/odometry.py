@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 from .base import Acc, Check, finite, fmt, quaternion_norm
 from .jumps import JumpWatch
+from .values import Point
+from .values.odometry import OdometryValues
 
 if TYPE_CHECKING:
     import genpy
@@ -51,7 +53,8 @@ class OdometryCheck(Check):
     def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)
         self.x, self.y, self.speed = Acc(), Acc(), Acc()
-        self.series['x_m'], self.series['y_m'] = [], []
+        self.x_series: List[Point] = []
+        self.y_series: List[Point] = []
         # (time, x, y, |twist|) the next pose pair starts from
         self.anchor: Optional[Tuple[float, float, float, float]] = None
         self.pairs = 0
@@ -60,6 +63,7 @@ class OdometryCheck(Check):
         self.implied = Acc()
         limit = self.expect.max_speed
         self.jump = JumpWatch(limit, BASELINE) if limit is not None else None
+        self.found: Optional[OdometryValues] = None      # what finish() measured
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Header', 'frame id %s, stamp %d.%09d, seq %d' % (
@@ -94,9 +98,9 @@ class OdometryCheck(Check):
             self._judge_motion(p.x, p.y, math.hypot(twist.linear.x, twist.linear.y), t,
                                msg.header.stamp.to_sec() or None)
         self.speed.add(math.hypot(twist.linear.x, twist.linear.y))
-        if len(self.series['x_m']) < 2000:
-            self.series['x_m'].append((round(t, 3), p.x if math.isfinite(p.x) else None))
-            self.series['y_m'].append((round(t, 3), p.y if math.isfinite(p.y) else None))
+        if len(self.x_series) < 2000:
+            self.x_series.append((round(t, 3), p.x if math.isfinite(p.x) else None))
+            self.y_series.append((round(t, 3), p.y if math.isfinite(p.y) else None))
 
     def _judge_motion(self, x, y, speed, t, stamp):
         when = stamp if stamp is not None else t
@@ -121,11 +125,7 @@ class OdometryCheck(Check):
                 self.mismatch_example = (twist, implied, t)
 
     def finish(self) -> None:
-        self.values['pose_implied_speed_m_s'] = self.implied.as_dict()
         jump = self.jump
-        if jump is not None:
-            self.values['pose_jumps'] = jump.jumps
-            self.values['largest_pose_jump_m'] = round(jump.largest, 3)
         if jump is not None and jump.jumps:
             self.fail('pose jumps: consecutive poses imply more than max_speed %s m/s (Pepper '
                       'drives at most ~0.55 m/s): %d %s, the largest %s m from the pose %s s '
@@ -143,9 +143,15 @@ class OdometryCheck(Check):
         elif self.mismatch:
             self.notes.append('twist and pose-implied speed differ by more than %s m/s in %d of %d '
                               'pose pairs' % (fmt(tol), self.mismatch, self.pairs))
-        self.values['x_m'] = self.x.as_dict()
-        self.values['y_m'] = self.y.as_dict()
-        self.values['speed_m_s'] = self.speed.as_dict()
         if self.count:
             self.notes.append('Position x: %s; y: %s; speed: %s'
                               % (self.x.text('m'), self.y.text('m'), self.speed.text('m/s')))
+        self.found = OdometryValues(
+            pose_implied_speed_m_s=self.implied.spread(),
+            pose_jumps=jump.jumps if jump is not None else None,
+            largest_pose_jump_m=round(jump.largest, 3) if jump is not None else None,
+            x_m=self.x.spread(), y_m=self.y.spread(), speed_m_s=self.speed.spread(),
+            x_series=self.x_series, y_series=self.y_series)
+
+    def result_values(self) -> Optional[OdometryValues]:
+        return self.found

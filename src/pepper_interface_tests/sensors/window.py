@@ -14,7 +14,6 @@ import math
 import threading
 from typing import Any, Callable, Dict, List, Optional, Type
 
-from .. import codec
 from ..plan.settings import SensorPlan
 from ..progress import Progress
 from ..results import INTERRUPTED, SKIPPED, SensorResult, Verdict
@@ -251,7 +250,7 @@ class SensorRun:
                        % (elapsed, self.window, messages, '' if messages == 1 else 's')]
             verdict = INTERRUPTED
         summary = stats.summary()
-        values = self._values()
+        values = check.result_values()
         notes = list(check.notes)
         clock_end: Optional[float] = now
         if self.clock.on_sim_time:
@@ -277,19 +276,6 @@ class SensorRun:
             fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
             stats=summary, values=values, family=self.sensor.family,
             rate_series=stats.rate_series(end=clock_end), artifacts=dict(check.artifacts))
-
-    def _values(self) -> Any:
-        """The check's findings as its family's frozen values dataclass (None: it found nothing)."""
-        cls = of(self.sensor).values
-        own = self.check.result_values()
-        if own is not None or cls is None or not (self.check.values or self.check.series):
-            return own
-        try:
-            return codec.join(cls, self.check.values, self.check.series, strict=True)
-        except codec.CodecError as e:     # a check and its dataclass that disagree: say so, keep the verdict
-            self.check.notes.append('values not recorded: %s' % e)
-            return None
-
 
 def skipped_result(plan: SensorPlan, run_start: float, now: float, verdict: Verdict = SKIPPED,
                    reasons: Optional[List[str]] = None) -> SensorResult:

@@ -1,0 +1,63 @@
+"""The report's laser and odometry views: the dead boards named in words, the pose jumps
+counted, from the values dataclasses the checks hand over (no page rendered: test_report.py
+renders whole pages in Chromium)."""
+from pepper_interface_tests.outputs.report.blocks import KV, Heading, Span
+from pepper_interface_tests.outputs.report.views import laser, odometry
+from pepper_interface_tests.results import FAIL, SensorResult
+from pepper_interface_tests.sensors.values.laser import LaserValues
+from pepper_interface_tests.sensors.values.odometry import OdometryValues
+
+RUNS = {'right': 1, 'front': 1, 'left': 1}
+
+
+def text(parts):
+    """Inline content (a string, a Span or a list of both) as the page shows it."""
+    if isinstance(parts, list):
+        return ''.join(text(p) for p in parts)
+    return str(parts.text) if isinstance(parts, Span) else str(parts)
+
+
+def marked(parts):
+    """The texts shown in the failure colour."""
+    items = parts if isinstance(parts, list) else [parts]
+    return [p.text for p in items if isinstance(p, Span) and p.cls == 'fail-text']
+
+
+def result(name):
+    return SensorResult(name=name, title=name, topic='/' + name, msg_type='', family=name, verdict=FAIL)
+
+
+def test_a_dead_board_is_named_and_marked_the_others_said_alive():
+    parts = laser.boards_text(LaserValues(dead_boards=['front'], longest_identical_board_run=RUNS))
+    assert marked(parts) == ['front board dead']
+    assert text(parts) == ('front board dead: no valid reading in the window; the right and left '
+                           'boards gave readings')
+
+
+def test_two_dead_boards_and_all_dead():
+    two = laser.boards_text(LaserValues(dead_boards=['front', 'left'], longest_identical_board_run=RUNS))
+    assert marked(two) == ['front and left boards dead'] and text(two).endswith('the right board gave readings')
+    every = laser.boards_text(LaserValues(dead_boards=['right', 'front', 'left'], longest_identical_board_run=RUNS))
+    assert marked(every) == ['right, front and left boards dead'] and 'gave readings' not in text(every)
+
+
+def test_healthy_boards_and_a_layout_without_boards():
+    assert laser.boards_text(LaserValues(dead_boards=[], longest_identical_board_run=RUNS)) == \
+        'all gave valid readings (right, front, left)'
+    assert laser.boards_text(LaserValues(beams=488)) is None      # the simulator's: no boards
+    blocks = laser.render(result('laser'), LaserValues(beams=488), None)  # type: ignore[arg-type]
+    assert blocks == []
+
+
+def test_pose_jumps_counted_and_the_largest_shown():
+    blocks = odometry.render(result('odometry'), OdometryValues(pose_jumps=5, largest_pose_jump_m=25.004),
+                             None)  # type: ignore[arg-type]
+    assert isinstance(blocks[0], Heading) and blocks[0].text == 'Pose jumps'
+    rows = dict(blocks[1].rows) if isinstance(blocks[1], KV) else {}
+    assert text(rows['pose jumps']) == '5' and marked(rows['pose jumps']) == ['5']
+    assert text(rows['largest jump']) == '25.004 m'
+
+
+def test_no_jump_and_no_jump_rule():
+    assert odometry.jump_rows(OdometryValues(pose_jumps=0, largest_pose_jump_m=0.0)) == [('pose jumps', 'none')]
+    assert odometry.jump_rows(OdometryValues()) == []          # max_speed not set: not judged
