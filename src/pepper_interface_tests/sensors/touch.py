@@ -159,7 +159,6 @@ class TouchCheck(Check):
             z.pressed_at = z.last_press = t
             if z.first_press is None:
                 z.first_press = t
-            self.series.setdefault(self.zones[i].id, []).append((round(t, 3), 1))
         else:
             if z.pressed_at is not None:
                 held = t - z.pressed_at
@@ -171,7 +170,6 @@ class TouchCheck(Check):
                 if z.first_release is None:
                     z.first_release = t
             z.pressed_at, z.released_at = None, t
-            self.series.setdefault(self.zones[i].id, []).append((round(t, 3), 0))
 
     # ------------------------------------------------------------ guided mode
     def poll(self, elapsed: float) -> None:
