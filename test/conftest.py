@@ -5,12 +5,14 @@ import time
 
 import pytest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, 'helpers'))   # the test helpers: fake_pepper, rosmaster, ...
 from rosmaster import Master, script  # noqa: E402
 
 # ---------------------------------------------------------------- test tiers
 # Every test gets exactly one of the markers declared in pytest.ini, decided here by file and
-# fixture so tests added later are classified too (an explicit marker on a test wins):
+# fixture so tests added later are classified too (an explicit marker on a test wins). Files are
+# named by their path under test/ (the tree mirrors src/pepper_interface_tests/):
 #   slow         SLOW_FILES, SLOW_TESTS: a real browser (headless Chromium), a soak, a 240 MB bag;
 #                `make test` runs them
 #   integration  a test using a ROS fixture (a real roscore) or in INTEGRATION_FILES (every test
@@ -20,26 +22,34 @@ from rosmaster import Master, script  # noqa: E402
 # `make test-fast` runs `-m unit` (the unit tier must stay under UNIT_BUDGET_CPU_S of CPU, below).
 TIERS = ('unit', 'integration', 'slow')
 ROS_FIXTURES = {'master', 'module_master', 'recorded_bags'}
-SLOW_FILES = {'test_report.py'}
+SLOW_FILES = {'outputs/report/test_page.py'}
 SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the audio chain
               'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
 INTEGRATION_FILES = {
-    'test_audio_bridge.py', 'test_bag_platform_hint.py', 'test_bag_source.py', 'test_bags.py', 'test_diagnostics.py',
-    'test_ros2_bags.py', 'test_ros2_bad_recordings.py',
-    'test_disk.py', 'test_driver_semantics.py', 'test_emulator.py', 'test_emulator_cli.py', 'test_graph.py',
-    'test_history.py', 'test_launch.py', 'test_naoqi_endpoint.py', 'test_recording.py',
+    'audio_bridge/test_audio_bridge.py', 'sources/test_bag_platform_hint.py', 'sources/test_bag.py',
+    'emulator/test_bags.py', 'outputs/test_diagnostics_topic.py',
+    'sources/test_ros2_bags.py', 'sources/test_ros2_bad_recordings.py',
+    'outputs/test_files_hostile.py', 'sensors/test_driver_semantics.py', 'emulator/test_emulator_node.py',
+    'emulator/test_emulator_cli.py', 'test_node.py',
+    'outputs/test_history.py', 'launch/test_launch_files.py', 'emulator/test_naoqi_endpoint.py',
+    'media/test_recording.py',
     'test_rostest.py',
-    'test_selection.py', 'test_sensor_test_cli.py', 'test_signals.py', 'test_sim_time.py',
-    'test_startup.py'}
+    'plan/test_selection.py', 'test_cli.py', 'test_interrupts.py', 'sensors/test_clock.py',
+    'test_rosmaster.py'}
 # tests that start real processes without a ROS fixture, in files that are otherwise unit
-INTEGRATION_TESTS = {'test_audio_check.py': ('real_topic',)}
+INTEGRATION_TESTS = {'sensors/test_audio.py': ('real_topic',)}
+
+
+def test_file(path):
+    """A test file's name in the lists above: its path under test/, with '/' on every system."""
+    return os.path.relpath(str(path), HERE).replace(os.sep, '/')
 
 
 def tier_of(item):
     own = [t for t in TIERS if item.get_closest_marker(t)]
     if own:
         return own[0]
-    name = os.path.basename(str(item.fspath))
+    name = test_file(item.fspath)
     if name in SLOW_FILES or item.originalname in SLOW_TESTS:
         return 'slow'
     words = INTEGRATION_TESTS.get(name, ())
@@ -52,7 +62,7 @@ def tier_of(item):
 def pytest_ignore_collect(collection_path, config):
     """`-m unit` does not even import the files whose every test is integration or slow (rosbag,
     rospy, websockets and cv2 at their top would cost the unit tier a second of collection)."""
-    if config.getoption('markexpr') == 'unit' and collection_path.name in INTEGRATION_FILES | SLOW_FILES:
+    if config.getoption('markexpr') == 'unit' and test_file(collection_path) in INTEGRATION_FILES | SLOW_FILES:
         return True
     return None
 

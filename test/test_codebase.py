@@ -15,12 +15,9 @@
   leads from a module back to itself; each circle found is named, module by module.
 """
 import ast
-import functools
-import os
 from typing import Set
 
-PACKAGE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                       'src', 'pepper_interface_tests')
+from codebase_files import parse, source_files
 
 # Not held to the typed-API rule, forever: the capture side runs on the robot's Python 2.7 and
 # mypy does not check it (pyproject.toml).
@@ -42,22 +39,6 @@ LAYERS = [
     {'outputs'},
     {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'rosmaster'},
 ]
-
-
-def source_files():
-    for folder, dirs, files in os.walk(PACKAGE):
-        dirs[:] = sorted(d for d in dirs if d != '__pycache__')
-        for f in sorted(files):
-            if f.endswith('.py'):
-                path = os.path.join(folder, f)
-                yield os.path.relpath(path, PACKAGE).replace(os.sep, '/'), path
-
-
-@functools.lru_cache(maxsize=None)
-def parse(path):
-    """The module's tree, read once for every gate (the trees are not changed)."""
-    with open(path, encoding='utf-8') as f:
-        return ast.parse(f.read(), path, type_comments=True)
 
 
 def exempt(rel):

@@ -10,13 +10,14 @@ import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PKG_DIR = os.path.dirname(HERE)
-TEST_FILE = os.path.join(HERE, 'sensor_test_core.test')
+NODES = os.path.join(HERE, 'nodes')   # the rostest files and their nodes
+TEST_FILE = os.path.join(NODES, 'sensor_test_core.test')
 
 
 def test_nodes_of_the_test_file_are_executable():
     """roslaunch only starts executable files (rosrun finds them anywhere in the package)."""
     for name in ('core_publisher.py', 'rostest_sensor_test.py'):
-        assert os.access(os.path.join(HERE, name), os.X_OK), name
+        assert os.access(os.path.join(NODES, name), os.X_OK), name
     assert os.access(os.path.join(PKG_DIR, 'scripts', 'sensorTest'), os.X_OK)
 
 
