@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import soundfile
 
+from check_feed import feed
 from fake_pepper import MIC_TONES, audio_buffer
 from media_tools import HERE, TOPICS, Publishers, dominant_frequency, explain, make_check, sensor_test
 from pepper_interface_tests.emulator import profiles
@@ -24,7 +25,7 @@ def buffers(n_buffers, n=4096, rate=48000.0, silent=None, amplitude=3000.0, shor
             for i in range(n_buffers)]
 
 
-def feed(check, msgs, interval=4096 / 48000.0, start=0.0):
+def feed_buffers(check, msgs, interval=4096 / 48000.0, start=0.0):
     for i, m in enumerate(msgs):
         check.feed(m, start + i * interval)
     check.close()
@@ -34,7 +35,7 @@ def feed(check, msgs, interval=4096 / 48000.0, start=0.0):
 def test_levels_rate_and_the_four_channel_wav(tmp_path):
     c = make_check('microphone', tmp_path)
     c.start()
-    c = feed(c, buffers(12))
+    c = feed_buffers(c, buffers(12))
     assert c.failure_reasons() == [] and c.warning_reasons() == []
     assert c.result_values().sample_rate_hz == 48000.0
     assert c.result_values().samples_per_channel == 12 * 4096
@@ -51,11 +52,11 @@ def test_levels_rate_and_the_four_channel_wav(tmp_path):
 
 
 def test_a_silent_channel_fails_by_its_place(tmp_path):
-    c = feed(make_check('microphone', tmp_path, record=False), buffers(6, silent='frontLeft'))
+    c = feed_buffers(make_check('microphone', tmp_path, record=False), buffers(6, silent='frontLeft'))
     assert c.failure_reasons() == ['microphone frontLeft is silent: all samples are zero']
     levels = [n for n in c.notes if n.startswith('Levels')]
     assert levels and 'frontLeft - / -' in levels[0] and 'None' not in ' '.join(c.notes), c.notes
-    c = feed(make_check('microphone', tmp_path, record=False), buffers(6, amplitude=5))
+    c = feed_buffers(make_check('microphone', tmp_path, record=False), buffers(6, amplitude=5))
     assert len(c.failure_reasons()) == 4
     # amplitude 5 truncated to int16 gives about -81 dBFS; the exact tenth depends on the last bit of
     # np.sin, which differs between CPUs (numpy's SIMD sin), so the level is read, not spelled
@@ -67,15 +68,15 @@ def test_a_silent_channel_fails_by_its_place(tmp_path):
 
 def test_sample_rate_outside_the_tolerance_fails(tmp_path):
     slow = 4096 / 44100.0        # buffers of 4096 arriving at the pace of 44.1 kHz
-    c = feed(make_check('microphone', tmp_path, record=False), buffers(10), interval=slow)
+    c = feed_buffers(make_check('microphone', tmp_path, record=False), buffers(10), interval=slow)
     assert c.failure_reasons() == ['sample rate 44100 Hz, expected 48000 Hz +- 5%']
-    c = feed(make_check('microphone', tmp_path, record=False), buffers(10), interval=4096 / 46000.0)
+    c = feed_buffers(make_check('microphone', tmp_path, record=False), buffers(10), interval=4096 / 46000.0)
     assert c.failure_reasons() == []     # 4 % off: within the tolerance
 
 
 def test_unequal_channel_lengths_are_counted(tmp_path):
     msgs = buffers(4) + buffers(2, short='frontRight')
-    c = feed(make_check('microphone', tmp_path, record=False), msgs)
+    c = feed_buffers(make_check('microphone', tmp_path, record=False), msgs)
     assert 'channel arrays of different lengths in 2 of 6 messages (e.g. rearLeft=4096 rearRight=4096 ' \
            'frontLeft=4096 frontRight=4095)' in c.failure_reasons()
 
@@ -96,7 +97,7 @@ def test_sequential_mode_records_each_microphone_in_turn(tmp_path):
     c = make_check('microphone', tmp_path, mic_mode='sequential')
     assert c.window(1.0) == 4.0
     c.start()
-    c = feed(c, buffers(47))           # 4.01 s of audio, 1 s per microphone
+    c = feed_buffers(c, buffers(47))           # 4.01 s of audio, 1 s per microphone
     out = os.path.join(str(tmp_path), 'out')
     for i, name in enumerate(CHANNELS):
         data, rate = soundfile.read(os.path.join(out, 'microphoneOutput_%s.wav' % name), dtype='int16')
@@ -190,3 +191,33 @@ def test_a_start_up_burst_does_not_read_as_a_wrong_sample_rate(tmp_path):
     assert healthy.result_values().sample_rate_hz == 48000.0
     slow = burst_then(4096 / 44100.0)
     assert slow.failure_reasons() == ['sample rate 44100 Hz, expected 48000 Hz +- 5%']
+
+
+def custom(i, n=4096, dead=None, dead_from=None):
+    """Tones of 500, 800, 1100 and 1400 Hz with a little noise (no two buffers alike); `dead`
+    all zeros from buffer `dead_from` on."""
+    rng = np.random.default_rng(i)
+    tt = (np.arange(n) + i * n) / 48000.0
+    return audio_buffer(i, n, channels=[(2000 * np.sin(2 * np.pi * (500 + 300 * k) * tt) + rng.normal(0, 50, n))
+                                        .astype(np.int16) for k in range(4)],
+                        silent=dead if dead_from is not None and i >= dead_from else None)
+
+
+def test_microphone_buffers_that_repeat_fail(tmp_path):
+    msgs = [custom(i) for i in range(5)] + [custom(5)] * 10
+    c = feed(make_check('microphone', tmp_path, record=False), msgs, rate=48000 / 4096.0)
+    assert any(r.startswith('microphone stream stuck: 10 identical buffers in a row from t = ')
+               and r.endswith('to the end of the window (stuck_buffers 3)') for r in c.failure_reasons()), \
+        c.failure_reasons()
+    c = feed(make_check('microphone', tmp_path, record=False), [custom(i) for i in range(15)],
+             rate=48000 / 4096.0)
+    assert c.failure_reasons() == []
+
+
+def test_a_microphone_channel_that_dies_halfway_fails_by_name_and_time(tmp_path):
+    msgs = [custom(i, dead='frontLeft', dead_from=12) for i in range(30)]
+    c = feed(make_check('microphone', tmp_path, record=False), msgs, rate=48000 / 4096.0)
+    hits = [r for r in c.failure_reasons() if r.startswith('microphone frontLeft went silent from t = 1.07 s '
+                                                           'to the end of the window (18 buffers')]
+    assert hits, c.failure_reasons()
+    assert not any('rearLeft' in r or 'frontRight' in r for r in c.failure_reasons())

@@ -6,12 +6,13 @@ from dataclasses import asdict
 import numpy as np
 import pytest
 
+from check_feed import feed
 from fake_pepper import image
 from media_tools import Publishers, explain, make_check, sensor_test, video_info
 from pepper_interface_tests.media.recording import to_bgr
 
 
-def feed(check, frames, rate=10.0):
+def feed_frames(check, frames, rate=10.0):
     for i, msg in enumerate(frames):
         check.feed(msg, i / rate)
     check.close()
@@ -27,7 +28,7 @@ def mm_frame(value_mm, w=160, h=120, invalid_rows=0):
 def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
     frames = [mm_frame(1500 + 10 * i, invalid_rows=12) for i in range(10)]
     # flat synthetic frames: a real Xtion's noise is absent, so its noise rules are off here
-    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
     assert c.failure_reasons() == []
     d = c.result_values().depth_m
     assert d.min == 1.5 and d.max == 1.59 and abs(d.median - 1.545) < 1e-6
@@ -36,7 +37,7 @@ def test_pepper_16uc1_millimetres_pass_with_min_median_max(tmp_path):
 
 
 def test_all_zero_depth_fails_with_a_clear_reason(tmp_path):
-    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(0) for _ in range(4)])
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False), [mm_frame(0) for _ in range(4)])
     reasons = c.failure_reasons()
     assert 'depth image has no valid pixel (all zero or not finite) in 4 of 4 messages' in reasons
     assert 'depth all zero: no valid pixel in any of the 4 frames' in reasons
@@ -47,7 +48,7 @@ def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
     m[:30] = np.nan
     m[30:40] = np.inf
     frames = [image(m, '32FC1') for _ in range(5)]
-    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), frames)
+    c = feed_frames(make_check('depthCamera', tmp_path, platform='simulator', record=False), frames)
     assert c.failure_reasons() == []
     assert asdict(c.result_values().depth_m) == {'min': 2.0, 'median': 2.0, 'max': 2.0}
     assert abs(c.result_values().valid_share.mean - 80 / 120) < 1e-3
@@ -55,24 +56,24 @@ def test_simulator_32fc1_metres_with_nan_is_understood(tmp_path):
 
 def test_realsense_aligned_depth_16uc1(tmp_path):
     a = np.tile(np.linspace(300, 4000, 640).astype(np.uint16), (480, 1))
-    c = feed(make_check('realsenseDepthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
+    c = feed_frames(make_check('realsenseDepthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
     assert c.failure_reasons() == []
     assert c.result_values().width == 640 and c.result_values().depth_m.min == 0.3
 
 
 def test_a_colour_image_on_a_depth_topic_is_a_wrong_encoding(tmp_path):
     rgb = np.zeros((120, 160, 3), np.uint8)
-    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), [image(rgb, 'rgb8')] * 3)
+    c = feed_frames(make_check('depthCamera', tmp_path, platform='simulator', record=False), [image(rgb, 'rgb8')] * 3)
     assert any(r.startswith('encoding "rgb8" is not a depth encoding') for r in c.failure_reasons())
-    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(1000)] * 2 + [image(rgb, 'rgb8')])
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False), [mm_frame(1000)] * 2 + [image(rgb, 'rgb8')])
     assert 'encoding "rgb8" where "16UC1" is expected in 1 of 3 messages' in c.failure_reasons()
 
 
 def test_valid_share_and_median_limits(tmp_path):
     frames = [mm_frame(1500, invalid_rows=110) for _ in range(4)]      # 8 % valid
-    c = feed(make_check('depthCamera', tmp_path, record=False), frames)
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False), frames)
     assert any(r.startswith('only 8.3% of the pixels are valid (min_valid_share 20%)') for r in c.failure_reasons())
-    c = feed(make_check('depthCamera', tmp_path, record=False), [mm_frame(9500)] * 4)
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False), [mm_frame(9500)] * 4)
     assert 'median depth 9.5 m outside median_range [0.3, 8] m' in c.failure_reasons()
 
 
@@ -114,7 +115,7 @@ def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_pa
     c = make_check('depthCamera', tmp_path)
     assert c.prepare_frame(frames[0], 'depth_mm')[1] == 'yuv420p'
     assert c.prepare_frame(frames[0][:119, :159], 'depth_mm')[1] == 'bgr0'
-    c = feed(c, [image(f, '16UC1') for f in frames])
+    c = feed_frames(c, [image(f, '16UC1') for f in frames])
     video = c.result_values().video
     assert video.frames_written == 8 and (video.width, video.height) == (160, 120), video
     import cv2
@@ -130,7 +131,7 @@ def test_depth_video_frames_are_yuv420p_with_the_colours_of_the_live_view(tmp_pa
 def test_one_valid_pixel_anywhere_is_not_an_all_zero_frame(tmp_path):
     a = np.zeros((120, 160), np.uint16)
     a[57, 93] = 1200                               # outside the every-4th-pixel sample
-    c = feed(make_check('depthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False), [image(a, '16UC1')] * 3)
     assert c.result_values().frames_all_zero == 0
     assert not any('depth all zero' in r or 'no valid pixel' in r for r in c.failure_reasons())
 
@@ -141,7 +142,7 @@ def test_big_endian_and_padded_rows_are_read_right(tmp_path):
     padded[:, :160] = a
     msg = image(padded, '16UC1', width=160)
     msg.is_bigendian = 1
-    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), [msg] * 3)
+    c = feed_frames(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), [msg] * 3)
     assert c.failure_reasons() == [] and c.result_values().depth_m.median == 1.5
 
 
@@ -178,3 +179,52 @@ def test_sensor_test_depth_simulator_32fc1(module_master, tmp_path):
     assert 1.5 < d['values']['depth_m']['median'] < 2.5
     frames, w, h, _ = video_info(os.path.join(str(tmp_path), 'out', 'depthCameraOutput.mp4'))
     assert frames == d['messages'] and (w, h) == (320, 240)
+
+
+def depth(i, w=160, h=120, rng=None):
+    """A floor-and-wall scene in millimetres with the Xtion's noise and a few holes."""
+    rng = rng or np.random.default_rng(i)
+    yy = np.mgrid[0:h, 0:w][0]
+    a = (1500 + 10 * yy + rng.normal(0, 8, (h, w))).astype(np.uint16)
+    a[rng.integers(0, h, 50), rng.integers(0, w, 50)] = 0
+    return image(a, '16UC1')
+
+
+def test_a_healthy_depth_stream_passes(tmp_path):
+    c = feed(make_check('depthCamera', tmp_path, record=False), [depth(i) for i in range(20)])
+    assert c.failure_reasons() == [] and c.result_values().longest_identical_run == 1
+
+
+def test_frozen_depth_fails_from_when_it_froze(tmp_path):
+    frames = [depth(i) for i in range(8)] + [depth(99)] * 12
+    c = feed(make_check('depthCamera', tmp_path, record=False), frames)
+    assert 'depth image frozen: 12 identical frames in a row from t = 0.85 s to the end of the window ' \
+           '(frozen_frames 10)' in c.failure_reasons(), c.failure_reasons()
+
+
+def test_a_single_depth_everywhere_fails_on_the_robot_not_in_the_simulator(tmp_path):
+    flat = [image(np.full((120, 160), 1500 + i, np.uint16), '16UC1') for i in range(6)]
+    c = feed(make_check('depthCamera', tmp_path, record=False), flat)
+    assert any(r.startswith('depth image holds a single value everywhere in 6 of 6 frames')
+               for r in c.failure_reasons()), c.failure_reasons()
+    # Gazebo's depth has no noise: a wall square to the camera is one value everywhere
+    c = feed(make_check('depthCamera', tmp_path, platform='simulator', record=False), flat)
+    assert c.failure_reasons() == []
+
+
+def test_depth_mostly_beyond_the_physical_range_fails(tmp_path):
+    """30 m over most of the image: 16UC1 can say it, an Xtion cannot measure it."""
+    far = [image((30000 + (np.arange(160 * 120) + i) % 500).astype(np.uint16).reshape(120, 160),
+                     '16UC1') for i in range(6)]
+    frames = [depth(i) for i in range(2)] + far
+    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'median_range': None}), frames)
+    assert "most of the depth image outside the camera's physical range [0, 10] m in 6 of 8 frames" \
+        in c.failure_reasons(), c.failure_reasons()
+
+
+def test_depth_that_turns_all_zero_partway_fails_from_when(tmp_path):
+    zero = image(np.zeros((120, 160), np.uint16), '16UC1')
+    frames = [depth(i) for i in range(15)] + [zero] * 12
+    c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
+    assert 'depth all zero from t = 1.55 s to the end of the window (12 frames, 1.1 s)' \
+        in c.failure_reasons(), c.failure_reasons()

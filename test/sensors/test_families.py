@@ -3,11 +3,15 @@ place that names families is derived from it or agrees with it, and no module ou
 families apart by a string test."""
 import ast
 import os
+import re
 
 import pytest
 
+from check_runs import ROBOT, judged
 from codebase_files import PACKAGE, parse, source_files
-from pepper_interface_tests.plan import catalog, expectations
+from fake_pepper import JOINTS, imu, joints, laser, odometry, sonar
+from pepper_interface_tests.plan import catalog, expectations, settings
+from pepper_interface_tests.results import PASS
 from pepper_interface_tests.sensors import families
 from pepper_interface_tests.sensors.base import Check
 
@@ -105,10 +109,32 @@ def test_no_family_is_told_apart_by_a_string_test_outside_the_registry():
 
 def test_the_readme_names_each_familys_check_module():
     """README "What is checked" points to each family's check, where its rules are stated."""
-    import re
 
-    from pepper_interface_tests.plan import settings
     with open(os.path.join(settings.package_dir(), 'README.md'), encoding='utf-8') as f:
         text = f.read()
     rows = dict(re.findall(r'^\| (\w+) \| [^|]+ \| `(sensors/\w+\.py)`', text, re.M))
     assert rows == {name: 'sensors/%s.py' % fam.check.split(':')[0] for name, fam in families.FAMILIES.items()}
+
+
+@pytest.mark.parametrize('name, build, fields', [
+    ('backSonar', sonar, ['Frame id', 'Field of view', 'Minimum range value', 'Maximum range value',
+                          'Range value']),
+    ('laser', laser, ['Frame id', 'Start angle of the scan', 'End angle of the scan',
+                     'Angular distance between measurements', 'Time between measurements',
+                     'Time between scans', 'Minimum range value', 'Maximum range value',
+                     'Range data size']),
+    ('jointState', joints, ['Header frame id', 'Number of joints'] + ['Joint'] * len(JOINTS)),
+    ('odometry', odometry, ['Header', 'Child frame id', 'Pose', 'Twist']),
+    ('imu', imu, ['Header', 'Orientation', 'Angular velocity', 'Linear acceleration']),
+])
+def test_good_messages_pass(tmp_path, name, build, fields):
+    nominal = float(ROBOT[name].nominal)
+    n = int(2.5 * nominal)
+    r = judged(name, tmp_path, [build(i) for i in range(n)])
+    assert r.verdict == PASS, r.reasons
+    assert r.reasons == [] and r.messages == n
+    assert r.rate_hz == pytest.approx(nominal) and r.stamp_rate_hz == pytest.approx(nominal)
+    assert [k for k, _ in r.fields] == fields          # the spec's fields of the first message
+    assert r.stats.delay_s.max == pytest.approx(0.01, abs=1e-3)
+    assert r.received_type == catalog.SENSORS[name].msg_type
+    assert r.notes, 'a summary of the values is expected'

@@ -10,8 +10,10 @@ import math
 import os
 
 import genpy
+import pytest
 
-from fake_pepper import laser, serialized
+from check_runs import judged, one_reason_with
+from fake_pepper import BLIND, laser, serialized
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -30,7 +32,7 @@ DEAD_FRONT = 0.056
 DEAD_SIDE = math.hypot(0.018, 0.090)
 
 
-def judged(msgs, expect=None, rate=10.0):
+def judged_scans(msgs, expect=None, rate=10.0):
     plan = SensorPlan(catalog.SENSORS['laser'], '/laser', (expect or ROBOT['laser']))
     run = SensorRun(plan, RunContext('/nonexistent-not-written', 'robot', Options()), T0,
                     quick=False, wait=2.0, duration=3.0)
@@ -64,7 +66,7 @@ def reasons_with(result, words):
 # ------------------------------------------------------------------ a dead board
 
 def test_a_front_board_stuck_at_its_mounting_offset_fails_by_name():
-    r = judged([scan(i, FRONT, DEAD_FRONT) for i in range(N)])
+    r = judged_scans([scan(i, FRONT, DEAD_FRONT) for i in range(N)])
     assert r.verdict == FAIL
     text = reasons_with(r, 'front board (slots 23-37) dead')[0]
     assert 'no valid reading in 25 scans' in text and '0.056 m in every slot' in text, text
@@ -73,7 +75,7 @@ def test_a_front_board_stuck_at_its_mounting_offset_fails_by_name():
 
 
 def test_a_side_board_at_0_09_m_fails_as_the_issue_saw_it():
-    r = judged([scan(i, RIGHT, DEAD_SIDE) for i in range(N)])
+    r = judged_scans([scan(i, RIGHT, DEAD_SIDE) for i in range(N)])
     assert r.verdict == FAIL
     assert '0.092 m in every slot' in reasons_with(r, 'right board (slots 0-14) dead')[0]
 
@@ -82,14 +84,14 @@ def test_a_nan_board_fails_as_yohatad_naoqi_driver2_publishes_it():
     """yohatad/naoqi_driver2's laser.cpp: a board whose frame counter stopped is NaN in all its
     slots (kUnknownRange); +inf is "nothing in range"."""
     expect = settings.expectations.load(EXPECT, 'robot', driver='yohatad_naoqi_driver2')['laser']
-    r = judged([scan(i, LEFT, float('nan')) for i in range(N)], expect)
+    r = judged_scans([scan(i, LEFT, float('nan')) for i in range(N)], expect)
     assert r.verdict == FAIL
     assert 'NaN in every slot of every scan' in reasons_with(r, 'left board (slots 46-60) dead')[0]
 
 
 def test_a_board_repeating_its_segment_fails_as_stuck_while_the_others_move():
     frozen = laser(0).ranges
-    r = judged([scan(i, RIGHT, lambda i, k: frozen[k]) for i in range(N)])
+    r = judged_scans([scan(i, RIGHT, lambda i, k: frozen[k]) for i in range(N)])
     assert r.verdict == FAIL
     text = reasons_with(r, 'right board (slots 0-14) stuck')[0]
     assert '25 identical segments in a row' in text and '(stuck_scans 20)' in text, text
@@ -101,27 +103,27 @@ def test_a_board_repeating_its_segment_fails_as_stuck_while_the_others_move():
 
 def test_a_board_dead_for_part_of_the_window_is_not_dead():
     """One valid reading in the window is a live board (the stuck rule judges repetition)."""
-    r = judged([scan(i, FRONT, DEAD_FRONT if i else 1.2) for i in range(N)])
+    r = judged_scans([scan(i, FRONT, DEAD_FRONT if i else 1.2) for i in range(N)])
     assert not [x for x in r.reasons if 'dead' in x], r.reasons
 
 
 # ------------------------------------------------------------------ healthy scans stay PASS
 
 def test_open_space_far_readings_that_vary_pass():
-    r = judged([scan(i, FRONT, lambda i, k: 5.3 + 0.01 * ((i + k) % 4)) for i in range(N)])
+    r = judged_scans([scan(i, FRONT, lambda i, k: 5.3 + 0.01 * ((i + k) % 4)) for i in range(N)])
     assert r.verdict == PASS, r.reasons
 
 
 def test_open_space_constant_saturation_beyond_range_max_is_not_stuck():
     """A board that sees nothing may report its fixed saturation distance (~5.4 m, yohatad's
     laser.cpp comment): beyond range_max, identical each scan, not a stuck board."""
-    r = judged([scan(i, FRONT, 5.4) for i in range(N)])
+    r = judged_scans([scan(i, FRONT, 5.4) for i in range(N)])
     assert r.verdict == PASS, r.reasons
 
 
 def test_a_board_of_inf_is_nothing_in_range_under_yohatad_naoqi_driver2():
     expect = settings.expectations.load(EXPECT, 'robot', driver='yohatad_naoqi_driver2')['laser']
-    r = judged([scan(i, LEFT, float('inf')) for i in range(N)], expect)
+    r = judged_scans([scan(i, LEFT, float('inf')) for i in range(N)], expect)
     assert r.verdict == PASS, r.reasons
     assert r.values.dead_boards == []
 
@@ -134,7 +136,7 @@ def test_the_simulator_has_no_boards():
 # ------------------------------------------------------------------ another layout: WARN
 
 def test_blind_slots_holding_distances_warn_with_both_layouts_and_the_fix():
-    r = judged([laser(i, blind=()) for i in range(N)])
+    r = judged_scans([laser(i, blind=()) for i in range(N)])
     assert r.verdict == PASS, r.reasons      # PASS with a warning: not a broken laser
     text = [w for w in r.warnings if 'laid out otherwise' in w][0]
     assert "expected naoqi_driver's 61 slots" in text, text
@@ -152,13 +154,13 @@ def _cropped(i):
 
 
 def test_a_shorter_scan_warns_and_is_judged_by_its_readings():
-    r = judged([_cropped(i) for i in range(N)])
+    r = judged_scans([_cropped(i) for i in range(N)])
     assert r.verdict == PASS, r.reasons
     assert [w for w in r.warnings if '45 slots instead of 61' in w], r.warnings
 
 
 def test_a_broken_scan_in_another_layout_still_fails():
-    r = judged([laser(i, blind=(), ranges=[float('nan')] * 61) for i in range(N)])
+    r = judged_scans([laser(i, blind=(), ranges=[float('nan')] * 61) for i in range(N)])
     assert r.verdict == FAIL
 
 
@@ -172,7 +174,107 @@ def test_every_driver_profile_has_a_layout_and_a_source():
 
 
 def test_a_scan_without_any_return_is_said_once_not_per_board():
-    r = judged([laser(i, ranges=[float('nan')] * 61) for i in range(N)])
+    r = judged_scans([laser(i, ranges=[float('nan')] * 61) for i in range(N)])
     assert r.verdict == FAIL
     assert not [x for x in r.reasons if 'board' in x], r.reasons
     assert r.values.dead_boards == ['right', 'front', 'left']
+
+
+@pytest.mark.parametrize('build, words', [
+    (lambda i: laser(i, ranges=[float('nan')] * 61), 'scan without a single valid return'),
+    (lambda i: laser(i, ranges=[-1.0] * 61), 'scan without a single valid return'),
+    (lambda i: laser(i, ranges=[-1.0] * 61), '100% of the beams are invalid'),
+    (lambda i: laser(i, n=40), 'number of ranges does not match the angles'),
+    (lambda i: laser(i, angle_increment=0.0), 'angle increment is zero or not finite'),
+    (lambda i: laser(i, range_min=3.0, range_max=1.0), 'range_min 3 is not below range_max 1'),
+    (lambda i: laser(i, intensities=[1.0] * 10), 'intensities (10) not as long as ranges (61)'),
+    (lambda i: _laser_frame(i), 'frame_id is "laser_frame", expected "base_footprint"'),
+])
+def test_laser_faults(tmp_path, build, words):
+    r = judged('laser', tmp_path, [build(i) for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, words)
+
+
+def _laser_frame(i):
+    m = laser(i)
+    m.header.frame_id = 'laser_frame'
+    return m
+
+
+def _scan_with_invalid(i, invalid):
+    m = laser(i)
+    # round robin over the three boards (0-14, 23-37, 46-60): no board is left without a
+    # valid reading (a dead board fails on its own, test_laser_boards.py)
+    counted = [k for trio in zip(range(0, 15), range(23, 38), range(46, 61)) for k in trio]
+    r = list(m.ranges)
+    for k in counted[:invalid]:
+        r[k] = float('nan') if k % 2 else 0.05      # NaN, or below range_min
+    m.ranges = r
+    return m
+
+
+def test_laser_invalid_share_limit(tmp_path):
+    """16 blind beams (-1.0) are excluded; of the other 45, at most 50% may be invalid."""
+    ok = judged('laser', tmp_path, [_scan_with_invalid(i, 22) for i in range(N)])   # 48.9%
+    assert ok.verdict == PASS, ok.reasons
+    assert ok.values.blind_beams == 16 * N and ok.values.invalid_beams == 22 * N
+    bad = judged('laser', tmp_path, [_scan_with_invalid(i, 23) for i in range(N)])  # 51.1%
+    assert bad.verdict == FAIL
+    one_reason_with(bad, '51% of the beams are invalid')
+
+
+def test_laser_raw_distances_beyond_range_max_are_valid(tmp_path):
+    """naoqi_driver does not clip to range_max 3.0 (laser.cpp:170-175): 5 m in a wide room."""
+    r = judged('laser', tmp_path, [laser(i, ranges=[-1.0 if k in BLIND else 5.0 + 0.001 * (i % 3)
+                                                   for k in range(61)]) for i in range(N)])
+    assert r.verdict == PASS, r.reasons
+    assert r.values.beyond_advertised_max == 45 * N and r.values.invalid_beams == 0
+    # the report's scan plot draws each beam as judged here: 5 m beams are returns, not invalid
+    kinds = r.values.last_scan.kinds
+    assert kinds.count('return') == 45 and kinds.count('blind') == 16, kinds
+
+
+def test_laser_last_scan_kinds_follow_the_verdict(tmp_path):
+    """Per beam of the last scan: a return, a blind slot, no return (+inf) or invalid (below
+    range_min) - what the report's polar plot colours, so it never calls a return invalid."""
+    ranges = [-1.0 if k in BLIND else 2.0 for k in range(61)]
+    ranges[0], ranges[1], ranges[2] = float('inf'), 0.01, 4.5
+    r = judged('laser', tmp_path, [laser(i, ranges=list(ranges)) for i in range(N)])
+    kinds = r.values.last_scan.kinds
+    assert kinds[:3] == ['no return', 'invalid', 'return'] and kinds[15] == 'blind', kinds
+
+
+def test_laser_blind_value_outside_the_layout_is_invalid(tmp_path):
+    """Only the driver's blind slots may hold -1.0; elsewhere it is an invalid reading."""
+    r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 12))) for i in range(N)])
+    assert r.values.blind_beams == 16 * N and r.values.invalid_beams == 12 * N
+    assert r.verdict == PASS, r.reasons          # 12 of 45 = 27%: within max_invalid_share
+    r = judged('laser', tmp_path, [laser(i, blind=BLIND + list(range(0, 15)) + list(range(23, 31)))
+                                   for i in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, '51% of the beams are invalid')
+
+
+def test_laser_blind_value_without_a_layout(tmp_path):
+    """Without blind_slots any blind value is blind; without a blind value, -1.0 is invalid."""
+    r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
+               expect={'blind_value': None, 'blind_slots': None})
+    assert r.verdict == FAIL and r.values.blind_beams == 0
+    r = judged('laser', tmp_path, [laser(i, blind=range(0, 40)) for i in range(N)],
+               expect={'blind_slots': None, 'boards': None})
+    assert r.verdict == PASS, r.reasons
+
+
+def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
+    """naoqi_driver reads ALMemory at its own rate: 2-3 identical scans in a row are normal,
+    20 (2 s at 10 Hz) are a cached scan republished."""
+    r = judged('laser', tmp_path, [laser(0) for _ in range(N)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'laser stuck: 25 identical scans in a row from t = 0.05 s to the end of '
+                       'the window (stuck_scans 20)')
+    r = judged('laser', tmp_path, [laser(i // 3) for i in range(N)])      # each scan three times
+    assert r.verdict == PASS, r.reasons
+    assert r.values.longest_identical_run == 3
+    r = judged('laser', tmp_path, [laser(i) for i in range(5)] + [laser(99)] * 22)
+    one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')

@@ -12,7 +12,8 @@ import random
 import genpy
 import pytest
 
-from fake_pepper import JOINTS, joints, serialized
+from check_runs import judged, one_reason_with
+from fake_pepper import JOINTS, joints, odometry, serialized
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -25,7 +26,7 @@ ROBOT = settings.read_expectations(os.path.join(settings.package_dir(), 'config'
 T0, R0 = 5000.0, 1700000000.0
 
 
-def judged(name, msgs, rate, expect=None, duration=None, stamp=None):
+def judged_at(name, msgs, rate, expect=None, duration=None, stamp=None):
     """Messages at `rate` Hz from 0.05 s; header stamps = ROS time - 0.01 unless `stamp`
     (i, ros time) -> s says otherwise (0: a zero stamp)."""
     duration = duration or (len(msgs) / rate + 0.5)
@@ -63,7 +64,7 @@ def test_a_pose_leaping_25_m_for_one_message_in_eight_fails_with_count_largest_a
     """15 Hz, one pose in eight 25 m away and straight back: every pair of anchors 0.5 s apart
     (the old rule) sees only healthy poses."""
     msgs = [odom(0.1 * i / 15 + (25.0 if i % 8 == 7 else 0.0), speed=0.1) for i in range(45)]
-    r = judged('odometry', msgs, 15.0)
+    r = judged_at('odometry', msgs, 15.0)
     assert r.verdict == FAIL
     text = jump_reasons(r)
     assert text, r.reasons
@@ -75,7 +76,7 @@ def test_a_pose_leaping_25_m_for_one_message_in_eight_fails_with_count_largest_a
 
 def test_a_relocalised_pose_that_stays_is_one_jump():
     msgs = [odom(0.0 if i < 20 else 3.0) for i in range(60)]
-    r = judged('odometry', msgs, 15.0)
+    r = judged_at('odometry', msgs, 15.0)
     assert r.values.pose_jumps == 1, r.reasons
     assert 'pose jumps' in r.reasons[0] and '1 jump, the largest 3 m' in r.reasons[0]
 
@@ -83,7 +84,7 @@ def test_a_relocalised_pose_that_stays_is_one_jump():
 def test_a_jump_spread_over_three_fast_messages_is_seen():
     """50 Hz, 0.3 m per message away for three messages and back: each step is small."""
     xs = [0.0] * 20 + [0.3, 0.6, 0.9, 0.6, 0.3] + [0.0] * 30
-    r = judged('odometry', [odom(x) for x in xs], 50.0, expect={'rate': (1.0, 60.0)})
+    r = judged_at('odometry', [odom(x) for x in xs], 50.0, expect={'rate': (1.0, 60.0)})
     assert r.verdict == FAIL and jump_reasons(r), r.reasons
 
 
@@ -96,7 +97,7 @@ def test_driving_at_0_55_m_s_with_a_swaying_torso_and_jittery_stamps_passes(rate
     sway = [0.03 * math.sin(2 * math.pi * 1.5 * i / rate) for i in range(n)]
     msgs = [odom(0.55 * i / rate + sway[i], 0.02 * math.cos(2 * math.pi * 1.5 * i / rate), 0.55)
             for i in range(n)]
-    r = judged('odometry', msgs, rate, expect={'rate': (0.5, 60.0)},
+    r = judged_at('odometry', msgs, rate, expect={'rate': (0.5, 60.0)},
                # jitter up to 40 % of the period (more would reorder the stamps: its own rule)
                stamp=lambda i, ros: ros - 0.05 + rng.uniform(-0.2, 0.2) / rate)
     assert not jump_reasons(r), r.reasons
@@ -106,10 +107,10 @@ def test_driving_at_0_55_m_s_with_a_swaying_torso_and_jittery_stamps_passes(rate
 def test_standing_still_with_noisy_stamps_and_zero_stamps_passes():
     rng = random.Random(3)
     msgs = [odom(1.0 + rng.uniform(-0.005, 0.005)) for _ in range(60)]
-    r = judged('odometry', msgs, 15.0, stamp=lambda i, ros: ros + rng.uniform(-0.025, 0.025))
+    r = judged_at('odometry', msgs, 15.0, stamp=lambda i, ros: ros + rng.uniform(-0.025, 0.025))
     assert r.verdict == PASS, r.reasons
     # zero stamps (a stamp rule of their own): the poses are judged on the receive times
-    r = judged('odometry', [odom(0.5 * i / 15, speed=0.5) for i in range(60)], 15.0,
+    r = judged_at('odometry', [odom(0.5 * i / 15, speed=0.5) for i in range(60)], 15.0,
                stamp=lambda i, ros: 0)
     assert not jump_reasons(r) and r.values.pose_jumps == 0, r.reasons
     assert r.values.pose_implied_speed_m_s.max < 0.6
@@ -135,7 +136,7 @@ def test_a_joint_spike_between_anchors_fails():
         pos = dict(rest)
         pos['HeadYaw'] = 1.5 if i % 10 == 7 else 0.0
         msgs.append(joints(i, position=[pos[j] for j in JOINTS]))
-    r = judged('jointState', msgs, 50.0)
+    r = judged_at('jointState', msgs, 50.0)
     assert r.verdict == FAIL
     hits = [x for x in r.reasons if x.startswith('position of HeadYaw jumps')]
     assert hits and '12 jumps' in hits[0] and 'the largest 1.5 rad' in hits[0], r.reasons
@@ -149,7 +150,7 @@ def test_joints_moving_at_their_limit_pass():
         pos = {j: 0.0 for j in JOINTS}
         pos['HeadYaw'] = 1.5 * math.sin(5.0 / 1.5 * i / 50.0)
         msgs.append(joints(i, position=[pos[j] for j in JOINTS]))
-    r = judged('jointState', msgs, 50.0, stamp=lambda i, ros: ros + rng.uniform(-0.008, 0.008))
+    r = judged_at('jointState', msgs, 50.0, stamp=lambda i, ros: ros + rng.uniform(-0.008, 0.008))
     assert r.verdict == PASS, r.reasons
 
 
@@ -158,3 +159,43 @@ def test_stamps_that_stop_moving_keep_the_watch_bounded():
     for i in range(2000):
         w.add(7.0, (0.0, 0.0), i * 0.02)
     assert len(w.refs) <= 128 and w.jumps == 0
+
+
+@pytest.mark.parametrize('kw, words', [
+    (dict(w=2.0), 'orientation is not a unit quaternion (norm 2)'),
+    (dict(w=0.0), 'orientation is not a unit quaternion (norm 0)'),
+    (dict(x=float('nan')), 'pose or twist holds NaN or inf'),
+    (dict(pose_covariance=[float('nan')] + [0.0] * 35), 'a covariance holds NaN or inf'),
+    (dict(child_frame_id=''), 'child_frame_id is empty'),
+    (dict(child_frame_id='base_footprint'), 'child_frame_id is "base_footprint", expected "base_link"'),
+    (dict(frame_id=''), 'header.frame_id is empty'),
+    (dict(frame_id='map'), 'frame_id is "map", expected "odom"'),
+])
+def test_odometry_faults(tmp_path, kw, words):
+    r = judged('odometry', tmp_path, [odometry(i, **kw) for i in range(37)])   # 2.5 s at 15 Hz
+    assert r.verdict == FAIL
+    one_reason_with(r, words)
+
+
+def _odom_at(x, vx):
+    m = odometry(0, x=x)
+    m.twist.twist.linear.x = vx
+    return m
+
+
+def test_odometry_of_a_robot_standing_still_passes(tmp_path):
+    r = judged('odometry', tmp_path, [_odom_at(1.0, 0.0) for _ in range(37)])
+    assert r.verdict == PASS, r.reasons
+
+
+def test_odometry_pose_jumps_and_twist_against_pose(tmp_path):
+    msgs = [_odom_at(0.01 * i + (1.0 if i >= 20 else 0.0), 0.15) for i in range(37)]
+    r = judged('odometry', tmp_path, msgs)
+    assert r.verdict == FAIL
+    one_reason_with(r, 'pose jumps: consecutive poses imply more than max_speed 0.8 m/s (Pepper '
+                       'drives at most ~0.55 m/s)')
+    # the twist says 0.4 m/s, the poses stand still
+    r = judged('odometry', tmp_path, [_odom_at(0.0, 0.4) for _ in range(37)])
+    assert r.verdict == FAIL
+    one_reason_with(r, 'twist contradicts the pose: |twist| and the speed the poses imply differ by '
+                       'more than twist_tolerance 0.25 m/s')
