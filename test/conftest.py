@@ -36,8 +36,12 @@ INTEGRATION_FILES = {
     'test_rostest.py',
     'plan/test_selection.py', 'test_cli.py', 'test_interrupts.py', 'sensors/test_clock.py',
     'test_rosmaster.py'}
-# tests that start real processes without a ROS fixture, in files that are otherwise unit
-INTEGRATION_TESTS = {'sensors/test_audio.py': ('real_topic',)}
+# tests that start real processes without a ROS fixture, in files that are otherwise unit; and the
+# simulator's laser as its driver publishes it (in the integration tier with the other drivers'
+# semantics, sensors/test_driver_semantics.py)
+INTEGRATION_TESTS = {'sensors/test_audio.py': ('real_topic',),
+                     'sensors/test_laser.py': ('test_simulator_laser_',
+                                               'test_robot_layout_is_not_applied_to_the_simulator')}
 
 
 def test_file(path):

@@ -17,12 +17,9 @@ import pytest
 import rosbag
 import soundfile
 
-from fake_pepper import MIC_TONES, audio_buffer, serialized, sim_laser, stock_audio_buffer
-from pepper_interface_tests.plan import catalog, settings
-from pepper_interface_tests.plan.settings import Options, SensorPlan
+from driver_feed import R0, ROBOT, T0, feed, run_of
+from fake_pepper import MIC_TONES, audio_buffer, serialized, stock_audio_buffer
 from pepper_interface_tests.results import FAIL, PASS
-from pepper_interface_tests.sensors.base import RunContext
-from pepper_interface_tests.sensors.window import SensorRun
 from pepper_interface_tests.sources.naoqi_msgs import (
     AUDIO_BUFFER_DEFINITION,
     AUDIO_BUFFER_TYPE,
@@ -30,63 +27,16 @@ from pepper_interface_tests.sources.naoqi_msgs import (
 from rosmaster import NODES, kill_group, script, spawn, wait_for_publishers, wait_registered
 
 HERE = NODES   # the node scripts' folder (test/nodes/)
-PKG = settings.package_dir()
-EXPECT = os.path.join(PKG, 'config', 'sensorExpectations.yaml')
-ROBOT = settings.read_expectations(EXPECT, 'robot')
-SIM = settings.read_expectations(EXPECT, 'simulator')
-T0, R0 = 5000.0, 1700000000.0
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 NB = 17     # 8192-sample buffers in 2.9 s of a 3 s window
 AUDIO_CONN = {'type': AUDIO_BUFFER_TYPE, 'message_definition': AUDIO_BUFFER_DEFINITION,
               'callerid': '/naoqi_driver'}
 
 
-def run_of(name, tmp_path, platform_expect, expect=None, record=False):
-    plan = SensorPlan(catalog.SENSORS[name], '/t', platform_expect[name].but(**(expect or {})))
-    ctx = RunContext(str(tmp_path), 'robot', Options(record=record))
-    run = SensorRun(plan, ctx, T0, duration=3.0)
-    run.begin(T0)
-    return run
-
-
-def feed(run, msgs, rate, type_name=None, conn=None):
-    for i, m in enumerate(msgs):
-        t = T0 + 0.05 + i / rate
-        if hasattr(m, 'header'):
-            m.header.stamp = genpy.Time.from_sec(R0 + (t - T0) - 0.01)
-        run.feed_raw(type_name or run.sensor.msg_type, serialized(m), t, R0 + (t - T0), conn)
-    return run.close(T0 + 3.0, 'window ended')
-
-
 # ------------------------------------------------------------------ messages as the drivers build them
-
-def sim_scan(returns=True, i=0):
-    """The simulator's scan (fake_pepper.sim_laser) with 40 returns and one beyond range_max
-    (real), or without a single return."""
-    return sim_laser(i, returns=range(150, 190) if returns else (), beyond=(300,) if returns else ())
 
 
 # ------------------------------------------------------------------ simulator laser
-
-def test_simulator_laser_mostly_nan_with_returns_passes(tmp_path):
-    r = feed(run_of('laser', tmp_path, SIM), [sim_scan(i=i) for i in range(18)], rate=6.25)
-    assert r.verdict == PASS, r.reasons
-    assert r.values.no_return_beams == 18 * (488 - 41) and r.values.invalid_beams == 0
-    assert r.values.beyond_advertised_max == 18
-
-
-def test_simulator_laser_without_returns_fails(tmp_path):
-    r = feed(run_of('laser', tmp_path, SIM), [sim_scan(False) for _ in range(18)], rate=6.25)
-    assert r.verdict == FAIL
-    assert 'scan without a single valid return (every slot blind, NaN or invalid) in 18 of 18 messages' \
-        in r.reasons
-
-
-def test_robot_layout_is_not_applied_to_the_simulator(tmp_path):
-    """The robot's expectations (61 slots, blind layout) would fail the simulator's scan."""
-    r = feed(run_of('laser', tmp_path, ROBOT), [sim_scan(i=i) for i in range(18)], rate=6.25)
-    assert r.verdict == FAIL        # NaN is invalid for naoqi_driver: most beams invalid
-    assert any('488 slots instead of 61' in x for x in r.warnings)   # the layout: a warning
 
 
 # ------------------------------------------------------------------ AudioBuffer

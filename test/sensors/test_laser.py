@@ -13,7 +13,8 @@ import genpy
 import pytest
 
 from check_runs import judged, one_reason_with
-from fake_pepper import BLIND, laser, serialized
+from driver_feed import SIM, feed, run_of
+from fake_pepper import BLIND, laser, serialized, sim_laser
 from pepper_interface_tests.plan import catalog, settings
 from pepper_interface_tests.plan.settings import Options, SensorPlan
 from pepper_interface_tests.results import FAIL, PASS
@@ -278,3 +279,30 @@ def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
     assert r.values.longest_identical_run == 3
     r = judged('laser', tmp_path, [laser(i) for i in range(5)] + [laser(99)] * 22)
     one_reason_with(r, '22 identical scans in a row from t = 0.55 s to the end of the window')
+
+
+def sim_scan(returns=True, i=0):
+    """The simulator's scan (fake_pepper.sim_laser) with 40 returns and one beyond range_max
+    (real), or without a single return."""
+    return sim_laser(i, returns=range(150, 190) if returns else (), beyond=(300,) if returns else ())
+
+
+def test_simulator_laser_mostly_nan_with_returns_passes(tmp_path):
+    r = feed(run_of('laser', tmp_path, SIM), [sim_scan(i=i) for i in range(18)], rate=6.25)
+    assert r.verdict == PASS, r.reasons
+    assert r.values.no_return_beams == 18 * (488 - 41) and r.values.invalid_beams == 0
+    assert r.values.beyond_advertised_max == 18
+
+
+def test_simulator_laser_without_returns_fails(tmp_path):
+    r = feed(run_of('laser', tmp_path, SIM), [sim_scan(False) for _ in range(18)], rate=6.25)
+    assert r.verdict == FAIL
+    assert 'scan without a single valid return (every slot blind, NaN or invalid) in 18 of 18 messages' \
+        in r.reasons
+
+
+def test_robot_layout_is_not_applied_to_the_simulator(tmp_path):
+    """The robot's expectations (61 slots, blind layout) would fail the simulator's scan."""
+    r = feed(run_of('laser', tmp_path, ROBOT), [sim_scan(i=i) for i in range(18)], rate=6.25)
+    assert r.verdict == FAIL        # NaN is invalid for naoqi_driver: most beams invalid
+    assert any('488 slots instead of 61' in x for x in r.warnings)   # the layout: a warning
