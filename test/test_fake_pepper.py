@@ -1,4 +1,4 @@
-"""Unit: the shared fake-Pepper builders (test/fake_pepper.py) say what the emulator's robot
+"""Unit: the shared fake-Pepper builders (test/helpers/fake_pepper.py) say what the emulator's robot
 profile says, and their faults are the ones the checks must catch."""
 import math
 

@@ -151,7 +151,8 @@ def test_a_constant_stamp_offset_is_named_a_clock_offset(module_master, tmp_path
 def test_growing_delay_is_stale_data_not_a_clock_offset(tmp_path):
     """The rule behind the name (runner.OFFSET_SPREAD): a delay that grows (stamps stuck 10 s
     back) is stale data; the same delay held constant is a clock offset."""
-    from test_checks import R0, N, judged, sonar
+    from check_runs import R0, N, judged
+    from fake_pepper import sonar
     stuck = judged('backSonar', tmp_path / 'a', [sonar(i) for i in range(N)], stamp=lambda i, ros: R0 - 10.0)
     assert any(x.startswith('stale data: header stamps up to 12.') for x in stuck.reasons), stuck.reasons
     assert not any('clock offset' in x for x in stuck.reasons)

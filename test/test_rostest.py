@@ -1,4 +1,4 @@
-"""Runs test/sensor_test_core.test through `rostest` (which starts its own master on a random
+"""Runs test/nodes/sensor_test_core.test through `rostest` (which starts its own master on a random
 port), as `catkin_make run_tests` / add_rostest would, and checks that it passes and that the
 sensorTest node really ran with the launch file's private params."""
 import json

@@ -4,7 +4,7 @@
 # masters, the rostest files run through `rostest`). Extra arguments go to pytest.
 #   --fast       the unit tier only (pytest -m unit, one process, no gates): make test-fast
 #   --no-gates   skip ruff and mypy; they are skipped too when the arguments name test files
-#                (a targeted run: tools/run-tests.sh test/test_x.py -n 0 -k something)
+#                (a targeted run: tools/run-tests.sh test/sensors/test_laser.py -n 0 -k something)
 # Test files run in 3 workers (pytest-xdist, one file per worker at a time): most tests wait on
 # real-time listening windows, not on the CPU, and each starts its own master on a free port.
 set -euo pipefail

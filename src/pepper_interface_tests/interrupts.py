@@ -14,7 +14,7 @@ Phases (set by cli and runner):
            never cuts the final write short; the third quits at once (os._exit(130), files may
            be incomplete).
 
-Test hook (harmless in production, used by test/test_signals.py): with the environment
+Test hook (harmless in production, used by test/test_interrupts.py): with the environment
 variable SENSORTEST_TEST_PAUSE=<point>:<seconds>[:swallow], `pause(point)` prints
 "[test-pause] <point>" on stderr and sleeps there; with `:swallow` it also swallows a
 KeyboardInterrupt raised during that sleep, as a C extension that clears Python errors does.

@@ -1,5 +1,5 @@
 """Recorded bags: `sensorTest --bag` (offline, no master) and rostest playback
-(test/bag_playback.test: rosbag play on simulated time + the sensorTest node) give PASS on the
+(test/nodes/bag_playback.test: rosbag play on simulated time + the sensorTest node) give PASS on the
 good bags and the named failures on the faulty ones. Bags come from recordTestBags
 (the `recorded_bags` fixture in conftest.py)."""
 import json

@@ -1,7 +1,7 @@
 """pepperEmulator and recordTestBags against a real roscore, real rospy subscribers, real bags.
 
 The emulator runs as a subprocess (scripts/pepperEmulator); what it publishes is received by
-test/emu_listen.py (a real rospy node in its own process) and checked against the sensor facts
+test/nodes/emu_listen.py (a real rospy node in its own process) and checked against the sensor facts
 of docs (pepper-sensors.md): types, encodings, sizes, frame ids, rates within +-20 %, content
 that changes, the 61-beam laser layout (built as laser.cpp builds it), unit quaternions; then
 every fault, bad fault strings, /speech reaching the microphones, and the bags written by

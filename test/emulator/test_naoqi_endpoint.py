@@ -1,6 +1,6 @@
 """The NAOqi endpoint and its AudioSource, through the real libqi service directory.
 
-A client (test/audio_qi_probe.py) registers real qi services, subscribes them to ALAudioDevice
+A client (test/nodes/audio_qi_probe.py) registers real qi services, subscribes them to ALAudioDevice
 and records what arrives in processRemote.
 """
 import os

@@ -1,5 +1,5 @@
 """Test helper: made-up Pepper messages, one builder per message kind, shared by every test
-and test publisher (test_checks, test_driver_semantics, test_emulator, core_publisher,
+and test publisher (the sensors' tests, test_driver_semantics, test_emulator_node, core_publisher,
 driver_publisher, media_publisher, report_fixtures, ...).
 
 The fixed facts come from the emulator's profiles (src/pepper_interface_tests/emulator/

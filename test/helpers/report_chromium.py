@@ -16,7 +16,7 @@ console errors or broken media.
 
 usage from a test:  page = render_page('/path/report.html', '/tmp/out.png')
                     page.problems() -> [] when the page loaded cleanly
-command line:       python test/report_chromium.py report.html out.png
+command line:       python test/helpers/report_chromium.py report.html out.png
 """
 import json
 import os

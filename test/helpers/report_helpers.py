@@ -1,6 +1,6 @@
-"""Test helpers shared by test_report.py, test_diagnostics.py and test_history.py: start
-test/core_publisher.py publishers against a real master, run scripts/sensorTest as a user
-would (a subprocess), and read what it printed."""
+"""Test helpers shared by outputs/report/test_page.py, outputs/test_diagnostics_topic.py,
+outputs/test_history.py and others: start test/nodes/core_publisher.py publishers against a real
+master, run scripts/sensorTest as a user would (a subprocess), and read what it printed."""
 import os
 import re
 import subprocess

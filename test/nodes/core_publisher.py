@@ -29,7 +29,7 @@ BUILDERS = {'range': fake.sonar, 'laser': fake.laser, 'joints': fake.joints,
 
 
 def make(kind, fault, i):
-    """One message of `kind` (test/fake_pepper.py), stamped now, with `fault` ('' for none)."""
+    """One message of `kind` (test/helpers/fake_pepper.py), stamped now, with `fault` ('' for none)."""
     if kind == 'string':
         return String(data='not a sensor')
     if kind not in BUILDERS:

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Measure the emulator: CPU use (psutil) and the rate of every topic with all of them subscribed.
 
-Usage: python test/emu_measure.py [--seconds 20] [--profile robot|robot-stock|simulator] [--no-realsense]
+Usage: python test/nodes/emu_measure.py [--seconds 20] [--profile robot|robot-stock|simulator] [--no-realsense]
        [--resolution QVGA]
 
 Starts its own roscore on a free port, the emulator (robot profile: audio direct, RealSense on

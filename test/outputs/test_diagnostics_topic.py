@@ -1,5 +1,5 @@
 """Live /diagnostics (diagnostics.py), seen by a real rospy subscriber in its own process while
-sensorTest runs against test/core_publisher.py publishers on a real master."""
+sensorTest runs against test/nodes/core_publisher.py publishers on a real master."""
 import json
 import select
 import statistics

@@ -1,6 +1,6 @@
 """Run history (history.py, scripts/sensorTestHistory): every run in its own folder, the latest
 run at the spec's paths, listing and comparing runs. sensorTest runs as a subprocess against a
-real master and test/core_publisher.py publishers."""
+real master and test/nodes/core_publisher.py publishers."""
 import json
 import os
 import re

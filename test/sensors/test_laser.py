@@ -206,7 +206,7 @@ def _laser_frame(i):
 def _scan_with_invalid(i, invalid):
     m = laser(i)
     # round robin over the three boards (0-14, 23-37, 46-60): no board is left without a
-    # valid reading (a dead board fails on its own, test_laser_boards.py)
+    # valid reading (a dead board fails on its own, the boards' tests above)
     counted = [k for trio in zip(range(0, 15), range(23, 38), range(46, 61)) for k in trio]
     r = list(m.ranges)
     for k in counted[:invalid]:

@@ -1,7 +1,7 @@
 """The touch check (sensors/touch.py) on messages built as naoqi_driver builds them, and the
 message types the package carries (msg/Bumper.msg, HandTouch.msg, HeadTouch.msg) against the
 upstream definitions. Pure: no ROS master (the guided part uses an operator of its own here;
-the real one, through a terminal and /sensorTest/prompt, is in test_guided.py)."""
+the real one, through a terminal and /sensorTest/prompt, is in test_guide.py)."""
 import os
 
 import genpy.dynamic

@@ -230,7 +230,7 @@ def test_a_large_ros2_recording_is_streamed_not_loaded(storage, tmp_path):
 
 def test_a_record_at_a_bogus_time_is_left_out_as_in_a_ros1_bag(tmp_path):
     """The dense-window rule on ROS 2 receive times (nanoseconds): one record at t = 1 s in a
-    recording at 1.7e9 s is left out and named, as test_bag_source does for a ROS 1 bag."""
+    recording at 1.7e9 s is left out and named, as sources/test_bag.py does for a ROS 1 bag."""
     good = [r for r in rr.records(leave_out=[s for s in rr.TOPICS if s != 'backSonar'])]
     odd = rr.Record('backSonar', 1.0, rr.message('backSonar', 0, 1.0))
     folder = rr.write_rosbags(tmp_path / 'odd', [odd] + good, 'mcap')

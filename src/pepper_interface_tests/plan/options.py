@@ -3,7 +3,7 @@
 Each `Opt` row is one command-line flag. From the table come the argparse arguments (flag, help,
 metavar, group: `add_arguments`), the private ROS params `~name` (`PARAMS`) and which of them are
 true/false (`BOOL_PARAMS`), and the reading of both into `Options` (`from_args`, `from_params`).
-The `Options` dataclass below names the same fields once more, typed for mypy; test_options.py
+The `Options` dataclass below names the same fields once more, typed for mypy; test/plan/test_options.py
 fails when the table, the dataclass and the README's options table disagree.
 
 To add an option: one row in OPTIONS, one field in Options, one row in README's "Options".

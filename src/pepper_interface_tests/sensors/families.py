@@ -5,7 +5,7 @@ the `camera` family). Everything that used to ask "is this the speech sensor?" o
 camera?" asks the family's `Traits` instead, so a new family says once what it is and every
 stage (the runner's lanes, the sources, the observers, the report) follows.
 
-Derived from this table or checked against it by a test (test/unit/test_families.py):
+Derived from this table or checked against it by a test (test/sensors/test_families.py):
 - plan/expectations.py `FAMILIES` (family -> its Expect class; the plan reads the YAML before
   any check exists, so it keeps its own map, and the test checks it names the same families);
 - plan/catalog.py (each sensor row names its family; the test checks every name is a row here);

@@ -1,6 +1,6 @@
 """Unit: the HTML report's template environment (outputs/report/page.py) shows hostile robot
 strings as text: autoescaping makes markup inert, `finalize` shows control characters as \\xNN
-and None as '-'. No browser and no plots (the whole page in a browser: test_report.py, slow)."""
+and None as '-'. No browser and no plots (the whole page in a browser: outputs/report/test_page.py, slow)."""
 import markupsafe
 
 from pepper_interface_tests.outputs.report import page

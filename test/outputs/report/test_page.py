@@ -1,6 +1,6 @@
 """The HTML report (the report package), rendered in real headless Chromium.
 
-* a live run (real roscore, test/core_publisher.py publishers, one of them faulty, one sensor
+* a live run (real roscore, test/nodes/core_publisher.py publishers, one of them faulty, one sensor
   without a publisher, one skipped) writes sensorTestReport.html; Chromium loads it without
   console errors or failed resources, every sensor of the run has its section, and the verdicts
   and reasons shown are the run's;

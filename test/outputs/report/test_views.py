@@ -1,5 +1,5 @@
 """The report's laser and odometry views: the dead boards named in words, the pose jumps
-counted, from the values dataclasses the checks hand over (no page rendered: test_report.py
+counted, from the values dataclasses the checks hand over (no page rendered: test_page.py
 renders whole pages in Chromium)."""
 from pepper_interface_tests.outputs.report.blocks import KV, Heading, Span
 from pepper_interface_tests.outputs.report.views import laser, odometry
