@@ -44,7 +44,7 @@ INTEGRATION_TESTS = {'sensors/test_audio.py': ('real_topic',),
                                                'test_robot_layout_is_not_applied_to_the_simulator')}
 
 
-def test_file(path):
+def tier_path(path):
     """A test file's name in the lists above: its path under test/, with '/' on every system."""
     return os.path.relpath(str(path), HERE).replace(os.sep, '/')
 
@@ -53,7 +53,7 @@ def tier_of(item):
     own = [t for t in TIERS if item.get_closest_marker(t)]
     if own:
         return own[0]
-    name = test_file(item.fspath)
+    name = tier_path(item.fspath)
     if name in SLOW_FILES or item.originalname in SLOW_TESTS:
         return 'slow'
     words = INTEGRATION_TESTS.get(name, ())
@@ -66,7 +66,7 @@ def tier_of(item):
 def pytest_ignore_collect(collection_path, config):
     """`-m unit` does not even import the files whose every test is integration or slow (rosbag,
     rospy, websockets and cv2 at their top would cost the unit tier a second of collection)."""
-    if config.getoption('markexpr') == 'unit' and test_file(collection_path) in INTEGRATION_FILES | SLOW_FILES:
+    if config.getoption('markexpr') == 'unit' and tier_path(collection_path) in INTEGRATION_FILES | SLOW_FILES:
         return True
     return None
 

@@ -3,14 +3,13 @@ place that names families is derived from it or agrees with it, and no module ou
 families apart by a string test."""
 import ast
 import os
-import re
 
 import pytest
 
 from check_runs import ROBOT, judged
 from codebase_files import PACKAGE, parse, source_files
 from fake_pepper import JOINTS, imu, joints, laser, odometry, sonar
-from pepper_interface_tests.plan import catalog, expectations, settings
+from pepper_interface_tests.plan import catalog, expectations
 from pepper_interface_tests.results import PASS
 from pepper_interface_tests.sensors import families
 from pepper_interface_tests.sensors.base import Check
@@ -109,7 +108,9 @@ def test_no_family_is_told_apart_by_a_string_test_outside_the_registry():
 
 def test_the_readme_names_each_familys_check_module():
     """README "What is checked" points to each family's check, where its rules are stated."""
+    import re
 
+    from pepper_interface_tests.plan import settings
     with open(os.path.join(settings.package_dir(), 'README.md'), encoding='utf-8') as f:
         text = f.read()
     rows = dict(re.findall(r'^\| (\w+) \| [^|]+ \| `(sensors/\w+\.py)`', text, re.M))
