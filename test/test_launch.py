@@ -11,8 +11,8 @@ wired to them correctly, two tests put small packages with those names (package.
 upstream launch file's argument interface) on ROS_PACKAGE_PATH and parse the launch with them.
 """
 import json
-import re
 import os
+import re
 import subprocess
 import sys
 import time
