@@ -395,8 +395,9 @@ def test_wrapper_exits_with_sensor_tests_code(master, tmp_path):
                            'faults:=laser:nan')
     assert code == 1, out
     with open(tmp_path / 'bad' / 'sensorTestResults.json') as f:
-        verdicts = {s['name']: s['verdict'] for s in json.load(f)['sensors']}
-    assert verdicts == {'backSonar': 'PASS', 'laser': 'FAIL'}, verdicts
+        sensors = json.load(f)['sensors']
+    verdicts = {s['name']: s['verdict'] for s in sensors}
+    assert verdicts == {'backSonar': 'PASS', 'laser': 'FAIL'}, [(s['name'], s['reasons']) for s in sensors]
 
 
 def test_fault_example_fails_fast_with_the_reason(master, tmp_path):
