@@ -12,6 +12,7 @@ upstream launch file's argument interface) on ROS_PACKAGE_PATH and parse the lau
 """
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -330,7 +331,7 @@ def test_emulator_launch_runs(emulator_launch_run):
         assert got[topic]['type'] == type_name
         if topic != NS + '/audio':
             assert got[topic]['count'] > 10, (topic, got[topic]['count'])
-    assert 'pepperEmulator: all 10 publishers up' in text
+    assert 'pepperEmulator: all 11 publishers up' in text, re.findall('pepperEmulator: all .*', text)     # 10 sensors' + the driver's /diagnostics
     assert code == 0
 
 
@@ -394,8 +395,9 @@ def test_wrapper_exits_with_sensor_tests_code(master, tmp_path):
                            'faults:=laser:nan')
     assert code == 1, out
     with open(tmp_path / 'bad' / 'sensorTestResults.json') as f:
-        verdicts = {s['name']: s['verdict'] for s in json.load(f)['sensors']}
-    assert verdicts == {'backSonar': 'PASS', 'laser': 'FAIL'}, verdicts
+        sensors = json.load(f)['sensors']
+    verdicts = {s['name']: s['verdict'] for s in sensors}
+    assert verdicts == {'backSonar': 'PASS', 'laser': 'FAIL'}, [(s['name'], s['reasons']) for s in sensors]
 
 
 def test_fault_example_fails_fast_with_the_reason(master, tmp_path):

@@ -25,21 +25,9 @@ from . import naoqi_msgs
 # naoqi_bridge_msgs/msg/AudioBuffer.msg of ros-naoqi/naoqi_bridge_msgs2 (ROS 2: the field is
 # `channel_map`; naoqi_driver2 src/event/audio.cpp:173-176 fills it). Same layout as the ROS 1
 # message: converted, it decodes with naoqi_msgs.AUDIO_BUFFER_DEFINITION's class (channelMap).
-AUDIO_BUFFER_DEFINITION_ROS2 = """std_msgs/Header header
-uint16 frequency
-uint8 CHANNEL_FRONT_LEFT=0
-uint8 CHANNEL_FRONT_CENTER=1
-uint8 CHANNEL_FRONT_RIGHT=2
-uint8 CHANNEL_REAR_LEFT=3
-uint8 CHANNEL_REAR_CENTER=4
-uint8 CHANNEL_REAR_RIGHT=5
-uint8 CHANNEL_SURROUND_LEFT=6
-uint8 CHANNEL_SURROUND_RIGHT=7
-uint8 CHANNEL_SUBWOOFER=8
-uint8 CHANNEL_LFE=9
-uint8[] channel_map
-int16[] data
-"""
+AUDIO_BUFFER_DEFINITION_ROS2 = (naoqi_msgs.AUDIO_BUFFER_DEFINITION.split('=' * 80)[0]
+                                .replace('Header header', 'std_msgs/Header header')
+                                .replace('channelMap', 'channel_map'))
 
 # ROS 1 definitions this package already knows, used for the converted message instead of one
 # generated from the ROS 2 definition (same wire layout, the field names the checks read)
