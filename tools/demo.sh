@@ -44,8 +44,10 @@ for attempt in $(seq "$attempts"); do
             'from pepper_interface_tests.rosmaster import free_ports; print(*free_ports(3))')
     fi
     export ROS_MASTER_URI="http://127.0.0.1:$MASTER_PORT"
-    echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge (ports: master" \
-         "$MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log: $LOG)"
+    # one short line each (80 columns): the log's path stands alone on its own line
+    echo "demo: starting the Pepper emulator, NAOqi endpoint and audio bridge"
+    echo "  ports: master $MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log:"
+    echo "  $LOG"
     setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
         realsense:=true touch:=true operator:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
     LAUNCH=$!
