@@ -39,7 +39,8 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
 7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
    dataclass as the check handed it over), found by the row's `view` (nothing else lists it);
 8. its rows in docs/checks.md and docs/drivers.md, its row in the README's "What is checked"
-   (a test checks it), and its values' keys in docs/results.md.
+   (a test checks it), and its values' keys in docs/results.md;
+9. its tests in test/sensors/test_<family>.py (the test tree mirrors the package).
 Nothing else (the runner, the sources, the outputs) names a family.
 """
 import importlib
