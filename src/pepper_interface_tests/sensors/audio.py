@@ -190,9 +190,6 @@ class AudioCheck(Check):
     def settled(self) -> bool:
         return self.count >= 12
 
-    def result_values(self) -> Optional[AudioValues]:
-        return self.found
-
     # ---- per message --------------------------------------------------------------------
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         try:

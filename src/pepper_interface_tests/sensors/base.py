@@ -179,6 +179,7 @@ class RunContext:
 class Check:
     family: Optional[str] = None
     expect: Any             # the family's own Expect (plan/expectations.py); a subclass names it
+    found: Any = None       # the family's values dataclass once finish() built it; a subclass types it
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
 
@@ -264,9 +265,10 @@ class Check:
 
     def result_values(self) -> Optional[Any]:
         """What the check measured: its family's frozen values dataclass (its row's `values` in
-        sensors/families.py), built by the check itself and asked after close(); the JSON and
-        the report are written from it (codec.py). None (the default): nothing measured."""
-        return None
+        sensors/families.py), which the check builds itself into `self.found` (typed there by the
+        subclass) and which is asked after close(); the JSON and the report are written from it
+        (codec.py). None (the default): nothing measured."""
+        return self.found
 
     def skip_reason(self) -> Optional[str]:
         """Why the sensor is SKIPPED instead of judged (asked after close()); None: judge it."""

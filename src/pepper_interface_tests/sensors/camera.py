@@ -311,9 +311,6 @@ class CameraCheck(ImageCheck):
     def settled(self) -> bool:
         return self.count >= self.frozen_frames + 1
 
-    def result_values(self) -> Optional[CameraValues]:
-        return self.found
-
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
             return

@@ -109,9 +109,6 @@ class DepthCheck(ImageCheck):
     def settled(self) -> bool:
         return self.count >= 5
 
-    def result_values(self) -> Optional[DepthValues]:
-        return self.found
-
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
             return

@@ -126,9 +126,6 @@ class HealthCheck(Check):
                 for j, v in self.joints.items()]
         return sorted(rows, key=lambda r: -(r.temperature_c if r.temperature_c is not None else -1e9))
 
-    def result_values(self) -> Optional[HealthValues]:
-        return self.found
-
     def finish(self) -> None:
         rows = self._rows()
         hot = [r for r in rows if r.level != 'OK']

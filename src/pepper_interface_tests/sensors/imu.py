@@ -124,5 +124,3 @@ class ImuCheck(Check):
             self.notes.append('|linear acceleration|: %s; |angular velocity|: %s'
                               % (self.acc_norm.text('m/s^2'), self.gyro_norm.text('rad/s')))
 
-    def result_values(self) -> Optional[ImuValues]:
-        return self.found

@@ -135,5 +135,3 @@ class JointsCheck(Check):
                                   % (name, acc['position'].text('rad'), acc['velocity'].text('rad/s'),
                                      acc['effort'].text()))
 
-    def result_values(self) -> Optional[JointsValues]:
-        return self.found

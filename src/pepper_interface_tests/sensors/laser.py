@@ -296,9 +296,6 @@ class LaserCheck(Check):
         return LastScan(a0, inc, [r if math.isfinite(r) else math.nan for r in ranges], lo, hi, blind,
                         list(self.last_kinds))
 
-    def result_values(self) -> Optional[LaserValues]:
-        return self.found
-
     def _judge_boards(self) -> List[str]:
         """Fails each dead or stuck board -> the names of the dead boards."""
         lo = self.last_scan[3] if self.last_scan else 0.0

@@ -153,5 +153,3 @@ class OdometryCheck(Check):
             x_m=self.x.spread(), y_m=self.y.spread(), speed_m_s=self.speed.spread(),
             x_series=self.x_series, y_series=self.y_series)
 
-    def result_values(self) -> Optional[OdometryValues]:
-        return self.found

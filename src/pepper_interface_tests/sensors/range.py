@@ -102,5 +102,3 @@ class RangeCheck(Check):
             self.notes.append('%d of %d readings below the advertised min_range (a real distance)'
                               % (self.below, self.count))
 
-    def result_values(self) -> Optional[RangeValues]:
-        return self.found

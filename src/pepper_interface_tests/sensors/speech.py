@@ -110,9 +110,6 @@ class SpeechCheck(Check):
                 self.warnings.add('unheard', text)
 
 
-    def result_values(self) -> Optional[SpeechValues]:
-        return self.found
-
 
 def _subscriber_nodes(topic):
     try:

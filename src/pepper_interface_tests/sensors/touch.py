@@ -228,9 +228,6 @@ class TouchCheck(Check):
         return self._done
 
     # ------------------------------------------------------------ the end
-    def result_values(self) -> Optional[TouchValues]:
-        return self.found
-
     def finish(self) -> None:
         if self.asking is not None:     # the window ended while asking (interrupted)
             self._next('not answered before the end of the window')
