@@ -3,8 +3,8 @@
 A Check validates one sensor's messages and owns all of its state (no globals, no locks
 needed: the runner feeds one check from one subscriber thread, and reads it only after the
 window has closed). Subclasses override `fields`, `on_message`, and optionally `finish`,
-`settled`, `start`, `poll`; a check that measures values returns its family's values dataclass
-from `result_values`.
+`settled`, `start`, `poll`; a check that measures values puts its family's values dataclass
+in `self.found`, which `result_values` hands over.
 """
 import math
 from collections import OrderedDict
