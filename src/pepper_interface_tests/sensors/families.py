@@ -25,8 +25,8 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
    is plot data (the JSON's "series"); enums (with a `description`, as the laser's BeamKind),
    nested dataclasses, lists and dicts need nothing more. The check builds an instance at the
    end of its window (in `finish()`) into `self.found` (typed `Optional[<its dataclass>]`),
-   which Check.result_values() hands over (as for every family). codec.py writes it to the JSON and reads it back (history, --rerun-failed); there
-   is no serializer to write;
+   which Check.result_values() hands over (as for every family). codec.py writes it to the
+   JSON and reads it back (history, --rerun-failed); there is no serializer to write;
 3. its row below, with its traits (an event-driven family sets `periodic=False`: the generic
    stream rules of sensors/stream.py then leave out arrival within --wait, min_messages, the
    rate band and the stopped-publisher and pause rules, and keep type, stamps and publishers)
