@@ -10,6 +10,10 @@ Clock: rates, intervals, jitter, gaps and the rate series are measured on `clock
 wall time but is 5 Hz on the clock its driver runs on.
 'record' labels a bag's record times (receive times too): `rosbag record` takes them from
 ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
+On 'sim', a message can arrive before this node's first /clock tick (a player sends a topic's
+first message and its first /clock on separate connections): rospy's ROS time is still 0 then,
+so the message is counted (and its stamp checked for order) but has no place on the simulation
+clock and no delay; `before_clock` counts such messages.
 
 `StreamStats.summary()` hands the numbers over as a frozen `StreamSummary` (a sensor's
 SensorResult.stats, its "stats" in the JSON, written and read back by codec.py).
@@ -78,13 +82,18 @@ class StreamStats:
         self.zero_stamps = 0
         self.backwards = 0          # stamp older than the previous one
         self.repeated = 0           # stamp equal to the previous one
+        self.before_clock = 0       # messages received before the first /clock tick (clock 'sim')
 
     def add(self, t_recv: float, stamp: Optional[float] = None, ros_now: Optional[float] = None,
             t_clock: Optional[float] = None) -> None:
         self.recv.append(t_recv)
         if self.clock == 'sim':
             assert t_clock is not None, 'clock "sim" measures on t_clock: give it'
-            self.clock_recv.append(t_clock)
+            if t_clock <= 0.0:   # ROS time not running yet: no sim time, no delay for this one
+                self.before_clock += 1
+                ros_now = None
+            else:
+                self.clock_recv.append(t_clock)
         if stamp is None:
             return
         if stamp == 0.0:

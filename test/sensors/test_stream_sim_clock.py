@@ -44,3 +44,27 @@ def test_stamps_ahead_in_most_messages_fail_as_before():
 def test_no_stamp_ahead_no_word():
     j = judged(ahead_every=0)
     assert j.reasons == [] and not any('/clock' in w for w in j.warnings), (j.reasons, j.warnings)
+
+
+def test_a_message_before_the_first_clock_tick_is_counted_off_the_sim_clock():
+    """rosbag play --clock sends a topic's first message and its first /clock on separate
+    connections: the message can arrive while rospy's ROS time is still 0. It counts, but has
+    no sim time and no delay: once it gave 1.7e9 s of span and a rate of 0.00 Hz (a false FAIL)."""
+    import rospy
+    from std_msgs.msg import Header
+    sensor = catalog.SENSORS['realsenseRGBCamera']
+    expect = expectations.load(EXPECTATIONS, 'robot')['realsenseRGBCamera']
+    clock = WindowClock()
+    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: 1.7e9 + 4.0), 1.7e9
+    check = StreamCheck(sensor, '/camera/color/image_raw', expect, traits(sensor), clock)
+    check.use_sim_clock()
+    for i in range(61):
+        stamp = 1.7e9 + i / 15.0
+        ros_now = 0.0 if i == 0 else stamp + 0.01     # no /clock tick yet for the first one
+        check.add(i / 15.0, ros_now, Header(stamp=rospy.Time.from_sec(stamp),
+                                            frame_id=expect.frame_id or 'camera_color_optical_frame'))
+    clock.sim_stopped_at = 1.7e9 + 4.05
+    assert abs(check.stats.rate - 15.0) < 0.01, check.stats.rate
+    assert check.stats.count == 61 and check.stats.before_clock == 1
+    j = check.judge(4.0, [3.0, 35.0], None, False)
+    assert j.reasons == [] and j.warnings == [], (j.reasons, j.warnings)

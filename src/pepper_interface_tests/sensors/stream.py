@@ -277,7 +277,7 @@ class StreamCheck:
                          warnings: List[str]) -> None:
         """A publisher that stopped: the last message long before the end of the window."""
         s, clock = self.stats, self.clock
-        if s.clock == 'sim' and clock.sim_stopped_at is not None and s.clock_recv[-1] is not None:
+        if s.clock == 'sim' and clock.sim_stopped_at is not None and s.clock_recv:
             silence = clock.sim_stopped_at - s.clock_recv[-1]
             span = s.clock_recv[-1] - s.clock_recv[0]
         else:

@@ -180,7 +180,8 @@ class SensorRun:
                 return 'window ended' if elapsed >= self.window else ''
             return 'no message within %.1f s' % self.wait if now - self.began >= self.wait else ''
         if self.clock.on_sim_time and self.clock.sim_t0 is not None:
-            first = stats.clock_recv[0] - self.clock.sim_t0
+            # a message before the first /clock tick came at the start of the window
+            first = stats.clock_recv[0] - self.clock.sim_t0 if stats.clock_recv else 0.0
         else:
             first = stats.recv[0] - self.began
         end = self.window if first <= self.window else first + min(self.window, 2.0)
