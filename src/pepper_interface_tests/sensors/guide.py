@@ -49,6 +49,7 @@ class Guide:
         self.lock = threading.Lock()
         self._skip = False
         self._asking = False
+        self._zone = ''
         self.prompts = rospy.Publisher(prompt_topic, String, queue_size=10, latch=True)
         self.speech = rospy.Publisher(speech_topic, String, queue_size=10) if speech_topic else None
         self.reader = threading.Thread(target=self._read_keys, daemon=True, name='guide-keys')
@@ -57,17 +58,33 @@ class Guide:
     def _read_keys(self) -> None:
         try:
             for line in iter(self.keys.readline, ''):
-                if line.strip().lower() in ('s', 'skip'):
-                    with self.lock:
-                        self._skip = self._asking
+                self._heard(line.strip().lower())
         except (OSError, ValueError):   # stdin closed: no keyboard, prompts go on
             return
 
-    def _line(self, text: str) -> None:
+    def _heard(self, typed: str) -> None:
+        """A line typed: the terminal echoed it onto the progress line; that row is cleared and
+        the answer written in its place."""
+        if self._tty():
+            self.out.write('\033[F\033[K')     # back to the row the echo spoilt, cleared
+        if typed not in ('s', 'skip'):
+            if typed:
+                self._line('  >>> "%s" is not an answer %s' % (typed[:20], SKIP_HINT))
+            return
+        with self.lock:
+            asking, zone = self._asking, self._zone
+            self._skip = asking
+        self._line('  >>> [%s] skipped by the operator' % zone if asking
+                   else '  >>> nothing to skip: no zone is being asked')
+
+    def _tty(self) -> bool:
         try:
-            tty = self.out.isatty()
+            return bool(self.out.isatty())
         except (AttributeError, ValueError):
-            tty = False
+            return False
+
+    def _line(self, text: str) -> None:
+        tty = self._tty()
         width = max(40, shutil.get_terminal_size((80, 24)).columns)
         lines = textwrap.wrap(text, width, subsequent_indent=' ' * 6, break_on_hyphens=False) or [text]
         self.out.write(('\r\033[K' if tty else '') + '\n'.join(lines) + '\n')
@@ -98,7 +115,7 @@ class Guide:
 
     def ask(self, zone_id: str, text: str) -> None:
         with self.lock:
-            self._skip, self._asking = False, True
+            self._skip, self._asking, self._zone = False, True, zone_id
         self._line('  >>> [%s] %s %s' % (zone_id, text, SKIP_HINT))
         self.prompts.publish(String(data='[%s] %s' % (zone_id, text)))
         if self.speech is not None:
@@ -113,7 +130,7 @@ class Guide:
 
     def finished(self, owner: str) -> None:
         with self.lock:
-            self._asking = False
+            self._asking, self._zone = False, ''
         if self.owner == owner:
             self.owner = None
 
