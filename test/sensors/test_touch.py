@@ -359,6 +359,29 @@ def test_guided_mode_needs_a_person_or_the_option():
     assert not guided_mode(False, Tty(True), Tty(True))
 
 
+@pytest.mark.parametrize('keys_tty', [True, False])
+def test_a_typed_line_clears_the_echo_only_when_the_keys_come_from_a_terminal(keys_tty):
+    """A terminal echoes what is typed onto the progress line: that row is cleared (ESC [F) before
+    the answer. Keys from a pipe (--guided with a script typing) echo nothing: no row is cleared."""
+    import io
+
+    from pepper_interface_tests.sensors.guide import Guide
+
+    class Stream(io.StringIO):
+        def __init__(self, tty):
+            super().__init__()
+            self.tty = tty
+
+        def isatty(self):
+            return self.tty
+    out = Stream(True)
+    guide = Guide(10.0, None, out=out, keys=Stream(keys_tty))
+    guide._heard('s')
+    assert out.getvalue().startswith('\033[F\033[K') == keys_tty, repr(out.getvalue())
+    assert 'nothing to skip: no zone is being asked' in out.getvalue()
+    guide.close()
+
+
 def test_a_touch_window_waiting_for_a_touch_is_not_a_silent_sensor():
     """/diagnostics and the terminal's progress line: an event topic with nothing yet is listening
     (OK), not 'waiting for data' (STALE) nor 'silent' as a stream would be."""

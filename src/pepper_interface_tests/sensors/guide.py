@@ -21,6 +21,13 @@ DONE = '[done]'
 SKIP_HINT = '(type s and Enter to skip this zone)'
 
 
+def _isatty(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
+
+
 def guided_mode(option: Optional[bool], stdin: Any = None, stdout: Any = None,
                 launched: bool = False) -> bool:
     """--guided / --no-guided, else: a person is there when stdin and stdout are a terminal and
@@ -31,10 +38,7 @@ def guided_mode(option: Optional[bool], stdin: Any = None, stdout: Any = None,
         return False
     stdin = sys.stdin if stdin is None else stdin
     stdout = sys.stdout if stdout is None else stdout
-    try:
-        return bool(stdin.isatty() and stdout.isatty())
-    except (AttributeError, ValueError):
-        return False
+    return _isatty(stdin) and _isatty(stdout)
 
 
 class Guide:
@@ -65,7 +69,7 @@ class Guide:
     def _heard(self, typed: str) -> None:
         """A line typed: the terminal echoed it onto the progress line; that row is cleared and
         the answer written in its place."""
-        if self._tty():
+        if self._tty() and _isatty(self.keys):
             self.out.write('\033[F\033[K')     # back to the row the echo spoilt, cleared
         if typed not in ('s', 'skip'):
             if typed:
@@ -78,10 +82,7 @@ class Guide:
                    else '  >>> nothing to skip: no zone is being asked')
 
     def _tty(self) -> bool:
-        try:
-            return bool(self.out.isatty())
-        except (AttributeError, ValueError):
-            return False
+        return _isatty(self.out)
 
     def _line(self, text: str) -> None:
         tty = self._tty()
