@@ -70,6 +70,26 @@ class Clock:
         return rospy.Time.from_sec(self.now()) if self.sim else rospy.Time.now()
 
 
+class Schedule:
+    """Ticks at t0 + k * period (monotonic clock): the time spent publishing does not slow the
+    rate; a tick late by more than a period skips the missed slots instead of a burst."""
+
+    def __init__(self, period: float) -> None:
+        self.period = period
+        self.t0 = time.monotonic()
+        self.k = 0
+
+    def delay(self) -> float:
+        """Seconds until the next tick is due (negative: late)."""
+        return self.t0 + self.k * self.period - time.monotonic()
+
+    def advance(self) -> None:
+        self.k += 1
+        late = -self.delay()
+        if late > self.period:
+            self.k += int(late / self.period)
+
+
 class ClockPublisher(threading.Thread):
     """/clock (rosgraph_msgs/Clock) at CLOCK_HZ wall, as Gazebo publishes it."""
 
@@ -83,14 +103,16 @@ class ClockPublisher(threading.Thread):
         self.published = 0
 
     def run(self) -> None:
-        period = 1.0 / self.CLOCK_HZ
-        while not self.stop.wait(period):
+        ticks = Schedule(1.0 / self.CLOCK_HZ)
+        ticks.advance()                           # the first tick one period after the start
+        while not self.stop.wait(max(0.0, ticks.delay())):
             try:
                 self.pub.publish(self.msg_class(clock=self.clock.stamp()))
                 self.published += 1
             except Exception:
                 if rospy.is_shutdown() or self.stop.is_set():
                     break
+            ticks.advance()
 
     def close(self) -> None:
         self.pub.unregister()
@@ -183,17 +205,15 @@ class StreamPublisher(threading.Thread):
                       self.spec.topic, self.faults.die_after)
 
     def run(self) -> None:
-        period = 1.0 / self.rate
-        t0 = time.monotonic()
-        k = 0
+        ticks = Schedule(1.0 / self.rate)
         while not self.stop.is_set():
-            delay = t0 + k * period - time.monotonic()
+            delay = ticks.delay()
             if self.jitter:
-                delay += self.jitter * period * (self.rng.random() - 0.5)
+                delay += self.jitter * ticks.period * (self.rng.random() - 0.5)
             if delay > 0 and self.stop.wait(delay):
                 break
             if self.faults.die_after is not None and \
-                    (time.monotonic() - t0) * self.clock.speed >= self.faults.die_after:
+                    (time.monotonic() - ticks.t0) * self.clock.speed >= self.faults.die_after:
                 self.die()
                 return
             try:
@@ -204,10 +224,7 @@ class StreamPublisher(threading.Thread):
                 if repr(e) != self.error:
                     self.error = repr(e)
                     rospy.logerr('pepperEmulator: %s: %r', self.spec.topic, e)
-            k += 1
-            late = time.monotonic() - (t0 + k * period)
-            if late > period:
-                k += int(late / period)
+            ticks.advance()
 
     def close(self) -> None:
         for pub, _ in self.outputs:
