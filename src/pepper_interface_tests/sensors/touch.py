@@ -212,12 +212,13 @@ class TouchCheck(Check):
         elif op.skipped():
             self._next('skipped by the operator')
         elif not pressed_since and z.pressed_at is None and elapsed - self.asked_at >= self.wait:
-            self.fail('%s was not pressed within %g s of asking (a dead sensor, or a zone already '
-                      'held down before the run: the driver sends only changes)'
-                      % (self._name(self.asking), self.wait))
-            self._next('not pressed within %g s' % self.wait)
+            self._next(self._not_pressed)     # one reason for all such zones: finish()
         elif z.pressed_at is not None and z.stuck:
             self._next('stuck')
+
+    @property
+    def _not_pressed(self) -> str:
+        return 'not pressed within %g s' % self.wait
 
     def _next(self, outcome: str) -> None:
         if self.asking is not None and not self.state[self.asking].outcome:
@@ -252,6 +253,13 @@ class TouchCheck(Check):
             rows.append(ZoneRow(zone.words, '%s/%s' % (self.plan.sensor.name, zone.id), i, z.presses,
                                 _r(z.first_press), _r(z.first_release), _r(held), outcome))
         self.found = TouchValues('guided' if self.guided else 'unattended', rows)
+        unpressed = [self._name(r.index) for r in rows if r.outcome == self._not_pressed]
+        if unpressed:
+            already = 'a zone already held down before the run: the driver sends only changes'
+            self.fail('%s was not pressed within %g s of asking (a dead sensor, or %s)'
+                      % (unpressed[0], self.wait, already) if len(unpressed) == 1 else
+                      'not pressed within %g s of asking: %s (each a dead sensor, or %s)'
+                      % (self.wait, ', '.join(unpressed), already))
         skipped = [r.zone for r in rows if r.outcome == 'skipped by the operator']
         if skipped:
             self.warn('skipped by the operator (not tested): %s' % ', '.join(skipped))
