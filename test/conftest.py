@@ -156,10 +156,21 @@ BAG_SECONDS = 5.0
 
 @pytest.fixture(scope='session')
 def recorded_bags(tmp_path_factory):
-    """The four bags of recordTestBags (robot/simulator, good/faulty), recorded once per session
-    from the emulator with its own roscore: {variant name: path}."""
-    out_dir = tmp_path_factory.mktemp('bags')
-    run = subprocess.run(script('recordTestBags') + ['--out', str(out_dir), '--seconds', str(BAG_SECONDS)],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
-    assert run.returncode == 0, run.stdout
+    """The bags of recordTestBags (robot/simulator, good/faulty, ...), recorded once per session
+    from the emulator with its own roscore: {variant name: path}. Under pytest-xdist the workers
+    share one recording (the first to take the lock records, the others read the same files):
+    recording runs seven emulators, and doing it once per worker loaded the machine twice."""
+    import fcntl
+    root = tmp_path_factory.getbasetemp()
+    if os.environ.get('PYTEST_XDIST_WORKER'):
+        root = root.parent                    # the session's folder, shared by its workers
+    out_dir = root / 'recorded-bags'
+    with open(str(root / 'recorded-bags.lock'), 'w') as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (out_dir / 'complete').exists():
+            out_dir.mkdir(exist_ok=True)
+            run = subprocess.run(script('recordTestBags') + ['--out', str(out_dir), '--seconds', str(BAG_SECONDS)],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=300)
+            assert run.returncode == 0, run.stdout
+            (out_dir / 'complete').write_text('recordTestBags ended with 0\n')
     return {name[:-4]: str(out_dir / name) for name in os.listdir(str(out_dir)) if name.endswith('.bag')}
