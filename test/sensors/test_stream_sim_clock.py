@@ -68,3 +68,23 @@ def test_a_message_before_the_first_clock_tick_is_counted_off_the_sim_clock():
     assert check.stats.count == 61 and check.stats.before_clock == 1
     j = check.judge(4.0, [3.0, 35.0], None, False)
     assert j.reasons == [] and j.warnings == [], (j.reasons, j.warnings)
+
+
+def test_a_stream_whose_every_message_came_before_the_first_tick_is_judged_without_a_crash():
+    """/clock that starts only after the last message: no sim times at all. The silence rule
+    falls back to the receive times; the rate on the sim clock is unknown, not 0 Hz."""
+    import rospy
+    from std_msgs.msg import Header
+    sensor = catalog.SENSORS['backSonar']
+    expect = expectations.load(EXPECTATIONS, 'simulator')['backSonar']
+    clock = WindowClock()
+    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: 100.0), 100.0
+    check = StreamCheck(sensor, '/pepper/sonar_back', expect, traits(sensor), clock)
+    check.use_sim_clock()
+    for i in range(30):
+        check.add(0.1 * i, 0.0, Header(stamp=rospy.Time.from_sec(90.0 + 0.1 * i),
+                                       frame_id=expect.frame_id or 'SonarBack_frame'))
+    clock.sim_stopped_at = 103.0
+    assert check.stats.rate is None and check.stats.before_clock == 30
+    j = check.judge(3.0, [8.0, 30.0], None, False)
+    assert j.reasons == [], j.reasons
