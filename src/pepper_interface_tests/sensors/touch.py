@@ -17,8 +17,8 @@ The rules, in every mode:
 - a zone pressed and not released within `max_press` s fails as stuck (a jammed bumper);
 - a zone pressed again with no release in between is a warning (a lost release event).
 Guided (a person is there: ctx.services.operator, sensors/guide.py): each zone the robot has
-is asked for in turn and passes when its press and its release arrive; a zone not pressed
-within the per-zone time (--touch-wait) fails, named; a zone the person skips from the
+is asked for in turn and passes when its press and its release arrive; zones not pressed
+within the per-zone time (--touch-wait) fail, named in one reason; a zone the person skips from the
 keyboard is reported as skipped by the operator (a warning, SKIPPED when every zone is).
 A bumper jammed before the run is found here: its press never comes.
 Unattended (no person: CI, a launch file, a bag): the events that arrive are judged; a sensor
