@@ -38,7 +38,7 @@ FAILURES = {
     'simulator_no_returns': {'laser': ''},
     # depthCamera: 16UC1 data labelled 32FC1
     'simulator_faulty': {'depthCamera': 'bytes per pixel', 'laser': 'beams are invalid',
-                         'odometry': 'rate 6.00 Hz outside', 'frontSonar': 'is not in the bag',
+                         'odometry': 'Hz outside the expected 8-30 Hz', 'frontSonar': 'is not in the bag',
                          'jointState': 'position of HeadYaw jumps'},
 }
 

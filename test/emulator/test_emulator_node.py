@@ -408,7 +408,7 @@ BATCH_1 = ('frontCamera:frozen;bottomCamera:black;depthCamera:wrong_encoding;'
            'realsenseDepthCamera:wrong_encoding')
 BATCH_2 = ('LASER:out_of_range;frontsonar:nan;backSonar:rate=2;imu:nan;odometry:nan,broken_quaternion;'
            'jointState:nan,out_of_range;microphone:silent;frontCamera:wrong_encoding;'
-           'bottomCamera:wrong_step;depthCamera:black;stereoCamera:die_after=2;'
+           'bottomCamera:wrong_step;depthCamera:black;stereoCamera:die_after=3.5;'
            'realsenseDepthCamera:frozen;realsenseRGBCamera:black')
 
 
@@ -464,7 +464,9 @@ def _faults_batch_2(got, start):
     depth = got[NS + '/camera/depth/image_raw']
     assert max(depth['max']) == 0 and depth['encoding'] == '16UC1', 'black depth'
     stereo = got[NS + '/camera/stereo/image_raw']
-    assert stereo['count'] > 5 and stereo['last_time'] - start < 2.5 and stereo['publishers'] == []
+    # die_after=3.5: the listener starts a second or two after the publishers (a new process
+    # under load), and a stream is only published while it has a subscriber
+    assert stereo['count'] > 5 and stereo['last_time'] - start < 4.0 and stereo['publishers'] == []
     rs_depth = got['/camera/aligned_depth_to_color/image_raw']
     assert len(set(rs_depth['digest'])) == 1 and rs_depth['count'] > 20
     assert max(got['/camera/color/image_raw']['max']) == 0
