@@ -82,7 +82,6 @@ class StreamStats:
         self.zero_stamps = 0
         self.backwards = 0          # stamp older than the previous one
         self.repeated = 0           # stamp equal to the previous one
-        self.before_clock = 0       # messages received before the first /clock tick (clock 'sim')
 
     def add(self, t_recv: float, stamp: Optional[float] = None, ros_now: Optional[float] = None,
             t_clock: Optional[float] = None) -> None:
@@ -90,7 +89,6 @@ class StreamStats:
         if self.clock == 'sim':
             assert t_clock is not None, 'clock "sim" measures on t_clock: give it'
             if t_clock <= 0.0:   # ROS time not running yet: no sim time, no delay for this one
-                self.before_clock += 1
                 ros_now = None
             else:
                 self.clock_recv.append(t_clock)
@@ -111,6 +109,11 @@ class StreamStats:
     @property
     def count(self) -> int:
         return len(self.recv)
+
+    @property
+    def before_clock(self) -> int:
+        """Messages received before the first /clock tick (clock 'sim'): counted, not timed."""
+        return len(self.recv) - len(self.clock_recv) if self.clock == 'sim' else 0
 
     @property
     def times(self) -> List[float]:

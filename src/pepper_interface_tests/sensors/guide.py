@@ -69,7 +69,7 @@ class Guide:
     def _heard(self, typed: str) -> None:
         """A line typed: the terminal echoed it onto the progress line; that row is cleared and
         the answer written in its place."""
-        if self._tty() and _isatty(self.keys):
+        if _isatty(self.out) and _isatty(self.keys):
             self.out.write('\033[F\033[K')     # back to the row the echo spoilt, cleared
         if typed not in ('s', 'skip'):
             if typed:
@@ -81,11 +81,8 @@ class Guide:
         self._line('  >>> [%s] skipped by the operator' % zone if asking
                    else '  >>> nothing to skip: no zone is being asked')
 
-    def _tty(self) -> bool:
-        return _isatty(self.out)
-
     def _line(self, text: str) -> None:
-        tty = self._tty()
+        tty = _isatty(self.out)
         width = max(40, shutil.get_terminal_size((80, 24)).columns)
         lines = textwrap.wrap(text, width, subsequent_indent=' ' * 6, break_on_hyphens=False) or [text]
         self.out.write(('\r\033[K' if tty else '') + '\n'.join(lines) + '\n')
