@@ -3,6 +3,9 @@ late makes a few messages look stamped ahead of it. A few such messages are a wa
 publisher stamping with another clock (ahead in most messages) still fails (sensors/stream.py)."""
 import os
 
+import rospy
+from std_msgs.msg import Header
+
 from pepper_interface_tests.plan import catalog, expectations, settings
 from pepper_interface_tests.sensors.clock import WindowClock
 from pepper_interface_tests.sensors.families import traits
@@ -11,15 +14,22 @@ from pepper_interface_tests.sensors.stream import StreamCheck
 EXPECTATIONS = os.path.join(settings.package_dir(), 'config', 'sensorExpectations.yaml')
 
 
+def sim_check(name, platform, topic, sim_t0):
+    """The stream check of sensor `name` on sim time, listening since simulation time `sim_t0`:
+    (check, its window clock, its expectations)."""
+    sensor = catalog.SENSORS[name]
+    expect = expectations.load(EXPECTATIONS, platform)[name]
+    clock = WindowClock()
+    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: sim_t0), sim_t0
+    check = StreamCheck(sensor, topic, expect, traits(sensor), clock)
+    check.use_sim_clock()
+    return check, clock, expect
+
+
 def judged(ahead_every):
     """backSonar on the simulator: 40 messages at 10 Hz of sim time, every `ahead_every`-th one
     received while the last /clock tick was 1.5 s old (the others 10 ms after their stamp)."""
-    sensor = catalog.SENSORS['backSonar']
-    expect = expectations.load(EXPECTATIONS, 'simulator')['backSonar']
-    clock = WindowClock()
-    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: 100.0), 100.0
-    check = StreamCheck(sensor, '/pepper/sonar_back', expect, traits(sensor), clock)
-    check.use_sim_clock()
+    check, _, _ = sim_check('backSonar', 'simulator', '/pepper/sonar_back', 100.0)
     check.stats.clock_start = 100.0
     for i in range(40):
         stamp = 100.0 + 0.1 * i                  # the simulator stamps with its own time
@@ -50,14 +60,7 @@ def test_a_message_before_the_first_clock_tick_is_counted_off_the_sim_clock():
     """rosbag play --clock sends a topic's first message and its first /clock on separate
     connections: the message can arrive while rospy's ROS time is still 0. It counts, but has
     no sim time and no delay: once it gave 1.7e9 s of span and a rate of 0.00 Hz (a false FAIL)."""
-    import rospy
-    from std_msgs.msg import Header
-    sensor = catalog.SENSORS['realsenseRGBCamera']
-    expect = expectations.load(EXPECTATIONS, 'robot')['realsenseRGBCamera']
-    clock = WindowClock()
-    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: 1.7e9 + 4.0), 1.7e9
-    check = StreamCheck(sensor, '/camera/color/image_raw', expect, traits(sensor), clock)
-    check.use_sim_clock()
+    check, clock, expect = sim_check('realsenseRGBCamera', 'robot', '/camera/color/image_raw', 1.7e9)
     for i in range(61):
         stamp = 1.7e9 + i / 15.0
         ros_now = 0.0 if i == 0 else stamp + 0.01     # no /clock tick yet for the first one
@@ -73,14 +76,7 @@ def test_a_message_before_the_first_clock_tick_is_counted_off_the_sim_clock():
 def test_a_stream_whose_every_message_came_before_the_first_tick_is_judged_without_a_crash():
     """/clock that starts only after the last message: no sim times at all. The silence rule
     falls back to the receive times; the rate on the sim clock is unknown, not 0 Hz."""
-    import rospy
-    from std_msgs.msg import Header
-    sensor = catalog.SENSORS['backSonar']
-    expect = expectations.load(EXPECTATIONS, 'simulator')['backSonar']
-    clock = WindowClock()
-    clock.t0, clock.sim_clock, clock.sim_t0 = 0.0, (lambda: 100.0), 100.0
-    check = StreamCheck(sensor, '/pepper/sonar_back', expect, traits(sensor), clock)
-    check.use_sim_clock()
+    check, clock, expect = sim_check('backSonar', 'simulator', '/pepper/sonar_back', 100.0)
     for i in range(30):
         check.add(0.1 * i, 0.0, Header(stamp=rospy.Time.from_sec(90.0 + 0.1 * i),
                                        frame_id=expect.frame_id or 'SonarBack_frame'))
