@@ -91,7 +91,14 @@ class Schedule:
 
 
 class ClockPublisher(threading.Thread):
-    """/clock (rosgraph_msgs/Clock) at CLOCK_HZ wall, as Gazebo publishes it."""
+    """/clock (rosgraph_msgs/Clock) at CLOCK_HZ of wall time.
+
+    Gazebo publishes /clock at every world update, i.e. every physics step (1 kHz of simulated
+    time by default), throttled to ~pub_clock_frequency per simulated second only when that is set
+    (gazebo_ros_pkgs gazebo_ros/src/gazebo_ros_api_plugin.cpp publishSimTime; empty_world.launch
+    sets it only with use_clock_frequency:=true, pub_clock_frequency 100). The emulator ticks
+    coarser, 100 times per wall second, so a subscriber's ROS time moves in steps of 10 ms x the
+    real-time factor: fine enough for rates and windows, and light on a shared machine."""
 
     CLOCK_HZ = 100.0
 
