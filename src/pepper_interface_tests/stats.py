@@ -11,7 +11,9 @@ wall time but is 5 Hz on the clock its driver runs on.
 'record' labels a bag's record times (receive times too): `rosbag record` takes them from
 ros::Time::now(), i.e. from the simulation clock when the bag was recorded under /use_sim_time.
 On 'sim', a message can arrive before this node's first /clock tick (a player sends a topic's
-first message and its first /clock on separate connections): rospy's ROS time is still 0 then,
+first message and its first /clock on separate connections: `rosbag play --clock` publishes
+/clock from its own TimePublisher, ros_comm tools/rosbag/src/player.cpp, and nothing orders the
+two across the node's subscriptions): rospy's ROS time is still 0 then,
 so the message is counted (and its stamp checked for order) but has no place on the simulation
 clock and no delay; `before_clock` counts such messages.
 
