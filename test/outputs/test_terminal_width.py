@@ -67,3 +67,26 @@ def test_fill_never_cuts_a_path():
     # the figures stay together: not "(2.2 MB," at the end of one line and "1.9 s)" below
     assert fill('report: %s (2.2 MB, 1.9 s)' % ('/p' * 30), 79, keep=['(2.2 MB, 1.9 s)']) == \
         'report: %s\n  (2.2 MB, 1.9 s)' % ('/p' * 30)
+
+
+@pytest.mark.parametrize('stderr_tty', [True, False])
+def test_through_a_pipe_the_lines_fit_the_terminal_on_stderr(stderr_tty):
+    """`sensorTest | tee run.log` in a 70-column terminal: stdout is a pipe, stderr the terminal;
+    the lines fit its 70 columns. With no terminal at all (CI, a file) they are 120 wide."""
+    import fcntl
+    import struct
+    import sys
+    import termios
+    master_fd, slave_fd = os.openpty()
+    fcntl.ioctl(slave_fd, termios.TIOCSWINSZ, struct.pack('HHHH', 24, 70, 0, 0))
+    env = {k: v for k, v in os.environ.items() if k not in ('COLUMNS', 'LINES')}
+    try:
+        done = subprocess.run(
+            [sys.executable, '-c', 'from pepper_interface_tests.outputs.terminal import columns; '
+                                   'print(columns())'],
+            env=env, stdout=subprocess.PIPE, stderr=slave_fd if stderr_tty else subprocess.DEVNULL,
+            text=True, timeout=60)
+    finally:
+        os.close(slave_fd)
+        os.close(master_fd)
+    assert int(done.stdout) == (69 if stderr_tty else 119), done.stdout

@@ -114,9 +114,17 @@ class HelpFormatter(argparse.RawDescriptionHelpFormatter):
 
 
 def columns(fallback: int = 120, minimum: int = 20) -> int:
-    """Usable columns: $COLUMNS, else the terminal's width, else `fallback` (a pipe, a file);
-    one column is kept free so that no line makes the terminal wrap; never under `minimum`."""
-    return max(minimum, shutil.get_terminal_size((fallback, 20)).columns - 1)
+    """Usable columns: $COLUMNS, else the width of the terminal on stdout, else of the one on
+    stderr (`sensorTest | tee run.log` in a terminal: the lines still fit the screen they are
+    read on), else `fallback` (a pipe or a file with no terminal at all); one column is kept
+    free so that no line makes the terminal wrap; never under `minimum`."""
+    width = shutil.get_terminal_size((0, 0)).columns
+    if not width:
+        try:
+            width = os.get_terminal_size(sys.__stderr__.fileno()).columns if sys.__stderr__ else 0
+        except (OSError, ValueError):   # stderr is not a terminal, or closed
+            width = 0
+    return max(minimum, (width or fallback) - 1)
 
 
 def fill(text: str, width: Optional[int] = None, indent: str = '  ',
