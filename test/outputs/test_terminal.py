@@ -143,6 +143,45 @@ def test_nothing_published_is_said_once_within_the_wait(master, tmp_path):
     assert 'Xtion' in r.sensors['stereoCamera']['reasons'][0]     # the per-sensor hint stays
 
 
+def test_robot_off_every_default_sensor_is_judged_in_one_wait(master, tmp_path):
+    """Robot off (issue 24): a bare master, every default robot sensor (robotHealth among them,
+    whose /diagnostics sensorTest itself publishes on), sequential, --wait 3. Before: this
+    node's own /diagnostics publisher counted as "something is published", so the fast path
+    never fired: 16 windows of 3 s, about 49 s, and the long "no publisher" reason per sensor."""
+    wait = 3
+    r = sensor_test(master, tmp_path / 'out', '--platform', 'robot', '--mode', 'sequential',
+                    '--duration', str(wait), '--wait', str(wait), '--no-report', timeout=150)
+    assert r.rc == 1, r
+    assert r.stdout.count('nothing is published') == 1, r.stdout
+    # one --wait for every listened-to sensor, plus the speech check's own wait (it drives
+    # itself: one sentence, up to --wait for a subscriber) and start-up; per sensor: 16 x wait
+    assert r.elapsed < 3 * wait + 10, r
+    listened = [s for s in r.json['sensors'] if s['name'] != 'speech']
+    assert len(listened) >= 14 and 'robotHealth' in r.sensors, [s['name'] for s in r.json['sensors']]
+    for s in listened:
+        assert s['verdict'] == 'FAIL' and s['reasons'][0].startswith(
+            'no publisher on %s: no sensor topic of this run has a publisher' % s['topic']), s
+    assert '(is the driver running, and is the topic name right?' not in r.stdout, r.stdout
+
+
+def test_this_nodes_own_diagnostics_are_no_publisher_of_them(master, tmp_path):
+    """Something else is published (so each sensor has its own window), nothing but sensorTest
+    itself publishes /diagnostics: robotHealth says there is no publisher, as for any topic."""
+    with Publishers(master, tmp_path) as pubs:
+        pubs.start('backSonar', '/own/backSonar', 'range', '--frame', 'SonarBack_frame')
+        pubs.wait(['/own/backSonar'])
+        topics = tmp_path / 't.dat'
+        topics.write_text('backSonar /own/backSonar\nrobotHealth /diagnostics\n')
+        r = sensor_test(master, tmp_path / 'out', '--topics', str(topics), '--sensors',
+                        'backSonar,robotHealth', '--mode', 'sequential', '--duration', '2',
+                        '--wait', '2', '--no-report')
+    assert 'nothing is published' not in r.stdout, r
+    assert r.sensors['backSonar']['verdict'] == 'PASS', r
+    health = r.sensors['robotHealth']
+    assert health['verdict'] == 'FAIL' and health['reasons'][0].startswith(
+        'no publisher on /diagnostics (is the driver running'), health
+
+
 def test_one_publisher_is_enough_to_listen_normally(master, tmp_path):
     """One topic published: the others are judged one by one as before (no early verdict)."""
     names = ['backSonar', 'frontSonar']

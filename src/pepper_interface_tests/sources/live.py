@@ -17,7 +17,7 @@ import socket
 import threading
 import time
 import xmlrpc.client
-from typing import Any, Dict, Optional, Set
+from typing import Any, Dict, List, Optional, Set
 from urllib.parse import urlparse
 
 import rosgraph
@@ -201,26 +201,36 @@ class LiveSource:
     def master_uri(self) -> Optional[str]:
         return master_uri()
 
+    def _publishers(self) -> Dict[str, List[str]]:
+        """Topic -> the nodes publishing it other than this one (one getSystemState). This node
+        publishes its own statuses on /diagnostics (outputs/diagnostics.py), robotHealth's
+        topic: counted, it made /diagnostics always "published", with no driver at all."""
+        pubs, _, _ = rosgraph.Master(self.caller_id).getSystemState()
+        out: Dict[str, List[str]] = {}
+        for topic, nodes in pubs:
+            others = sorted(n for n in nodes if n != self.caller_id)
+            if others:
+                out[topic] = others
+        return out
+
     def published_topics(self) -> Optional[Set[str]]:
-        """The set of topics with a publisher (one question to the master), or None when the
-        master does not answer it."""
+        """The set of topics with a publisher other than this node (one question to the
+        master), or None when the master does not answer it."""
         if not self._master_ok:
             return None
         try:
-            return {t for t, _ in rosgraph.Master(self.caller_id).getPublishedTopics('')}
+            return set(self._publishers())
         except Exception:  # the master may have gone between probe and call
             return None
 
     def lookup(self, topic: str) -> Optional[TopicInfo]:
-        """(advertised type or None, [publisher node names]) of a topic, or None if unknown."""
+        """(advertised type or None, [publisher node names other than this node]) of a topic,
+        or None if unknown."""
         if not self._master_ok:
             return None
         try:
-            master = rosgraph.Master(self.caller_id)
-            types = dict(master.getTopicTypes())
-            pubs, _, _ = master.getSystemState()
-            publishers = sorted(n for t, nodes in pubs if t == topic for n in nodes)
-            return types.get(topic), publishers
+            types = dict(rosgraph.Master(self.caller_id).getTopicTypes())
+            return types.get(topic), self._publishers().get(topic, [])
         except Exception:  # the master may have gone between probe and call
             return None
 
