@@ -3,7 +3,8 @@
 # bridge (pepperEmulator.launch) on free ports, wait for their topics, run sensorTest in
 # parallel mode over every robot sensor (the touch sensors and bumpers in a guided check that
 # the emulated operator answers), then stop everything. Exit code = sensorTest's
-# (2 when the emulator could not start). Extra arguments go to sensorTest, e.g.
+# (2 when the emulator could not start, or broke during the run: a node of it ended, named on
+# the terminal with its last words). Extra arguments go to sensorTest, e.g.
 #   tools/demo.sh --quick   or   --duration 5
 # Ports: three distinct free ports below the kernel's ephemeral range (rosmaster.free_ports);
 # if one is taken anyway before its server binds it (or roslaunch finds somebody else's master
@@ -74,7 +75,11 @@ PY
     exit 2
 done
 
-python scripts/sensorTest --platform robot --mode parallel \
+# While sensorTest runs, the launch is watched (launch/watch.py): a node of the emulator that
+# ends mid-run is named at once with its own last words, said again after the summary, and the
+# exit code is then 2: the verdicts of the sensors it fed say nothing about a robot.
+python -m pepper_interface_tests.launch.watch "$LAUNCH" "$LOG" -- \
+    python scripts/sensorTest --platform robot --mode parallel \
     --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,bumper,robotHealth \
     --guided --no-show "$@"
 rc=$?

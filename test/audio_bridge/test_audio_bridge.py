@@ -504,6 +504,30 @@ def test_usage_errors_and_waiting_for_peers(master, tmp_path):
         procs.stop_all()
 
 
+def test_a_taken_port_stops_the_bridge_before_it_advertises_its_topic(tmp_path):
+    """Issue 24: the port held by another program's real socket. The bridge must say "cannot
+    listen on 127.0.0.1:N" and never have advertised /naoqi_driver/audio (a launch watcher
+    takes that topic for "the bridge is up"); checked in the master's own record of every
+    registration (master.log: "+PUB [topic] node uri"), so even a moment's advertising counts."""
+    from pepper_interface_tests.rosmaster import PrivateMaster
+    ros_home = tmp_path / 'ros_home'
+    with PrivateMaster('/test', ros_home=str(ros_home)) as master:
+        port = free_port()
+        with socket.socket() as holder:
+            holder.bind(('127.0.0.1', port))
+            holder.listen(1)
+            res = subprocess.run(script('naoqiAudioPublisher') + ['--port', str(port)],
+                                 env=master.env(), stdout=subprocess.PIPE,
+                                 stderr=subprocess.STDOUT, timeout=60)
+        out = res.stdout.decode('utf-8', 'replace')
+        assert res.returncode == 1 and 'cannot listen on 127.0.0.1:%d' % port in out, out
+        assert 'Traceback' not in out, out
+        with open(str(ros_home / 'log' / 'latest' / 'master.log')) as f:
+            registrations = [ln for ln in f if '+PUB [' in ln]
+    assert any('/naoqiAudioPublisher' in ln for ln in registrations), registrations  # log read
+    assert not [ln for ln in registrations if '[/naoqi_driver/audio]' in ln], registrations
+
+
 def test_launch_keeps_the_token_out_of_ps_params_and_logs(procs, master, tmp_path):
     """pepperEmulator.launch with the token in a file named by $PEPPER_AUDIO_TOKEN_FILE: the
     bridge works with it, and it is in no command line, no parameter and no log (roslaunch

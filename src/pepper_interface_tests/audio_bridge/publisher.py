@@ -22,6 +22,11 @@ Layout: each frame says whether its samples are planar or interleaved; ``layout.
 that the data looks like the declared layout and frames of a stream proven mislabelled are
 dropped (``layout mismatch``), never published with mixed channels.
 
+Start-up order: the websocket port is bound first and the ROS topic advertised only once it
+listens, so "the topic is published" means "the bridge is up" to whoever watches the launch
+(rosmaster.wait_for_launch); a port that cannot be bound ends the node (exit 1, "cannot listen
+on HOST:PORT" with the fix) without the topic ever being advertised.
+
 Options (command line wins over the private parameter of the same name):
   --host / ~host (127.0.0.1)  --port / ~port (9090; 0 = any free port, the log says which)
   --topic / ~topic (/naoqi_driver/audio)
@@ -426,8 +431,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except ValueError as exc:
         rospy.logerr(str(exc))
         return 2
-    pub = rospy.Publisher(opts['topic'], AudioCustomMsg, queue_size=50)
-    bridge = Bridge(pub.publish, AudioCustomMsg, opts['token'], _RosLog(rospy))
+    # The port first, the topic only once it listens: a watcher of the launch (tools/demo.sh,
+    # rosmaster.wait_for_launch) takes the topic for "the bridge is up"; advertised before a
+    # bind that fails, it declared the emulator up just before the bridge died. Nothing is
+    # published before serve_forever starts accepting, so `publish` is set in time.
+    bridge = Bridge(_not_advertised, AudioCustomMsg, opts['token'], _RosLog(rospy))
     _resume(bridge, rospy)
     quiet = logging.getLogger(NODE + '.websockets')
     quiet.setLevel(logging.CRITICAL + 1)
@@ -440,6 +448,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         rospy.logerr('cannot listen on %s:%d: %s (fix: another --port / ~port, or 0 for any '
                      'free port)' % (opts['host'], opts['port'], exc.strerror or exc))
         return 1
+    bridge.publish = rospy.Publisher(opts['topic'], AudioCustomMsg, queue_size=50).publish
     stop = threading.Event()
     threading.Thread(target=server.serve_forever, name='websocket', daemon=True).start()
     threading.Thread(target=_stats_loop, args=(bridge, stop, rospy), name='stats',
@@ -456,6 +465,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     rospy.on_shutdown(shutdown)
     rospy.spin()
     return 0
+
+
+def _not_advertised(msg: 'genpy.Message') -> None:
+    raise RuntimeError('the topic is not advertised yet (the websocket port is bound first)')
 
 
 class _RosLog:

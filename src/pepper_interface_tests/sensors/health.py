@@ -12,7 +12,8 @@ at 1 Hz (share/boot_config.json "diag"):
   "Battery almost empty" at 30 % or less (:238-262).
 Other nodes publish on /diagnostics too (sensorTest itself: outputs/diagnostics.py): only the
 statuses named naoqi_driver_joints:* and naoqi_driver_battery:Status are judged, so this node's
-own statuses never feed this check (a live window also never receives them: sources/live.py).
+own statuses never feed this check (a live window also never receives them, and the master
+look-ups never count this node as a publisher of /diagnostics: sources/live.py).
 
 The rules: PASS when the driver's statuses are OK. A joint at the driver's WARN ("Hot") and a
 battery at WARN (discharging, 60 % or less) are warnings naming the joints and temperatures or
