@@ -175,7 +175,8 @@ class Runner:
     def _nothing_published(self):
         """Live runs: when not one listened-to topic of the plan has a publisher on the master
         (robot off, wrong ROS_MASTER_URI, driver not started), say so once within --wait and fail
-        those sensors with that reason, instead of waiting --wait per sensor in turn."""
+        those sensors with that reason, instead of waiting --wait per sensor in turn. Only other
+        nodes count (Source.published_topics): this node publishes /diagnostics itself."""
         probe = self.source.published_topics
         plans = [p for lane in self.lanes for p in lane
                  if p.skip_reason is None and not traits(p.sensor).drives_itself]

@@ -60,10 +60,12 @@ class Source(Protocol):
         playback); raises SourceLost when the source is gone."""
 
     def lookup(self, topic: str) -> Optional[TopicInfo]:
-        """(advertised type or None, publisher node names) of a topic; None when unknown."""
+        """(advertised type or None, publisher node names other than this node) of a topic;
+        None when unknown."""
 
     def published_topics(self) -> Optional[Set[str]]:
-        """Topics that have a publisher now; None when the source cannot tell."""
+        """Topics that have a publisher other than this node now (it publishes /diagnostics
+        itself); None when the source cannot tell."""
 
     def sleep(self, dt: float) -> None:
         """Wait `dt` seconds on the source's clock (a bag may not wait at all)."""
