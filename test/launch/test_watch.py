@@ -14,6 +14,7 @@ import time
 import psutil
 import pytest
 
+from pepper_interface_tests.launch.watch import ended_nodes
 from rosmaster import ROOT, kill_group, spawn, unregistered, wait_until
 
 NODE = os.path.join(ROOT, 'test', 'nodes', 'dying_node.py')
@@ -22,6 +23,32 @@ RUN = 9.0      # the command's length: the death comes in the middle of it
 
 STEADY = '  <node pkg="pepper_interface_tests" type="dying_node.py" name="steady" args="steady" output="screen"/>\n'
 DYING = '  <node pkg="pepper_interface_tests" type="dying_node.py" name="%s" args="%s %g" output="screen"/>\n'
+
+
+# roslaunch's words as pmon.py:563-572 and nodeprocess.py:392-406 write them, with its colours
+ROSLAUNCH_SAYS = (
+    '\x1b[1mprocess[naoqiAudio-5]: started with pid [5767]\x1b[0m\n'
+    '\x1b[1m[naoqiAudioPublisher-4] process has finished cleanly\n'
+    'log file: /r/log/abc/naoqiAudioPublisher-4*.log\x1b[0m\n'
+    '\x1b[31m[naoqiAudio-5] process has died [pid 5767, exit code -9, cmd /x/naoqiAudio --ip 1].\n'
+    'log file: /r/log/abc/naoqiAudio-5*.log\x1b[0m\n'
+    '\x1b[31m================================================================================'
+    'REQUIRED process [pepperEmulator-3] has died!\n'
+    'process has died [pid 5764, exit code 1, cmd /x/pepperEmulator __name:=pepperEmulator].\n'
+    'log file: /r/log/abc/pepperEmulator-3*.log\nInitiating shutdown!\n'
+    '================================================================================\x1b[0m\n'
+    '[naoqiEndpoint-2] process has died without exit code [pid 5761, cmd /x/naoqiEndpoint].\n')
+
+
+def test_roslaunch_reports_of_ended_processes_are_read():
+    ends = ended_nodes(ROSLAUNCH_SAYS)
+    assert [(e.node, e.code, e.log_glob) for e in ends] == [
+        ('naoqiAudioPublisher', 0, '/r/log/abc/naoqiAudioPublisher-4*.log'),
+        ('naoqiAudio', -9, '/r/log/abc/naoqiAudio-5*.log'),
+        ('pepperEmulator', 1, '/r/log/abc/pepperEmulator-3*.log'),
+        ('naoqiEndpoint', None, '')]
+    assert [e.how() for e in ends] == ['ended (exit code 0) in the middle of the run',
+                                       'died (killed by SIGKILL)', 'died (exit code 1)', 'died']
 
 
 def start_launch(master, tmp_path, mode):

@@ -7,10 +7,14 @@ The demo starts the emulator's launch, waits until it is up (rosmaster.wait_for_
 sensorTest through this. A node of the emulator that ends while sensorTest listens (the audio
 bridge losing its port, a crash, a kill) leaves sensorTest judging a stream that stopped: its
 verdict would blame a sensor for what the emulator did. So while COMMAND runs, the launch's
-output is read every WATCH_EVERY s for roslaunch's own words about a process that ended
-(roslaunch/pmon.py: "[name-N] process has died [pid P, exit code C, cmd ...]" or "process has
-finished cleanly", each followed by "log file: <dir>/<name-N>*.log"; for a required node
-"REQUIRED process [name-N] has died!"), and for roslaunch itself ending. The first is printed at
+output is read every WATCH_EVERY s for roslaunch's own words about a process that ended, and
+for roslaunch itself ending. roslaunch (Debian's python3-roslaunch 1.15.15) writes them in
+pmon.py:563-572 ("[name-N] " + the exit description, or for a required node "REQUIRED process
+[name-N] has died!" and the description on the next line) from nodeprocess.py:392-406
+("process has died [pid P, exit code C, cmd ...]." / "process has died without exit code
+[...]" / "process has finished cleanly", then "log file: <dir>/<name-N>*.log"). A node that
+ends with exit code 0 mid-run broke the launch as much as one that crashed: a rospy node
+stopped by SIGTERM exits 0. The first is printed at
 once, with the node's last words:
 
 - its own log files (the glob roslaunch names: rospy's log file from __log:=, and -stdout/-stderr
