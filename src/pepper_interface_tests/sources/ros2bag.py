@@ -15,8 +15,9 @@ bag.py: a float of seconds would hold it only to about 240 ns and could start af
 record.
 
 Streaming: rosbags reads a sqlite3 file with one ordered query (a cursor) and an MCAP file chunk
-by chunk; only the next message is held here. The record times are read once at the start (one
-pass over the recording, the data dropped at once) for the dense window.
+by chunk; only the next message is held here. The record times are read once at the start for
+the dense window, from the storage's index (ros2index.py: no message data is read), or, when it
+has none, by one pass over the messages (the data dropped at once).
 """
 import os
 from typing import Any, Dict, Iterator, List, Optional
@@ -72,6 +73,11 @@ class Ros2BagSource(BagSource):
         self.read_error: Optional[str] = None
 
     def _record_times(self) -> Iterator[int]:
+        from .ros2index import record_times
+        indexed = record_times(self.reader)
+        if indexed:
+            yield from indexed
+            return
         n = 0
         try:
             for _conn, ns, _raw in self.reader.messages():
