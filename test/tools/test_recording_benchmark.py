@@ -38,7 +38,8 @@ def test_a_count_that_differs_from_the_ros1_bag_is_named(capsys):
     assert 'VERDICTS OR COUNTS DIFFER' in out and "laser: ROS 1 ('PASS', 600), sqlite3 ('PASS', 599)" in out
 
 
-@pytest.mark.parametrize('argv,words', [(['--forms', 'bag'], '--forms takes'), (['--runs', '0'], '--runs and --seconds')])
+@pytest.mark.parametrize('argv,words', [(['--forms', 'bag'], '--forms takes'),
+                                        (['--runs', '0'], '--runs and --seconds')])
 def test_bad_options_are_refused(argv, words, capsys):
     with pytest.raises(SystemExit) as exc:
         rb.main(argv)
@@ -58,7 +59,7 @@ def test_every_topic_starts_at_the_same_nanosecond_and_keeps_its_rate():
     sched = list(recording._schedule(2.0))
     assert sched == sorted(sched)
     first = {}
-    for ns, sensor, i in sched:
+    for ns, sensor, _i in sched:
         first.setdefault(sensor, ns)
     assert set(first.values()) == {recording.T0_NS} and set(first) == set(recording.STREAMS)
     assert sum(1 for _, s, _ in sched if s == 'jointState') == 100
