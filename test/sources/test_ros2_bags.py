@@ -116,7 +116,8 @@ FIRST_NS = 1700000000123456700
 def test_first_instant_is_read_in_full_from_every_form(tmp_path):
     """Record times are integer nanoseconds end to end: a recording whose topics all start at
     the same nanosecond gives every message, in a ROS 1 bag, in ROS 2 recordings written by
-    rosbags (sqlite3, MCAP) and in ROS 2 recordings converted from the bag by rosbags-convert."""
+    rosbags (sqlite3, MCAP) and in ROS 2 recordings converted from the bag by rosbags-convert,
+    with the bag's verdicts (the camera frames and audio buffers through the one-copy path)."""
     import math
     t = FIRST_NS / 1e9
     assert math.floor(t * 1e9) > FIRST_NS and __import__('genpy').Time.from_sec(t).to_nsec() > FIRST_NS
@@ -133,6 +134,11 @@ def test_first_instant_is_read_in_full_from_every_form(tmp_path):
         'convert-mcap': rr.convert(bag, tmp_path / 'c_mcap', 'mcap'),
     }
     for form, recording in forms.items():
+        # camera frames and audio buffers take the one-copy conversion (sources/cdr_fast.py)
+        from pepper_interface_tests.sources.ros2bag import Ros2BagSource
+        source = Ros2BagSource(recording)
+        assert set(source.converter.fast) == {'sensor_msgs/msg/Image', 'naoqi_bridge_msgs/msg/AudioBuffer'}, form
+        source.close()
         p, data = run(recording, tmp_path / ('out_' + form))
         assert p.returncode == 0, (form, p.stdout + p.stderr)
         assert {name: s['messages'] for name, s in data.items()} == expected, form

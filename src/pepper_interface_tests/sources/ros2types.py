@@ -194,10 +194,15 @@ def fast_layouts() -> Mapping[str, Any]:
 
 def _same_layout(types: Mapping[str, Any], name: str) -> bool:
     """True when `types` defines `name`, its std_msgs/Header and builtin_interfaces/Time with the
-    fields (names and kinds; constants aside) of the layout cdr_fast.py reads."""
+    wire layout cdr_fast.py reads: the same kinds of fields in the same order (the names and the
+    constants do not change the bytes: rosbags-convert stores the ROS 1 AudioBuffer's
+    `channelMap` where naoqi_driver2's says `channel_map`)."""
     ref = fast_layouts()
-    return all(name in ref and repr(types.get(t, (None, None))[1]) == repr(ref[t][1])
-               for t in (name, 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time'))
+
+    def kinds(fields: Any) -> str:
+        return repr([desc for _name, desc in fields[1]]) if fields else ''
+    return name in ref and all(kinds(types.get(t)) == kinds(ref[t])
+                               for t in (name, 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time'))
 
 
 def _closure(msgtype: str, types: Mapping[str, Any], into: Set[str]) -> Optional[str]:
