@@ -26,9 +26,15 @@ def test_the_median_ratio_is_judged_against_the_target(capsys):
     rows = [row('ros1', 2.0, 2.0), row('mcap', 2.4, 2.0), row('mcap', 3.8, 2.0), row('mcap', 2.8, 2.0)]
     assert rb.summary(rows)
     out = capsys.readouterr().out
-    assert 'mcap     1.40x of rosbags (median of 3; target <= 1.5x)' in out and 'NOT MET' not in out
+    assert 'mcap     1.40x of rosbags (median of 3, target <= 1.5x): ok' in out and 'NOT MET' not in out
+    assert not [line for line in out.splitlines() if len(line) > 80]
     assert not rb.summary([row('ros1', 2.0, 2.0), row('sqlite3', 3.2, 2.0)])
-    assert 'sqlite3  1.60x of rosbags' in capsys.readouterr().out
+    assert 'sqlite3  1.60x of rosbags (median of 1, target <= 1.5x): NOT MET' in capsys.readouterr().out
+
+
+def test_a_measurement_fits_80_columns():
+    line = rb.row_line(row('sqlite3', 12.61, 13.03), 10)
+    assert '12.61 s' in line and '0.97x' in line and len(line) <= 80
 
 
 def test_a_count_that_differs_from_the_ros1_bag_is_named(capsys):

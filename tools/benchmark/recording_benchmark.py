@@ -102,6 +102,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         paths = _recording(args, args.folder or tmp)
         rows = []
+        print('run, form, size; CPU seconds (user + system) of sensorTest --bag, of the floor:')
         for i in range(args.runs):
             for name in args.forms:
                 row = measure_form(name, paths[name], tmp, env, '%s-%d' % (name, i + 1))
@@ -120,9 +121,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def row_line(row: Dict[str, Any], run: int) -> str:
-    return ('  run %d %-7s %5.0f MB: sensorTest %5.2f s CPU (%4.1f s wall), %-7s %5.2f s CPU: %.2fx'
-            % (run, row['form'], row['size'] / 1e6, row['cpu'], row['wall'], row['floor'],
-               row['floor_cpu'], row['cpu'] / row['floor_cpu']))
+    """One measurement in 80 columns: CPU seconds of sensorTest and of the floor, their ratio."""
+    return ('  %d %-7s %5.0f MB  sensorTest %5.2f s  %-7s %5.2f s  %.2fx  wall %.1f s'
+            % (run, row['form'], row['size'] / 1e6, row['cpu'], row['floor'], row['floor_cpu'],
+               row['cpu'] / row['floor_cpu'], row['wall']))
 
 
 def summary(rows: Sequence[Dict[str, Any]]) -> bool:
@@ -138,10 +140,11 @@ def summary(rows: Sequence[Dict[str, Any]]) -> bool:
         passed = sum(1 for v, _ in verdicts.values() if v == 'PASS')
         good = ratio <= TARGET and same and bool(verdicts)
         ok = ok and good
-        print('%-8s %.2fx of %s (median of %d; target <= %.1fx), %d/%d sensors PASS, %s: %s'
-              % (form, ratio, mine[0]['floor'], len(mine), TARGET, passed, len(verdicts),
-                 'verdicts and counts as the ROS 1 bag' if same else 'VERDICTS OR COUNTS DIFFER from the ROS 1 bag',
-                 'ok' if good else 'NOT MET'))
+        print('%-8s %.2fx of %s (median of %d, target <= %.1fx): %s'
+              % (form, ratio, mine[0]['floor'], len(mine), TARGET, 'ok' if good else 'NOT MET'))
+        print('         %d/%d sensors PASS, %s' % (
+            passed, len(verdicts), "verdicts and counts as the ROS 1 bag's" if same
+            else 'VERDICTS OR COUNTS DIFFER from the ROS 1 bag'))
         for r in mine:
             if ros1 is not None and r['verdicts'] != ros1:
                 for k in sorted(set(ros1) | set(r['verdicts'])):
