@@ -5,7 +5,7 @@
 # make test-fast  only the unit tier (pure tests, no ROS master, under 8 s of CPU): pytest -m unit
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
-.PHONY: demo test test-fast lint setup bench clean
+.PHONY: demo test test-fast lint setup bench bench-recording clean
 
 demo:
 	@tools/setup.sh
@@ -29,6 +29,10 @@ setup:
 bench:
 	@tools/setup.sh
 	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py'
+
+bench-recording:
+	@tools/setup.sh
+	@bash -c 'source tools/env.sh && python tools/benchmark/recording_benchmark.py'
 
 clean:
 	rm -rf build .venv .stamps

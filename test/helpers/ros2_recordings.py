@@ -52,7 +52,13 @@ FAULTS = {
     'depthCamera': 'frame_id',
 }
 
-Record = namedtuple('Record', 'sensor t msg')
+# ns: the record time in integer nanoseconds when the recording must hold exactly that one (else
+# the nearest to t)
+Record = namedtuple('Record', 'sensor t msg ns', defaults=(None,))
+
+
+def record_ns(r):
+    return r.ns if r.ns is not None else int(round(r.t * 1e9))
 
 
 def _camera(i, frozen):
@@ -106,22 +112,29 @@ def message(sensor, i, t, faulty=False, fork=False):
     return m
 
 
-def records(faulty=False, fork=False, seconds=SECONDS, leave_out=()):
-    """Every message of the recording, in record-time order (received 2 ms after its stamp)."""
+def records(faulty=False, fork=False, seconds=SECONDS, leave_out=(), first_ns=None):
+    """Every message of the recording, in record-time order (received 2 ms after its stamp).
+    `first_ns`: every topic's first record at exactly this record time (integer nanoseconds),
+    the next ones at whole nanoseconds after it."""
     out = []
     for sensor, rate in RATES.items():
         if sensor in leave_out or (faulty and FAULTS.get(sensor) == 'is not in the bag'):
             continue
         for i in range(int(seconds * rate)):
-            t = T0 + i / rate
-            out.append(Record(sensor, t + 0.002, message(sensor, i, t, faulty, fork)))
-    return sorted(out, key=lambda r: r.t)
+            if first_ns is None:
+                t = T0 + i / rate
+                out.append(Record(sensor, t + 0.002, message(sensor, i, t, faulty, fork)))
+            else:
+                ns = first_ns + int(round(i * 1e9 / rate))
+                out.append(Record(sensor, ns / 1e9, message(sensor, i, ns / 1e9 - 0.002, faulty, fork), ns))
+    return sorted(out, key=record_ns)
 
 
 def write_ros1(path, recs):
     with rosbag.Bag(str(path), 'w') as bag:
         for r in recs:
-            bag.write(TOPICS[r.sensor][0], r.msg, genpy.Time.from_sec(r.t))
+            t = genpy.Time.from_sec(r.t) if r.ns is None else genpy.Time(r.ns // 10**9, r.ns % 10**9)
+            bag.write(TOPICS[r.sensor][0], r.msg, t)
     return str(path)
 
 
@@ -174,7 +187,7 @@ def write_rosbags(path, recs, storage='sqlite3', compression=None, split=None, d
                 kw = {'typestore': ts} if definitions else {'msgdef': '', 'rihs01': ''}
                 conns[topic] = w.add_connection(topic, _ros2_type(r.msg), **kw)
             raw = bytes(ts.ros1_to_cdr(fake.serialized(r.msg), _ros2_type(r.msg)))
-            w.write(conns[topic], int(round(r.t * 1e9)), raw)
+            w.write(conns[topic], record_ns(r), raw)
     return str(path)
 
 
@@ -208,11 +221,23 @@ def write_mcap_ros2(path, recs):
             if name not in schemas:
                 text = ts.generate_msgdef(name, ros_version=2)[0]
                 schemas[name] = w.register_msgdef(name.replace('/msg/', '/msg/'), text)
-            ns = int(round(r.t * 1e9))
+            ns = record_ns(r)
             w.write_message(TOPICS[r.sensor][1], schemas[name], _ros2_dict(r.msg), log_time=ns,
                             publish_time=ns)
         w.finish()
     return str(path)
+
+
+def convert(bag, dst, storage='sqlite3'):
+    """A ROS 1 bag converted into a rosbag2 folder by `rosbags-convert` (rosbags' own command,
+    tools/requirements.txt): the ROS 1 topic names and definitions, the record times as they are."""
+    import shutil
+    import subprocess
+    import sys
+    exe = shutil.which('rosbags-convert') or os.path.join(os.path.dirname(sys.executable), 'rosbags-convert')
+    subprocess.run([exe, '--src', str(bag), '--dst', str(dst), '--dst-storage', storage],
+                   check=True, capture_output=True, timeout=120)
+    return str(dst)
 
 
 def size(path):

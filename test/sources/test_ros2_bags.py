@@ -107,6 +107,44 @@ def test_same_data_same_verdicts_as_a_ros1_bag(ros1, variant, form, tmp_path):
             assert s['messages'] == int(rr.SECONDS * rr.RATES[name]), s
 
 
+# Every topic's first record at this very nanosecond. As a float of seconds it reads 68 ns
+# later (floor(t * 1e9)) and genpy.Time.from_sec(t) 16 ns later: a start computed from the float
+# (as both sources did) leaves every topic's first message out.
+FIRST_NS = 1700000000123456700
+
+
+def test_first_instant_is_read_in_full_from_every_form(tmp_path):
+    """Record times are integer nanoseconds end to end: a recording whose topics all start at
+    the same nanosecond gives every message, in a ROS 1 bag, in ROS 2 recordings written by
+    rosbags (sqlite3, MCAP) and in ROS 2 recordings converted from the bag by rosbags-convert,
+    with the bag's verdicts (the camera frames and audio buffers through the one-copy path)."""
+    import math
+    t = FIRST_NS / 1e9
+    assert math.floor(t * 1e9) > FIRST_NS and __import__('genpy').Time.from_sec(t).to_nsec() > FIRST_NS
+    recs = rr.records(first_ns=FIRST_NS)
+    bag = rr.write_ros1(tmp_path / 'pepper.bag', recs)
+    p, ros1 = run(bag, tmp_path / 'out1')
+    assert p.returncode == 0, p.stdout + p.stderr
+    expected = {name: int(rr.SECONDS * rr.RATES[name]) for name in rr.TOPICS}
+    assert {name: s['messages'] for name, s in ros1.items()} == expected
+    forms = {
+        'rosbags-sqlite3': rr.write_rosbags(tmp_path / 'w_db3', recs, 'sqlite3'),
+        'rosbags-mcap': rr.write_rosbags(tmp_path / 'w_mcap', recs, 'mcap'),
+        'convert-sqlite3': rr.convert(bag, tmp_path / 'c_db3', 'sqlite3'),
+        'convert-mcap': rr.convert(bag, tmp_path / 'c_mcap', 'mcap'),
+    }
+    for form, recording in forms.items():
+        # camera frames and audio buffers take the one-copy conversion (sources/cdr_fast.py)
+        from pepper_interface_tests.sources.ros2bag import Ros2BagSource
+        source = Ros2BagSource(recording)
+        assert set(source.converter.fast) == {'sensor_msgs/msg/Image', 'naoqi_bridge_msgs/msg/AudioBuffer'}, form
+        source.close()
+        p, data = run(recording, tmp_path / ('out_' + form))
+        assert p.returncode == 0, (form, p.stdout + p.stderr)
+        assert {name: s['messages'] for name, s in data.items()} == expected, form
+        assert verdicts(data) == verdicts(ros1), form
+
+
 def test_the_fork_is_judged_with_its_profile(tmp_path):
     """yohatad/naoqi_driver2: odometry pepper_odom -> base_footprint, +inf = nothing in range."""
     recs = rr.records(fork=True)

@@ -13,6 +13,11 @@ The window: a bag is checked over its *dense* part, its longest run of records w
 longer than MAX_SILENCE between two of them (any topic). A record at a bogus time (t = 1 s in a
 bag recorded at 1.7e9 s, a clock that jumped) would otherwise stretch the window to decades;
 such records are left out and `notes` says which and when.
+
+Record times stay integer nanoseconds wherever a record is selected (the dense window's first
+and last record, the start and end handed to the reader): a float of seconds near 1.7e9 holds the
+nanoseconds only to about 240 ns, so a start computed from it can land after the first record and
+leave it out. Only the time handed to the windows (their rates and delays) is a float.
 """
 import os
 from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
@@ -25,6 +30,7 @@ if TYPE_CHECKING:
 
 # a record as the runner is fed it: (record time, topic, type name, bytes, connection header)
 Record = Tuple[float, str, str, bytes, Dict[str, Any]]
+NS = 1000000000     # nanoseconds a second
 
 # No sensor of Pepper publishes less than once a second (reference/pepper-sensors.md) and a
 # sensor test records seconds to minutes: when no topic at all has a record for 5 minutes, the
@@ -32,9 +38,11 @@ Record = Tuple[float, str, str, bytes, Dict[str, Any]]
 MAX_SILENCE = 300.0
 
 
-def dense_span(times: Sequence[float], max_silence: float = MAX_SILENCE) -> Tuple[float, float, int, int]:
-    """(begin, end, left out before, left out after) of the largest group of `times` (sorted)
-    with no gap above `max_silence`; the first such group when two have the same size."""
+def dense_span(times: Sequence[Any], max_silence: float = MAX_SILENCE) -> Tuple[Any, Any, int, int]:
+    """(begin, end, left out before, left out after) of the largest group of `times` (sorted;
+    seconds, or integer nanoseconds with `max_silence` in nanoseconds: begin and end are then
+    those integers) with no gap above `max_silence`; the first such group when two have the
+    same size."""
     if not times:
         return 0.0, 0.0, 0, 0
     best, start = (0, 0), 0
@@ -62,10 +70,12 @@ class BagSource:
         self.types: Dict[str, str] = {}      # topic -> ROS 1 type name ('sensor_msgs/LaserScan')
         self.notes: List[str] = []
         self._open(path)
-        times = sorted(self._record_times())
-        self.begin, self.end, before, after = dense_span(times)
+        times = sorted(self._record_times())     # integer nanoseconds
+        begin, end, before, after = dense_span(times, MAX_SILENCE * NS)
+        self.begin_ns, self.end_ns = int(begin), int(end)
+        self.begin, self.end = self.begin_ns / NS, self.end_ns / NS
         if before or after:
-            odd = [t for t in times if t < self.begin or t > self.end]
+            odd = [t / NS for t in times if t < self.begin_ns or t > self.end_ns]
             self.notes.append(
                 '%d record%s at odd times left out (%s%s); no record for more than %g s '
                 'separates them from the %d records checked, from %s to %s (%.1f s)'
@@ -92,11 +102,20 @@ class BagSource:
         info = self.bag.get_type_and_topic_info()
         self.types = {t: v.msg_type for t, v in info.topics.items()}
 
-    def _record_times(self) -> Iterator[float]:
-        """Record times of every message, from the bag's index (already in memory: no data is read)."""
+    def _record_times(self) -> Iterator[int]:
+        """Record times of every message in integer nanoseconds, from the bag's index (already
+        in memory: no data is read)."""
         for entries in self.bag._connection_indexes.values():
             for entry in entries:
-                yield entry.time.to_sec()
+                yield entry.time.secs * NS + entry.time.nsecs
+
+    def _start_ns(self, after: Optional[float]) -> int:
+        """The first record time to read: the window's first record, or for a reader opened
+        again at `after` (the clock, a float) a little before it (the exact choice of what is
+        later than `after` is made with the very comparison `sleep` delivers by)."""
+        if after is None:
+            return self.begin_ns
+        return max(self.begin_ns, int(after * NS) - 1000)
 
     def _records(self, after: Optional[float] = None) -> Iterator[Record]:
         """(t, topic, type name, serialized bytes) in record-time order, within the dense span,
@@ -105,11 +124,13 @@ class BagSource:
         topics = sorted(self.runs)
         if not topics:
             return
-        start = genpy.Time.from_sec(self.begin if after is None else max(self.begin, after))
-        for topic, raw, t in self.bag.read_messages(topics=topics, raw=True, start_time=start,
-                                                    end_time=genpy.Time.from_sec(self.end)):
-            t = t.to_sec()
-            if after is None or t > after:
+        start, stop = self._start_ns(after), self.end_ns
+        for topic, raw, stamp in self.bag.read_messages(
+                topics=topics, raw=True, start_time=genpy.Time(start // NS, start % NS),
+                end_time=genpy.Time(stop // NS, stop % NS)):
+            ns = stamp.secs * NS + stamp.nsecs
+            t = ns / NS
+            if start <= ns <= stop and (after is None or t > after):
                 yield t, topic, raw[0], raw[1], self._connection(raw)
 
     def _connection(self, raw):

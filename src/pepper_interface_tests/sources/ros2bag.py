@@ -9,18 +9,21 @@ so the checks read the very same objects and the verdicts for the same data are 
 
 Record time: rosbag2 stores the time the recorder received each message, in nanoseconds since
 the epoch (or since the simulation's start on sim time), the same meaning as a ROS 1 bag's record
-time; it is used as the receive time, exactly as for a ROS 1 bag.
+time; it is used as the receive time, exactly as for a ROS 1 bag. It stays an integer wherever
+records are selected (the window's first and last record, the reader's start and stop), as in
+bag.py: a float of seconds would hold it only to about 240 ns and could start after the first
+record.
 
 Streaming: rosbags reads a sqlite3 file with one ordered query (a cursor) and an MCAP file chunk
-by chunk; only the next message is held here. The record times are read once at the start (one
-pass over the recording, the data dropped at once) for the dense window.
+by chunk; only the next message is held here. The record times are read once at the start for
+the dense window, from the storage's index (ros2index.py: no message data is read), or, when it
+has none, by one pass over the messages (the data dropped at once).
 """
-import math
 import os
 from typing import Any, Dict, Iterator, List, Optional
 
 from ..plan.textfile import ConfigError
-from .bag import BagSource, Record
+from .bag import NS, BagSource, Record
 
 FIX = ('check it is a ROS 2 recording (a folder with metadata.yaml and its .db3/.mcap files, or '
        'one .mcap or .db3 file) written completely (ros2 bag info; "ros2 bag reindex" rebuilds a '
@@ -69,12 +72,17 @@ class Ros2BagSource(BagSource):
                               'definition) or add its .msg file to msg/' % (topic, why))
         self.read_error: Optional[str] = None
 
-    def _record_times(self) -> Iterator[float]:
+    def _record_times(self) -> Iterator[int]:
+        from .ros2index import record_times
+        indexed = record_times(self.reader)
+        if indexed:
+            yield from indexed
+            return
         n = 0
         try:
-            for _conn, t, _raw in self.reader.messages():
+            for _conn, ns, _raw in self.reader.messages():
                 n += 1
-                yield t / 1e9
+                yield ns
         except Exception as e:  # noqa: BLE001  (a truncated file: keep what could be read)
             if n == 0:
                 self.close()
@@ -93,12 +101,11 @@ class Ros2BagSource(BagSource):
         conns = [c for topic in sorted(self.runs) for c in self._by_topic.get(topic, ())]
         if not conns:
             return
-        start = int(math.floor((self.begin if after is None else max(self.begin, after)) * 1e9))
-        stop = int(math.ceil(self.end * 1e9)) + 1
+        start, end = self._start_ns(after), self.end_ns     # integer nanoseconds (bag.py)
         try:
-            for conn, ns, raw in self.reader.messages(connections=conns, start=start, stop=stop):
-                t = ns / 1e9
-                if t < self.begin or t > self.end or (after is not None and t <= after):
+            for conn, ns, raw in self.reader.messages(connections=conns, start=start, stop=end + 1):
+                t = ns / NS
+                if ns < start or ns > end or (after is not None and t <= after):
                     continue
                 if conn.topic in self.problems:   # delivered undecodable: the sensor says so
                     yield t, conn.topic, self.types[conn.topic], b'', {'type': self.types[conn.topic]}

@@ -17,6 +17,7 @@ message out of a ROS 1 bag.
 """
 import functools
 import os
+import struct
 from types import MappingProxyType
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple
 
@@ -144,6 +145,11 @@ class Converter:
         self.store = get_typestore(Stores.EMPTY)
         self.store.register({name: types[name] for name in needed})
         self._headers: Dict[str, Dict[str, Any]] = {}
+        # the heavy types converted in one copy (cdr_fast.py), when the recording's definition
+        # of them is the one that module reads
+        from . import cdr_fast
+        self.fast = {name: convert for name, convert in cdr_fast.CONVERTERS.items()
+                     if name in needed and _same_layout(types, name)}
 
     def header(self, msgtype: str) -> Dict[str, Any]:
         """ROS 1 connection header fields of a ROS 2 type (cached)."""
@@ -162,10 +168,41 @@ class Converter:
     def to_ros1(self, raw: bytes, msgtype: str) -> bytes:
         """One CDR message as ROS 1 wire bytes; b'' when it cannot be converted (truncated or not
         of its type): the window then reports it as a message that could not be decoded."""
+        fast = self.fast.get(msgtype)
+        if fast is not None:
+            try:
+                return fast(raw)
+            except (ValueError, struct.error):   # anything unusual: rosbags decides, as before
+                pass
         try:
             return bytes(self.store.cdr_to_ros1(raw, msgtype))
         except Exception:  # noqa: BLE001  (corrupt data is a finding of the check, not a crash)
             return b''
+
+
+@functools.lru_cache(maxsize=None)
+def fast_layouts() -> Mapping[str, Any]:
+    """The field definitions cdr_fast.py reads: Image and Header of the standard types (the same
+    in every ROS 2 release), naoqi_driver2's AudioBuffer (AUDIO_BUFFER_DEFINITION_ROS2)."""
+    from rosbags.typesys import get_types_from_msg
+    std = _store_fields(DISTROS[DEFAULT_DISTRO])
+    layouts: Dict[str, Any] = {name: std[name] for name in
+                               ('sensor_msgs/msg/Image', 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time')}
+    layouts.update(get_types_from_msg(AUDIO_BUFFER_DEFINITION_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))
+    return MappingProxyType(layouts)
+
+
+def _same_layout(types: Mapping[str, Any], name: str) -> bool:
+    """True when `types` defines `name`, its std_msgs/Header and builtin_interfaces/Time with the
+    wire layout cdr_fast.py reads: the same kinds of fields in the same order (the names and the
+    constants do not change the bytes: rosbags-convert stores the ROS 1 AudioBuffer's
+    `channelMap` where naoqi_driver2's says `channel_map`)."""
+    ref = fast_layouts()
+
+    def kinds(fields: Any) -> str:
+        return repr([desc for _name, desc in fields[1]]) if fields else ''
+    return name in ref and all(kinds(types.get(t)) == kinds(ref[t])
+                               for t in (name, 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time'))
 
 
 def _closure(msgtype: str, types: Mapping[str, Any], into: Set[str]) -> Optional[str]:

@@ -1,0 +1,156 @@
+"""The recording benchmark's workload: one synthetic recording of Pepper's streams written three
+ways in one pass, the same messages at the same record times (integer nanoseconds):
+  a ROS 1 bag (rosbag's writer, naoqi_driver's /naoqi_driver/... names, data/pepperTopics.dat),
+  a rosbag2 sqlite3 folder and a rosbag2 MCAP folder (rosbags' writer, naoqi_driver2's root
+  names, data/naoqi_driver2Topics.dat; each message turned into CDR by rosbags' ros1_to_cdr).
+
+The streams are those of issue 24: four 640x480 cameras at 10 Hz (front and bottom rgb8,
+RealSense colour rgb8 and aligned depth 16UC1), the depth camera 320x240 16UC1, laser, both
+sonars and the IMU at 10 Hz, odometry at 15 Hz, joints at 50 Hz, and stock naoqi_driver's
+AudioBuffer (4 x 8192 samples at 48 kHz, 5.9 Hz): 60 s is about 2.1 GB per form. The messages are
+the tests' made-up healthy Pepper messages (test/helpers/fake_pepper.py, built from the emulator's
+profiles); the pixels of each camera cycle through RING distinct frames (serialized once, the
+stamp patched into the bytes), so that writing 2 GB costs seconds, not minutes."""
+import os
+import struct
+import sys
+from typing import Any, Callable, Dict, Iterator, List, Tuple
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, '..', '..', 'test', 'helpers'))
+
+import fake_pepper as fake  # noqa: E402  (test/helpers, put on the path above)
+
+RING = 20          # distinct frames per camera, cycled (frozen_frames is 5 in the expectations)
+NS = 1000000000
+T0_NS = 1700000000123456700     # the first record, the same nanosecond on every topic
+
+# sensor -> (ROS 1 topic, ROS 2 topic, rate in Hz)
+STREAMS: Dict[str, Tuple[str, str, float]] = {
+    'frontCamera': ('/naoqi_driver/camera/front/image_raw', '/camera/front/image_raw', 10.0),
+    'bottomCamera': ('/naoqi_driver/camera/bottom/image_raw', '/camera/bottom/image_raw', 10.0),
+    'realsenseRGBCamera': ('/camera/color/image_raw', '/camera/color/image_raw', 10.0),
+    'realsenseDepthCamera': ('/camera/aligned_depth_to_color/image_raw',
+                             '/camera/aligned_depth_to_color/image_raw', 10.0),
+    'depthCamera': ('/naoqi_driver/camera/depth/image_raw', '/camera/depth/image_raw', 10.0),
+    'laser': ('/naoqi_driver/laser', '/laser', 10.0),
+    'frontSonar': ('/naoqi_driver/sonar/front', '/sonar/front', 10.0),
+    'backSonar': ('/naoqi_driver/sonar/back', '/sonar/back', 10.0),
+    'imu': ('/naoqi_driver/imu/base', '/imu/base', 10.0),
+    'odometry': ('/naoqi_driver/odom', '/odom', 15.0),
+    'jointState': ('/joint_states', '/joint_states', 50.0),
+    'microphone': ('/naoqi_driver/audio', '/audio', 48000.0 / 8192),
+}
+SENSORS = ','.join(STREAMS)
+
+
+def _frame(sensor: str, i: int) -> Any:
+    """The i-th message of `sensor` (ROS 1 class), stamp left to the caller."""
+    if sensor in ('frontCamera', 'bottomCamera', 'realsenseRGBCamera'):
+        frame = {'frontCamera': 'CameraTop_optical_frame', 'bottomCamera': 'CameraBottom_optical_frame'}
+        return fake.camera_image(i + 7 * len(sensor), 640, 480,
+                                 frame_id=frame.get(sensor, 'camera_color_optical_frame'))
+    if sensor == 'realsenseDepthCamera':
+        m = fake.depth_image(i, 640, 480)
+        m.header.frame_id = 'camera_color_optical_frame'
+        return m
+    if sensor == 'depthCamera':
+        return fake.depth_image(i, 320, 240)
+    if sensor == 'laser':
+        return fake.laser(i)
+    if sensor in ('frontSonar', 'backSonar'):
+        return fake.sonar(i, sensor=sensor)
+    if sensor == 'imu':
+        return fake.imu(i, covariance=fake.UNKNOWN_COVARIANCE)
+    if sensor == 'odometry':
+        return fake.odometry(i, x=0.01 * i)
+    if sensor == 'jointState':
+        return fake.joints(i)
+    if sensor == 'microphone':
+        return fake.stock_audio_buffer(i)
+    raise ValueError(sensor)
+
+
+def _typestore() -> Any:
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    from pepper_interface_tests.sources.ros2types import AUDIO_BUFFER_DEFINITION_ROS2
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    ts.register(get_types_from_msg(AUDIO_BUFFER_DEFINITION_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))
+    return ts
+
+
+class _Message:
+    """One message in both encodings, built once (cameras: RING times, then patched)."""
+
+    def __init__(self, msg: Any, ts: Any) -> None:
+        pkg, name = msg._type.split('/')
+        self.ros2_type = '%s/msg/%s' % (pkg, name)
+        self.ros1 = bytearray(fake.serialized(msg))
+        self.cdr = bytearray(ts.ros1_to_cdr(bytes(self.ros1), self.ros2_type))
+        self.ros1_info = (msg._type, msg._md5sum, type(msg))
+
+    def stamped(self, ns: int) -> Tuple[bytes, bytes]:
+        """(ROS 1 bytes, CDR bytes) with header.stamp = ns: in ROS 1 after seq (uint32 secs,
+        nsecs), in CDR after the 4-byte encapsulation header (int32 sec, uint32 nanosec)."""
+        stamp = struct.pack('<II', ns // NS, ns % NS)
+        self.ros1[4:12] = stamp
+        self.cdr[4:12] = stamp
+        return bytes(self.ros1), bytes(self.cdr)
+
+
+def _schedule(seconds: float) -> Iterator[Tuple[int, str, int]]:
+    """(record time ns, sensor, index) of every message, in record-time order."""
+    out = []
+    for sensor, (_, _, rate) in STREAMS.items():
+        for i in range(int(seconds * rate)):
+            out.append((T0_NS + int(round(i * NS / rate)), sensor, i))
+    out.sort()
+    return iter(out)
+
+
+def write(folder: str, seconds: float, log: Callable[[str], None] = print) -> Dict[str, str]:
+    """Write the three forms into `folder`; {'ros1': bag, 'sqlite3': folder, 'mcap': folder}."""
+    import genpy
+    import rosbag
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    ts = _typestore()
+    paths = {'ros1': os.path.join(folder, 'pepper.bag'), 'sqlite3': os.path.join(folder, 'pepper_sqlite3'),
+             'mcap': os.path.join(folder, 'pepper_mcap')}
+    writers = [Writer(paths['sqlite3'], version=8, storage_plugin=StoragePlugin.SQLITE3),
+               Writer(paths['mcap'], version=8, storage_plugin=StoragePlugin.MCAP)]
+    rings: Dict[str, List[_Message]] = {}
+    conns: List[Dict[str, Any]] = [{}, {}]
+    for w in writers:
+        w.open()
+    try:
+        with rosbag.Bag(paths['ros1'], 'w') as bag:
+            for ns, sensor, i in _schedule(seconds):
+                ring = rings.setdefault(sensor, [])
+                camera = 'Camera' in sensor
+                if camera and len(ring) >= RING:
+                    m = ring[i % RING]
+                else:
+                    m = _Message(_frame(sensor, i), ts)
+                    if camera:
+                        ring.append(m)
+                ros1, cdr = m.stamped(ns)
+                topic1, topic2, _ = STREAMS[sensor]
+                bag.write(topic1, (m.ros1_info[0], ros1, m.ros1_info[1], m.ros1_info[2]),
+                          genpy.Time(ns // NS, ns % NS), raw=True)
+                for w, c in zip(writers, conns):
+                    if topic2 not in c:
+                        c[topic2] = w.add_connection(topic2, m.ros2_type, typestore=ts)
+                    w.write(c[topic2], ns, cdr)
+    finally:
+        for w in writers:
+            w.close()
+    for name, path in paths.items():
+        log('  %-8s %s (%.0f MB)' % (name, path, size(path) / 1e6))
+    return paths
+
+
+def size(path: str) -> int:
+    if os.path.isdir(path):
+        return sum(os.path.getsize(os.path.join(path, f)) for f in os.listdir(path))
+    return os.path.getsize(path)
