@@ -191,6 +191,7 @@ class Person:
 
     def __init__(self, check, plan):
         self.check, self.plan, self.asked, self.owner, self.skip = check, plan, [], None, False
+        self.said = []      # (zone_id, why, more): the zones given up, as the guide is told
         self.budget = 100.0
 
     def turn(self, owner):
@@ -209,6 +210,9 @@ class Person:
     def skipped(self):
         skip, self.skip = self.skip, False
         return skip
+
+    def moved_on(self, zone_id, why, more):
+        self.said.append((zone_id, why, more))
 
     def finished(self, owner):
         self.owner = None
@@ -265,6 +269,59 @@ def test_guided_a_dead_zone_fails_by_name_and_a_skipped_one_is_not_passed(tmp_pa
     assert 'skipped by the operator (not tested): the back bumper' in j.warnings
     assert [z['outcome'] for z in vals(c)['zones']] == ['passed', 'not pressed within 3 s',
                                                          'skipped by the operator']
+    # the person is told when the dead zone is given up, before the back bumper is asked
+    assert person.said == [('bumper/left', 'not pressed within 3 s', True)]
+    assert person.asked[-1][0] == 'bumper/back'
+
+
+def test_guided_a_zone_given_up_is_said_and_a_press_after_its_wait_is_named(tmp_path):
+    """The front zone is pressed 1.2 s after its 3 s wait, while the middle one is asked: still a
+    FAIL (the wait is the rule), named as a late press with its delay, not as an unpressed zone;
+    the rear zone is never pressed: the last zone given up says there is no zone left."""
+    c = make('headTouch', tmp_path)
+    person = Person(c, {})
+    c.operator = person
+    c.poll(0.0)
+    assert person.asked == [('headTouch/front', 'Touch the front of my head')]
+    c.poll(2.95)
+    assert person.said == []
+    c.poll(3.0)
+    assert person.said == [('headTouch/front', 'not pressed within 3 s', True)]
+    c.poll(3.05)
+    assert person.asked[-1][0] == 'headTouch/middle'
+    events(c, 'HeadTouch', [(4.2, 0, 1), (4.5, 0, 0), (4.6, 1, 1), (4.9, 1, 0)])
+    c.poll(5.0)
+    c.poll(5.05)
+    assert person.asked[-1][0] == 'headTouch/rear'
+    c.poll(8.05)
+    assert person.said[1:] == [('headTouch/rear', 'not pressed within 3 s', False)]
+    j = judged(c, 8.1)
+    assert j.verdict == FAIL
+    assert j.reasons == [
+        'the rear of the head (button 2) was not pressed within 3 s of asking (a dead sensor, or a zone already '
+        'held down before the run: the driver sends only changes)',
+        'the front of the head (button 0) was pressed 1.2 s after the 3 s wait: touch sooner, or raise '
+        '--touch-wait']
+    zones = vals(c)['zones']
+    assert [z['outcome'] for z in zones] == ['too late: pressed 1.2 s after the 3 s wait', 'passed',
+                                             'not pressed within 3 s']
+    assert zones[0]['presses'] == 1
+
+
+def test_guided_several_late_presses_are_named_in_one_reason(tmp_path):
+    c = make('handTouch', tmp_path)
+    person = Person(c, {})
+    c.operator = person
+    c.poll(0.0)
+    c.poll(3.0)
+    c.poll(3.05)
+    events(c, 'HandTouch', [(3.5, 0, 1), (3.7, 0, 0)])
+    c.poll(6.05)
+    events(c, 'HandTouch', [(7.05, 3, 1), (7.25, 3, 0)])
+    assert [s[0] for s in person.said] == ['handTouch/rightBack', 'handTouch/leftBack']
+    j = judged(c, 7.3)
+    assert j.reasons == ['pressed after the 3 s wait: the back of the right hand (hand 0) 0.5 s after, the back '
+                         'of the left hand (hand 3) 1 s after; touch sooner, or raise --touch-wait']
 
 
 def test_guided_every_zone_skipped_is_skipped(tmp_path):
