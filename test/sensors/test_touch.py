@@ -368,7 +368,7 @@ def test_the_report_shows_a_table_of_zones(tmp_path):
     from pepper_interface_tests.outputs.report import views
     from pepper_interface_tests.outputs.report.blocks import Table
     from pepper_interface_tests.results import SensorResult
-    from pepper_interface_tests.sensors.values.touch import TouchValues
+    from pepper_interface_tests.sensors.values.touch import TouchValues, ZoneRow
     c = make('bumper', tmp_path, max_press=2.0)
     events(c, 'Bumper', [(1.0, 0, 1), (1.25, 0, 0), (2.0, 2, 1)])
     judged(c, 5.0)
@@ -380,6 +380,12 @@ def test_the_report_shows_a_table_of_zones(tmp_path):
     rows = [[getattr(cell, 'text', cell) for cell in row] for row in table.rows]
     assert rows[0] == ['the front right bumper', 'bumper/right 0', '1', '1.00 s', '1.25 s', '0.25 s', 'touched']
     assert rows[2][0] == 'the back bumper' and rows[2][-1] == 'stuck' and rows[2][4] == '-'
+    # a press after its zone's wait is a failure in the table too, as "not pressed" is
+    late = views.render('touch', r, TouchValues('guided', [ZoneRow(
+        'the front right bumper', 'bumper/right', 0, 1, 4.2, 4.5, 0.3, 'too late: pressed 1.2 s after the 3 s wait')]),
+        None)
+    cell = [b for b in late if isinstance(b, Table)][0].rows[0][-1]
+    assert cell.text == 'too late: pressed 1.2 s after the 3 s wait' and cell.cls == 'fail-text'
 
 
 def test_files_older_than_the_new_sensors_keep_working(tmp_path):
