@@ -137,6 +137,9 @@ def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
     assert bumper['verdict'] == 'FAIL' and len(bumper['reasons']) == 1
     assert bumper['reasons'][0].startswith('the back bumper (bumper 2) stuck: pressed at t = ')
     assert [z['outcome'] for z in bumper['values']['zones']][:2] == ['passed', 'passed']
+    # the jammed bumper (held down 1 s after its first subscriber, never released) is given up
+    # once stuck, and said so
+    assert '  >>> [bumper/back] stuck: pressed, not released within 8 s, no zone left' in out, out
     health = res['robotHealth']
     assert health['verdict'] == 'FAIL'
     assert 'HipPitch 76°C: let the robot cool down' in health['reasons'][0]

@@ -339,6 +339,25 @@ def test_guided_a_zone_held_down_fails_as_stuck_and_the_next_is_asked(tmp_path):
     j = run_guided(c, person, 'Bumper')
     assert j.verdict == FAIL and 'the front right bumper (bumper 0) stuck' in j.reasons[0]
     assert len(person.asked) == 3 and vals(c)['zones'][0]['outcome'].startswith('stuck')
+    assert person.said == [('bumper/right', 'stuck: pressed, not released within 2 s', True)]
+
+
+def test_guided_a_zone_stuck_before_it_is_asked_is_given_up_at_once(tmp_path):
+    c = make('bumper', tmp_path, max_press=2.0)
+    person = Person(c, {})
+    c.operator = person
+    events(c, 'Bumper', [(0.5, 2, 1)])      # the back bumper jams while the front right is asked
+    for t in (2.6, 2.65):
+        c.poll(t)
+    events(c, 'Bumper', [(2.7, 0, 1), (2.9, 0, 0)])
+    for t in (3.0, 3.05, 3.1, 3.15):
+        c.poll(t)
+    events(c, 'Bumper', [(3.2, 1, 1), (3.4, 1, 0)])
+    for t in (3.5, 3.55, 3.6, 3.65):
+        c.poll(t)
+    assert [a[0] for a in person.asked] == ['bumper/right', 'bumper/left', 'bumper/back']
+    assert person.said == [('bumper/back', 'stuck: held down since before it was asked', False)]
+    assert c.done()
 
 
 def test_guided_nobody_is_asked_when_nothing_publishes_the_topic(tmp_path):

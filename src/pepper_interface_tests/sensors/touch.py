@@ -226,7 +226,7 @@ class TouchCheck(Check):
             z.wait_end = self.asked_at + self.wait
             self._next(self._not_pressed, said=True)     # one reason for all such zones: finish()
         elif z.pressed_at is not None and z.stuck:
-            self._next('stuck', said=True)
+            self._next('stuck: held down since before it was asked', said=True)
 
     @property
     def _not_pressed(self) -> str:
