@@ -218,9 +218,10 @@ def test_sequential_and_parallel_order_and_timing(module_master, good, tmp_path)
     for a, b in zip(s, s[1:]):
         assert b['started_at'] >= a['ended_at'] - 0.01
     assert s[-1]['ended_at'] >= 3 * 2.0 - 0.1
-    # parallel: all windows at once: about one window
-    assert max(x['started_at'] for x in p) < 1.0
-    assert max(x['ended_at'] for x in p) < 2 * 2.0
+    # parallel: all windows at once (all open together at one moment, whenever the run got to
+    # open them on a loaded machine): about one window in all, not three
+    assert max(x['started_at'] for x in p) < min(x['ended_at'] for x in p)
+    assert max(x['ended_at'] for x in p) - min(x['started_at'] for x in p) < 2 * 2.0
     assert all(x['window_s'] >= 1.9 for x in s + p)
     assert par.elapsed < seq.elapsed
     # terminal shows the starts in this order
@@ -293,7 +294,8 @@ def test_private_params_override_the_configuration_file(module_master, good, tmp
     assert r.rc == 0, r
     assert r.json['mode'] == 'parallel'
     assert list(r.sensors) == names
-    assert max(s['started_at'] for s in r.sensors.values()) < 1.0      # really in parallel
+    # really in parallel: every window open at one moment
+    assert max(s['started_at'] for s in r.sensors.values()) < min(s['ended_at'] for s in r.sensors.values())
     assert all(1.9 <= s['window_s'] < 4 for s in r.sensors.values())
 
 

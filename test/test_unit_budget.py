@@ -34,4 +34,6 @@ def test_waiting_is_not_counted_against_the_budget_computing_is(tmp_path):
                  r'([\d.]+) s of wall time$', line[0])
     assert m, line[0]
     cpu, wall = float(m.group(1)), float(m.group(3))
-    assert 0.3 <= cpu < 0.6 and wall >= 0.9, line[0]      # the 0.6 s sleep is wall time only
+    # the 0.3 s computed counts, the 0.6 s slept does not (counted, the CPU would read 0.9 s or
+    # more); what pytest itself spends around the tests, and contention, add a little to the 0.3
+    assert 0.3 <= cpu < 0.3 + 0.6 and wall >= 0.9, line[0]

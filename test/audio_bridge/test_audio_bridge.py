@@ -20,6 +20,7 @@ import pytest
 import websocket  # websocket-client: the raw (hostile) client of these tests
 
 from audio_chain import BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count, wait_messages, wait_param
+from check_runs import ROBOT
 from pepper_interface_tests.audio_bridge import frame as fr
 from pepper_interface_tests.emulator.audio_source import (
     CHANNEL_NAMES,
@@ -208,7 +209,10 @@ def test_chain_60s_realtime_no_lost_buffer(procs, master, tmp_path):
     assert set(np.diff(starts)) == {BUFFER}, 'gap in the stream'
     in_60s = np.count_nonzero(recv < recv[0] + 60.0)
     expected = 60.0 * RATE / BUFFER  # 703.1
-    assert abs(in_60s - expected) <= 0.02 * expected, (in_60s, expected)
+    # real time as the microphone check judges it: 48 kHz within its sample_rate_tolerance
+    # (5 %; the buffers counted on arrival, which a loaded machine bunches); no buffer lost is
+    # the counter's business (contiguous above, lost_in_gaps below)
+    assert abs(in_60s - expected) <= ROBOT['microphone'].sample_rate_tolerance * expected, (in_60s, expected)
     assert stats['lost_in_gaps'] == 0 and stats['dropped_bad'] == 0
     assert 'dropped' not in p['capture'].log().replace('0 dropped', '')
     rate = (len(recv) - 1) / (recv[-1] - recv[0])

@@ -137,9 +137,19 @@ def test_each_fault_fails_the_right_zone_or_joint_in_words(faulty, tmp_path):
     assert bumper['verdict'] == 'FAIL' and len(bumper['reasons']) == 1
     assert bumper['reasons'][0].startswith('the back bumper (bumper 2) stuck: pressed at t = ')
     assert [z['outcome'] for z in bumper['values']['zones']][:2] == ['passed', 'passed']
+    # the jammed bumper (held down 1 s after its first subscriber, never released) is given up
+    # once stuck, and said so
+    assert '  >>> [bumper/back] stuck: pressed, not released within 8 s, no zone left' in out, out
     health = res['robotHealth']
     assert health['verdict'] == 'FAIL'
     assert 'HipPitch 76°C: let the robot cool down' in health['reasons'][0]
+    # the dead zone given up is said before the next zone is asked (the emulated operator, who
+    # touches what it is asked for, does not take the note for a request)
+    said = [ln.split(' (type s')[0] for ln in out.splitlines() if ln.startswith('  >>> [headTouch')]
+    assert said == ['  >>> [headTouch/front] Touch the front of my head',
+                    '  >>> [headTouch/middle] Touch the middle of my head',
+                    '  >>> [headTouch/middle] not pressed within 4 s, next zone',
+                    '  >>> [headTouch/rear] Touch the back of my head'], out
     battery = health['reasons'][1]
     assert 'battery almost empty: 12% left' in battery and 'charge it before testing' in battery
     # the health headline comes first, above the table
@@ -213,6 +223,58 @@ def test_guided_through_a_real_terminal_the_operator_skips_a_zone(faulty, tmp_pa
     assert head['verdict'] == 'PASS'
     assert [z['outcome'] for z in head['values']['zones']] == ['passed', 'skipped by the operator', 'passed']
     assert head['warnings'] == ['skipped by the operator (not tested): the middle of the head']
+
+
+def test_a_zone_given_up_is_said_before_the_next_and_a_late_press_is_named(master, tmp_path):
+    """At 80 columns, a person (touch_publisher.py operator: a real rospy node following
+    /sensorTest/prompt) presses the front of the head 4.5 s after it is asked (1.5 s after the
+    3 s wait), the middle at once, the rear never. Each zone given up is said on the terminal and
+    on the prompt topic before the next is asked; the late press is named with its delay (a FAIL
+    still), the rear is not pressed."""
+    op = spawn([sys.executable, os.path.join(HERE, 'touch_publisher.py'), 'operator', 'HeadTouch', '/t/head',
+                'front=4.5,middle=0.5'], master.env())
+    topics = tmp_path / 'topics.dat'
+    topics.write_text('headTouch /t/head\n')
+    try:
+        wait_registered(master, published=['/t/head'], subscribed=['/sensorTest/prompt'])
+        prompts = Prompts(master, tmp_path)
+        try:
+            rc, out, res = sensor_test(master, tmp_path, '--topics', str(topics), '--guided', '--touch-wait', '3',
+                                       '--sensors', 'headTouch', env=master.env(COLUMNS='80'))
+            wait_until(lambda: '[done]' in prompts.lines(), 10, lambda: 'no [done]: %s' % prompts.lines())
+        finally:
+            prompts.stop()
+    finally:
+        kill_group(op)
+    assert rc == 1, out
+    assert prompts.lines() == [
+        '[headTouch/front] Touch the front of my head', '[headTouch/front] not pressed within 3 s, next zone',
+        '[headTouch/middle] Touch the middle of my head', '[headTouch/rear] Touch the back of my head',
+        '[headTouch/rear] not pressed within 3 s, no zone left', '[done]'], out
+    said = [ln.split(' (type s')[0] for ln in out.splitlines() if ln.startswith('  >>> ')]
+    assert said == [
+        '  >>> [headTouch/front] Touch the front of my head',
+        '  >>> [headTouch/front] not pressed within 3 s, next zone',
+        '  >>> [headTouch/middle] Touch the middle of my head',
+        '  >>> [headTouch/rear] Touch the back of my head',
+        '  >>> [headTouch/rear] not pressed within 3 s, no zone left',
+        '  >>> [done] guided check finished'], out
+    head = res['headTouch']
+    assert head['verdict'] == 'FAIL'
+    assert head['reasons'][0] == ('the rear of the head (button 2) was not pressed within 3 s of asking (a dead '
+                                  'sensor, or a zone already held down before the run: the driver sends only '
+                                  'changes)'), head['reasons']
+    late = re.fullmatch(r'the front of the head \(button 0\) was pressed ([0-9.]+) s after the 3 s wait: '
+                        r'touch sooner, or raise --touch-wait', head['reasons'][1])
+    assert late, head['reasons']
+    # pressed 4.5 s after its prompt was received, which is after it was asked: 1.5 s after the
+    # wait at the least (0.1 s for the rounding); a loaded machine only delays the press more,
+    # up to the rear zone's end (3 s later), when the window closes
+    assert 1.4 <= float(late.group(1)) < 4.5, head['reasons']
+    front, middle, rear = head['values']['zones']
+    assert front['outcome'] == 'too late: pressed %s s after the 3 s wait' % late.group(1) and front['presses'] == 1
+    assert (middle['outcome'], rear['outcome'], rear['presses']) == ('passed', 'not pressed within 3 s', 0)
+    assert all(len(line) <= 80 or len(line.split()) == 1 for line in out.splitlines()), out
 
 
 def test_a_driver_s_own_indices_are_judged_and_own_diagnostics_never_count(master, tmp_path):

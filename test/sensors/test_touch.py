@@ -191,6 +191,7 @@ class Person:
 
     def __init__(self, check, plan):
         self.check, self.plan, self.asked, self.owner, self.skip = check, plan, [], None, False
+        self.said = []      # (zone_id, why, more): the zones given up, as the guide is told
         self.budget = 100.0
 
     def turn(self, owner):
@@ -209,6 +210,9 @@ class Person:
     def skipped(self):
         skip, self.skip = self.skip, False
         return skip
+
+    def moved_on(self, zone_id, why, more):
+        self.said.append((zone_id, why, more))
 
     def finished(self, owner):
         self.owner = None
@@ -265,6 +269,59 @@ def test_guided_a_dead_zone_fails_by_name_and_a_skipped_one_is_not_passed(tmp_pa
     assert 'skipped by the operator (not tested): the back bumper' in j.warnings
     assert [z['outcome'] for z in vals(c)['zones']] == ['passed', 'not pressed within 3 s',
                                                          'skipped by the operator']
+    # the person is told when the dead zone is given up, before the back bumper is asked
+    assert person.said == [('bumper/left', 'not pressed within 3 s', True)]
+    assert person.asked[-1][0] == 'bumper/back'
+
+
+def test_guided_a_zone_given_up_is_said_and_a_press_after_its_wait_is_named(tmp_path):
+    """The front zone is pressed 1.2 s after its 3 s wait, while the middle one is asked: still a
+    FAIL (the wait is the rule), named as a late press with its delay, not as an unpressed zone;
+    the rear zone is never pressed: the last zone given up says there is no zone left."""
+    c = make('headTouch', tmp_path)
+    person = Person(c, {})
+    c.operator = person
+    c.poll(0.0)
+    assert person.asked == [('headTouch/front', 'Touch the front of my head')]
+    c.poll(2.95)
+    assert person.said == []
+    c.poll(3.0)
+    assert person.said == [('headTouch/front', 'not pressed within 3 s', True)]
+    c.poll(3.05)
+    assert person.asked[-1][0] == 'headTouch/middle'
+    events(c, 'HeadTouch', [(4.2, 0, 1), (4.5, 0, 0), (4.6, 1, 1), (4.9, 1, 0)])
+    c.poll(5.0)
+    c.poll(5.05)
+    assert person.asked[-1][0] == 'headTouch/rear'
+    c.poll(8.05)
+    assert person.said[1:] == [('headTouch/rear', 'not pressed within 3 s', False)]
+    j = judged(c, 8.1)
+    assert j.verdict == FAIL
+    assert j.reasons == [
+        'the rear of the head (button 2) was not pressed within 3 s of asking (a dead sensor, or a zone already '
+        'held down before the run: the driver sends only changes)',
+        'the front of the head (button 0) was pressed 1.2 s after the 3 s wait: touch sooner, or raise '
+        '--touch-wait']
+    zones = vals(c)['zones']
+    assert [z['outcome'] for z in zones] == ['too late: pressed 1.2 s after the 3 s wait', 'passed',
+                                             'not pressed within 3 s']
+    assert zones[0]['presses'] == 1
+
+
+def test_guided_several_late_presses_are_named_in_one_reason(tmp_path):
+    c = make('handTouch', tmp_path)
+    person = Person(c, {})
+    c.operator = person
+    c.poll(0.0)
+    c.poll(3.0)
+    c.poll(3.05)
+    events(c, 'HandTouch', [(3.5, 0, 1), (3.7, 0, 0)])
+    c.poll(6.05)
+    events(c, 'HandTouch', [(7.05, 3, 1), (7.25, 3, 0)])
+    assert [s[0] for s in person.said] == ['handTouch/rightBack', 'handTouch/leftBack']
+    j = judged(c, 7.3)
+    assert j.reasons == ['pressed after the 3 s wait: the back of the right hand (hand 0) 0.5 s after, the back '
+                         'of the left hand (hand 3) 1 s after; touch sooner, or raise --touch-wait']
 
 
 def test_guided_every_zone_skipped_is_skipped(tmp_path):
@@ -282,6 +339,25 @@ def test_guided_a_zone_held_down_fails_as_stuck_and_the_next_is_asked(tmp_path):
     j = run_guided(c, person, 'Bumper')
     assert j.verdict == FAIL and 'the front right bumper (bumper 0) stuck' in j.reasons[0]
     assert len(person.asked) == 3 and vals(c)['zones'][0]['outcome'].startswith('stuck')
+    assert person.said == [('bumper/right', 'stuck: pressed, not released within 2 s', True)]
+
+
+def test_guided_a_zone_stuck_before_it_is_asked_is_given_up_at_once(tmp_path):
+    c = make('bumper', tmp_path, max_press=2.0)
+    person = Person(c, {})
+    c.operator = person
+    events(c, 'Bumper', [(0.5, 2, 1)])      # the back bumper jams while the front right is asked
+    for t in (2.6, 2.65):
+        c.poll(t)
+    events(c, 'Bumper', [(2.7, 0, 1), (2.9, 0, 0)])
+    for t in (3.0, 3.05, 3.1, 3.15):
+        c.poll(t)
+    events(c, 'Bumper', [(3.2, 1, 1), (3.4, 1, 0)])
+    for t in (3.5, 3.55, 3.6, 3.65):
+        c.poll(t)
+    assert [a[0] for a in person.asked] == ['bumper/right', 'bumper/left', 'bumper/back']
+    assert person.said == [('bumper/back', 'stuck: held down since before it was asked', False)]
+    assert c.done()
 
 
 def test_guided_nobody_is_asked_when_nothing_publishes_the_topic(tmp_path):
@@ -311,7 +387,7 @@ def test_the_report_shows_a_table_of_zones(tmp_path):
     from pepper_interface_tests.outputs.report import views
     from pepper_interface_tests.outputs.report.blocks import Table
     from pepper_interface_tests.results import SensorResult
-    from pepper_interface_tests.sensors.values.touch import TouchValues
+    from pepper_interface_tests.sensors.values.touch import TouchValues, ZoneRow
     c = make('bumper', tmp_path, max_press=2.0)
     events(c, 'Bumper', [(1.0, 0, 1), (1.25, 0, 0), (2.0, 2, 1)])
     judged(c, 5.0)
@@ -323,6 +399,12 @@ def test_the_report_shows_a_table_of_zones(tmp_path):
     rows = [[getattr(cell, 'text', cell) for cell in row] for row in table.rows]
     assert rows[0] == ['the front right bumper', 'bumper/right 0', '1', '1.00 s', '1.25 s', '0.25 s', 'touched']
     assert rows[2][0] == 'the back bumper' and rows[2][-1] == 'stuck' and rows[2][4] == '-'
+    # a press after its zone's wait is a failure in the table too, as "not pressed" is
+    late = views.render('touch', r, TouchValues('guided', [ZoneRow(
+        'the front right bumper', 'bumper/right', 0, 1, 4.2, 4.5, 0.3, 'too late: pressed 1.2 s after the 3 s wait')]),
+        None)
+    cell = [b for b in late if isinstance(b, Table)][0].rows[0][-1]
+    assert cell.text == 'too late: pressed 1.2 s after the 3 s wait' and cell.cls == 'fail-text'
 
 
 def test_files_older_than_the_new_sensors_keep_working(tmp_path):

@@ -24,7 +24,7 @@ import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from std_msgs.msg import String
 
-from ..sensors import joint_limits, touch
+from ..sensors import guide, joint_limits, touch
 from ..sources import naoqi_msgs
 from .publishers import StreamPublisher
 
@@ -163,7 +163,8 @@ EVENT_PUBLISHERS: Dict[str, Type[StreamPublisher]] = {'touch': TouchPublisher, '
 
 
 class EmulatedOperator:
-    """Follows /sensorTest/prompt: "[sensor/zone] ..." -> that zone is touched REACTION_S s later."""
+    """Follows /sensorTest/prompt: "[sensor/zone] Touch ..." -> that zone is touched REACTION_S s
+    later; the guide's notes ("[sensor/zone] not pressed within 15 s, next zone") ask nothing."""
 
     def __init__(self, publishers: List[StreamPublisher]) -> None:
         self.touch = {p.spec.name: p for p in publishers if isinstance(p, TouchPublisher)}
@@ -171,10 +172,9 @@ class EmulatedOperator:
         self.sub = rospy.Subscriber(PROMPT_TOPIC, String, self._on_prompt, queue_size=10)
 
     def _on_prompt(self, msg: String) -> None:
-        text = msg.data
-        if not text.startswith('[') or ']' not in text:
+        zone_id = guide.asked_zone(msg.data)    # None for "[done]" and the guide's "moved on" notes
+        if zone_id is None:
             return
-        zone_id = text[1:text.index(']')]
         sensor, _, zone = zone_id.partition('/')
         pub = self.touch.get(sensor)
         if pub is None:

@@ -112,8 +112,9 @@ class SpeechHearing(RunObserver):
 
 class Guidance(RunObserver):
     """Guided mode (a person is there: a terminal or --guided) in a live run with touch sensors:
-    offers the touch checks an operator that prompts (sensors/guide.py), and publishes "[done]"
-    once every one of them has finished."""
+    offers the touch checks an operator that prompts (sensors/guide.py), tells it which of them
+    are still to ask (so that a zone given up says "next zone" or "no zone left"), and publishes
+    "[done]" once every one of them has finished."""
 
     def __init__(self, plan: 'TestPlan', ctx: 'RunContext') -> None:
         self.plan, self.ctx = plan, ctx
@@ -131,11 +132,13 @@ class Guidance(RunObserver):
         wait = plan.options.touch_wait or touch.TOUCH_WAIT
         total = guide.budget([len(touch.asked_zones(s.sensor.msg_type)) for s in active], wait,
                              max(getattr(s.expect, 'max_press', 0.0) for s in active))
-        self.guide = guide.Guide(total, speech)
+        self.guide = guide.Guide(total, speech, owners=[s.name for s in active])
         self.ctx.services.operator = self.guide
 
     def sensor_done(self, result: results.SensorResult) -> None:
         self.guided.discard(result.name)
+        if self.guide is not None:
+            self.guide.ended(result.name)
         if not self.guided and self.guide is not None and self.ctx.services.operator is not None:
             self.ctx.services.operator = None
             self.guide.done()

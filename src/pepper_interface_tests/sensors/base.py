@@ -151,6 +151,11 @@ class Operator(Protocol):
     def skipped(self) -> bool:
         """True once the person asked to skip the zone being asked (from the keyboard)."""
 
+    def moved_on(self, zone_id: str, why: str, more: bool) -> None:
+        """The zone being asked is given up without its touch (`why`: its wait ended, it is
+        stuck): said on the terminal and on /sensorTest/prompt before the next zone is asked;
+        `more`: the asking sensor has zones left to ask."""
+
     def finished(self, owner: str) -> None:
         """Sensor `owner` has asked all its zones: the next one may ask."""
 

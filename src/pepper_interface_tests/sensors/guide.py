@@ -6,6 +6,11 @@ of my head"; "[done]" when the guided part ends), so that a tablet page, a remot
 test rig can follow, and the sentence on the robot's speech topic (naoqi_driver speaks what
 arrives on /speech: src/naoqi_driver.cpp:939). The person skips the zone being asked by typing
 s and Enter; the touch checks ask in turn (one sensor at a time, also in parallel mode).
+A zone given up without its touch (its --touch-wait ended, or it is held down) is said on the
+terminal and on /sensorTest/prompt before the next zone is asked, so that the person knows the
+robot has moved on: "[headTouch/front] not pressed within 15 s, next zone" (", no zone left"
+after the last one). Such a note ends in one of MOVED_ON: a follower that touches what it is
+asked for reads the zone with asked_zone(), which is None for the notes and for "[done]".
 """
 import shutil
 import sys
@@ -19,6 +24,16 @@ from std_msgs.msg import String
 PROMPT_TOPIC = '/sensorTest/prompt'
 DONE = '[done]'
 SKIP_HINT = '(type s and Enter to skip this zone)'
+NEXT_ZONE, NO_ZONE_LEFT = 'next zone', 'no zone left'
+MOVED_ON = (', ' + NEXT_ZONE, ', ' + NO_ZONE_LEFT)     # the end of a "moved on" note
+
+
+def asked_zone(text: str) -> Optional[str]:
+    """The zone id a /sensorTest/prompt message asks to touch ("[headTouch/front] Touch the front
+    of my head" -> "headTouch/front"); None for "[done]", the "moved on" notes and anything else."""
+    if not text.startswith('[') or ']' not in text or text == DONE or text.endswith(MOVED_ON):
+        return None
+    return text[1:text.index(']')] or None
 
 
 def _isatty(stream: Any) -> bool:
@@ -45,8 +60,10 @@ class Guide:
     """The Operator of a guided run (sensors/base.py Operator)."""
 
     def __init__(self, budget: float, speech_topic: Optional[str], out: Optional[TextIO] = None,
-                 keys: Optional[TextIO] = None, prompt_topic: str = PROMPT_TOPIC) -> None:
+                 keys: Optional[TextIO] = None, prompt_topic: str = PROMPT_TOPIC,
+                 owners: Iterable[str] = ()) -> None:
         self.budget = budget
+        self.pending = set(owners)      # the sensors that may still ask (their zones not all asked)
         self.out = out or sys.stdout
         self.keys = keys if keys is not None else sys.stdin
         self.owner: Optional[str] = None
@@ -119,6 +136,16 @@ class Guide:
         if self.speech is not None:
             self.speech.publish(String(data=text))
 
+    def moved_on(self, zone_id: str, why: str, more: bool) -> None:
+        """The zone being asked is given up without its touch: said before the next is asked."""
+        owner = zone_id.split('/')[0]
+        with self.lock:
+            self._asking, self._zone = False, ''
+            others = any(o != owner for o in self.pending)
+        note = '[%s] %s, %s' % (zone_id, why, NEXT_ZONE if more or others else NO_ZONE_LEFT)
+        self._line('  >>> ' + note)
+        self.prompts.publish(String(data=note))
+
     def skipped(self) -> bool:
         with self.lock:
             if self._skip:
@@ -129,8 +156,14 @@ class Guide:
     def finished(self, owner: str) -> None:
         with self.lock:
             self._asking, self._zone = False, ''
+            self.pending.discard(owner)
         if self.owner == owner:
             self.owner = None
+
+    def ended(self, owner: str) -> None:
+        """Sensor `owner`'s window has ended (asked or not): it will ask nothing more."""
+        with self.lock:
+            self.pending.discard(owner)
 
     def done(self) -> None:
         """The guided part has ended."""

@@ -13,7 +13,8 @@ class ZoneRow:
     pressed_at: Optional[float] = None      # s in the window, the first press
     released_at: Optional[float] = None     # s in the window, the release of that press
     held_s: Optional[float] = None
-    # passed, touched, not touched, not pressed within 15 s, stuck, skipped by the operator
+    # passed, touched, not touched, not pressed within 15 s, too late: pressed 4.2 s after the
+    # 15 s wait, stuck, skipped by the operator
     outcome: str = ''
 
 

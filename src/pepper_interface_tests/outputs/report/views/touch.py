@@ -11,7 +11,7 @@ from .fmt import num
 def _outcome(z: ZoneRow) -> Union[Span, str]:
     if z.outcome in ('passed', 'touched'):
         return Span(z.outcome, strong=True)
-    if z.outcome.startswith('not pressed') or z.outcome.startswith('stuck'):
+    if z.outcome.startswith(('not pressed', 'stuck', 'too late')):
         return Span(z.outcome, strong=True, cls='fail-text')
     if z.outcome.startswith('skipped') or z.outcome.startswith('pressed'):
         return Span(z.outcome, cls='warn-text')
