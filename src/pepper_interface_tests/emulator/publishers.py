@@ -12,7 +12,7 @@ every header stamp is the simulated time (the /clock the emulator publishes).
 import math
 import threading
 import time
-from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple, Type
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type
 
 import numpy as np
 import rospy
@@ -297,12 +297,19 @@ class ImagePublisher(StreamPublisher):
 # ---------------------------------------------------------------- range sensors
 
 class LaserPublisher(StreamPublisher):
-    """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout)."""
+    """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout).
+
+    Under the ~condition resting (naoqi_driver's layout only), the robot is in Rest mode: its
+    laser boards do not sample (yohatad/naoqi_driver2 src/converters/laser.hpp:72-75) and stock
+    naoqi_driver reads the same last values from ALMemory at every tick and stamps them with the
+    current time (ros-naoqi/naoqi_driver src/converters/laser.cpp:148, :154): the first scan's
+    ranges are published for ever, with fresh stamps."""
 
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.blind = np.asarray(laser_blind_mask())
+        self.rested: Optional[List[float]] = None     # the boards' last values while resting
 
     def msg_class(self) -> type:
         return LaserScan
@@ -357,6 +364,10 @@ class LaserPublisher(StreamPublisher):
         # naoqi_driver and laser_publisher.py leave time_increment and scan_time at 0
         msg.range_min, msg.range_max = s.range_min, s.range_max
         msg.ranges = ranges.tolist()
+        if self.condition == 'resting' and s.layout != 'gazebo':
+            if self.rested is None:
+                self.rested = list(msg.ranges)
+            msg.ranges = list(self.rested)
         return msg
 
 
