@@ -106,6 +106,26 @@ def test_a_resting_robot_laser_is_one_reason_that_says_resting(master, tmp_path)
                 'wake it up (ALMotion.wakeUp, or press the chest button twice quickly)')
 
 
+@pytest.mark.parametrize('profile', ['robot', 'robot-stock'])
+def test_a_broken_bridges_microphone_channels(master, tmp_path, profile):
+    """microphone:copied_channels (rearLeft in all four channels) FAILs naming the copies;
+    microphone:planar_as_interleaved (one microphone dealt out over four channels) is a warning
+    naming the cause: through AudioCustomMsg (robot) and stock naoqi_driver's interleaved
+    AudioBuffer (robot-stock) alike (issue 24, point 8)."""
+    base = ['_profile:=' + profile, '_audio:=direct', '_camera_resolution:=QQVGA']
+    res, done = run(master, tmp_path, base + ['_faults:=microphone:copied_channels'], ['microphone'],
+                    duration=3, tag='copied')
+    text = reason_with(res['microphone'], 'rearRight, frontLeft and frontRight carry rearLeft\'s samples, '
+                       'sample for sample, in all')
+    assert 'never measured' in text, done.stderr[-1500:]
+    res, done = run(master, tmp_path, base + ['_faults:=microphone:planar_as_interleaved'], ['microphone'],
+                    duration=3, tag='dealt')
+    mic = res['microphone']
+    assert mic['verdict'] == 'PASS', (mic['reasons'], done.stderr[-1500:])
+    hits = [w for w in mic['warnings'] if w.startswith('the four channels are nearly identical')]
+    assert len(hits) == 1 and 'planar NAOqi buffers read as interleaved' in hits[0], mic['warnings']
+
+
 def test_robot_impossible_values_second_batch_fail(master, tmp_path):
     faults = ('imu:gyro_overrange;odometry:twist_mismatch;depthCamera:far_depth;'
               'realsenseDepthCamera:flat_depth;jointState:out_of_range')

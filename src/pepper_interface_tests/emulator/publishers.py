@@ -535,7 +535,12 @@ class AudioPublisher(StreamPublisher):
         self.block = self.source.read(self.spec.width)
 
     def data_block(self, t: float) -> np.ndarray:
-        """This tick's samples, with after=T's silent channels zeroed from T on."""
+        """This tick's samples (n, 4), with after=T's silent channels zeroed from T on, and a
+        broken bridge's channels (sensors/channels.py): copied_channels puts rearLeft's samples
+        in all four; planar_as_interleaved takes NAOqi's buffer as planar (rearLeft's n
+        samples, then rearRight's ...) and reads it as interleaved, so channel c gets samples
+        c, c+4, c+8 ... of one microphone (rearLeft in the first quarter of the buffer, rearRight
+        in the next ...), as a bridge that ignores the buffer's layout would."""
         b = self.block
         f = self.faults
         if f.silent_channel and f.after is not None and self.partial_on(t):
@@ -543,6 +548,10 @@ class AudioPublisher(StreamPublisher):
             b = b.copy()
             for name in f.silent_channel:
                 b[:, MIC_CHANNELS.index(name)] = 0
+        if f.copied_channels:
+            b = np.repeat(b[:, :1], b.shape[1], axis=1)
+        if f.planar_as_interleaved:
+            b = np.ascontiguousarray(b.T).reshape(-1, b.shape[1])
         return b
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
