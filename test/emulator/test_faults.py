@@ -123,7 +123,7 @@ def test_a_broken_bridges_microphone_channels(master, tmp_path, profile):
     mic = res['microphone']
     assert mic['verdict'] == 'PASS', (mic['reasons'], done.stderr[-1500:])
     hits = [w for w in mic['warnings'] if w.startswith('the four channels are nearly identical')]
-    assert len(hits) == 1 and 'planar NAOqi buffers read as interleaved' in hits[0], mic['warnings']
+    assert len(hits) == 1 and 'as when planar NAOqi buffers are read as interleaved' in hits[0], mic['warnings']
 
 
 def test_robot_impossible_values_second_batch_fail(master, tmp_path):

@@ -120,7 +120,7 @@ def test_planar_buffers_read_as_interleaved_warn_naming_the_cause(tmp_path, spee
     r = judged([planar_as_interleaved(b) for b in tones(speech=speech)], tmp_path)
     assert r.verdict == PASS, r.reasons          # a warning, not a failure
     hits = [x for x in r.warnings if x.startswith('the four channels are nearly identical')]
-    assert len(hits) == 1 and 'planar NAOqi buffers read as interleaved' in hits[0], r.warnings
+    assert len(hits) == 1 and 'as when planar NAOqi buffers are read as interleaved' in hits[0], r.warnings
     assert '(similar_channels_ratio 0.8;' in hits[0]
     assert max(r.values.channel_step_ratios.values()) < 0.8
 

@@ -140,12 +140,12 @@ def similar_warning(sim: ChannelSimilarity, limit: Optional[float]) -> Optional[
     values = [v for v in ratios.values() if v is not None]
     if len(values) < len(PAIRS) or max(values) >= limit:
         return None
-    return ('the four channels are nearly identical: any two differ by at most %.2f of a '
-            'channel\'s own step from one sample to the next (similar_channels_ratio %s; two real '
-            'microphones differ by more than that step: their own noise, gains and the sound\'s '
-            'arrival times). Likely cause: one microphone\'s consecutive samples dealt out over '
-            'the four channels, i.e. planar NAOqi buffers read as interleaved by the bridge or '
-            'driver' % (max(values), _num(limit)))
+    return ('the four channels are nearly identical, as when planar NAOqi buffers are read as '
+            'interleaved by the bridge or driver (one microphone\'s consecutive samples dealt out '
+            'over the four channels): any two differ by at most %.2f of a channel\'s own step '
+            'from one sample to the next (similar_channels_ratio %s; two real microphones differ '
+            'by more: their own noise, gains and the sound\'s arrival times)'
+            % (max(values), _num(limit)))
 
 
 def _and(names: List[str]) -> str:

@@ -313,27 +313,27 @@ class LaserCheck(Check):
                         list(self.last_kinds))
 
     def _frozen(self, stuck: str) -> str:
-        """The one reason of a frozen scan: its likely cause, whether the robot rests, the fix."""
-        text = 'laser stuck: %s' % stuck
-        if len(self.boards) > 1:
-            text += ', every board at once'
+        """The one reason of a frozen scan. With the robot's boards (naoqi_driver's layout): its
+        likely cause, whether the robot rests and the fix first (the terminal shortens long
+        reasons), then what was seen. Without (the simulator, another driver): what was seen."""
+        if not self.boards:
+            return 'laser stuck: ' + stuck
+        seen = '%s, every board at once' % stuck
         witness = self.ctx.services.stiffness
-        seen = witness.stiffness() if witness is not None else None
-        wake = ('wake it up (ALMotion.wakeUp, or press the chest button twice quickly) and '
-                'test again')
-        if seen is None:
-            return ('%s: the usual cause is a resting robot (Pepper\'s laser boards stop sampling '
-                    'at rest and naoqi_driver keeps publishing their last values with fresh '
-                    'stamps; no joint stiffness from the driver on /diagnostics to tell): %s'
-                    % (text, wake))
-        joints, highest = seen
+        rest = witness.stiffness() if witness is not None else None
+        wake = ('wake it up (ALMotion.wakeUp, or press the chest button twice quickly) and test '
+                'again; at rest the laser boards stop sampling and naoqi_driver republishes their '
+                'last values with fresh stamps')
+        if rest is None:
+            return ('laser stuck: probably a resting robot (no joint stiffness from the driver on '
+                    '/diagnostics to tell): %s: %s' % (wake, seen))
+        joints, highest = rest
         if highest <= 0.0:
-            return ('%s: the robot is resting (stiffness 0 on all %d joints in the driver\'s '
-                    '/diagnostics): its laser boards stop sampling at rest and naoqi_driver keeps '
-                    'publishing their last values with fresh stamps; %s' % (text, joints, wake))
-        return ('%s: the robot is not resting (stiffness up to %s on %d joints in the driver\'s '
-                '/diagnostics), so the laser boards or naoqi_driver stopped updating: restart '
-                'naoqi_driver, then the robot' % (text, fmt(highest, 2), joints))
+            return ('laser stuck: the robot is resting (stiffness 0 on all %d joints in the '
+                    'driver\'s /diagnostics): %s: %s' % (joints, wake, seen))
+        return ('laser stuck: the robot is not resting (stiffness up to %s on %d joints in the '
+                'driver\'s /diagnostics), so the laser boards or naoqi_driver stopped updating: '
+                'restart naoqi_driver, then the robot: %s' % (fmt(highest, 2), joints, seen))
 
     def _judge_boards(self, frozen: bool = False) -> List[str]:
         """Fails each dead or stuck board (not as stuck when the whole scan is `frozen`: the
