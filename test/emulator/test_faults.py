@@ -113,6 +113,10 @@ def test_a_broken_bridges_microphone_channels(master, tmp_path, profile):
     naming the cause: through AudioCustomMsg (robot) and stock naoqi_driver's interleaved
     AudioBuffer (robot-stock) alike (issue 24, point 8)."""
     base = ['_profile:=' + profile, '_audio:=direct', '_camera_resolution:=QQVGA']
+    res, done = run(master, tmp_path, base, ['microphone'], duration=3, tag='healthy')
+    mic = res['microphone']      # healthy input through either message: four microphones
+    assert mic['verdict'] == 'PASS' and not mic['warnings'], (mic['reasons'], mic['warnings'])
+    assert min(mic['values']['channel_step_ratios'].values()) > 1
     res, done = run(master, tmp_path, base + ['_faults:=microphone:copied_channels'], ['microphone'],
                     duration=3, tag='copied')
     text = reason_with(res['microphone'], 'rearRight, frontLeft and frontRight carry rearLeft\'s samples, '
