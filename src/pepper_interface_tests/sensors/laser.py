@@ -54,7 +54,8 @@ Hz), so a board's segment repeats in two reads in a row (three with the converte
 jitter) and so may the whole scan. `stuck_scans` (20, 2 s at 10 Hz) is far above that; a run of
 seconds of identical raw distances, which carry measurement noise, is a frozen scan.
 
-A frozen scan (the whole scan stuck) is said once, as the laser's, not once more per board:
+A frozen scan (the whole scan stuck) is said once, as the laser's, not once more per board
+(line numbers: yohatad/naoqi_driver2 at 9506ea2, ros-naoqi/naoqi_driver at aed1b87):
 Pepper's laser boards stop sampling while the robot rests (yohatad/naoqi_driver2
 src/converters/laser.hpp:72-75; its converter then stops publishing, laser.cpp:226-243, "The
 boards stop sampling while the robot is at rest"), and stock naoqi_driver goes on reading their

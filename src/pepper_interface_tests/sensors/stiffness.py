@@ -1,7 +1,8 @@
 """Is the robot resting? The joints' stiffness naoqi_driver publishes on /diagnostics, as a
 witness a check may ask (ctx.services.stiffness).
 
-Why: Pepper's laser boards stop sampling while the robot rests (yohatad/naoqi_driver2
+Why (line numbers: yohatad/naoqi_driver2 at 9506ea2, ros-naoqi/naoqi_driver at aed1b87):
+Pepper's laser boards stop sampling while the robot rests (yohatad/naoqi_driver2
 src/converters/laser.hpp:72-75, "The boards stop sampling entirely whenever the robot is at
 rest, and a stalled board keeps returning its last values forever"), and stock naoqi_driver
 goes on reading the last values from ALMemory and stamping them with the current time
