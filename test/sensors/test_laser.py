@@ -326,6 +326,8 @@ def witness_of(stiffness):
 def frozen_reasons(services=None):
     r = judged_scans([laser(0) for _ in range(N)], services=services)
     assert r.verdict == FAIL        # a frozen scan is unusable, whatever the cause
+    rest = services.stiffness.stiffness() if services else None
+    assert r.values.robot_resting == (None if rest is None else rest[1] == 0)
     assert len(r.reasons) == 1, r.reasons     # not once more per board (issue 24)
     assert not [x for x in r.reasons if 'board (slots' in x], r.reasons
     text = r.reasons[0]

@@ -104,3 +104,4 @@ def test_from_a_bag_a_frozen_laser_of_a_resting_robot_says_so(tmp_path):
     assert laser['verdict'] == 'FAIL'
     assert len(laser['reasons']) == 1, laser['reasons']
     assert 'the robot is resting (stiffness 0 on all %d joints' % len(JOINTS) in laser['reasons'][0]
+    assert laser['values']['robot_resting'] is True

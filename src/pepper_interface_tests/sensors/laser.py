@@ -303,6 +303,7 @@ class LaserCheck(Check):
             other_layout_scans=self.layout_count or None,
             dead_boards=dead if boards else None,
             longest_identical_board_run={b.name: b.stuck.longest for b in self.boards} if boards else None,
+            robot_resting=self._resting(),
             last_scan=self._last_scan())
 
     def _last_scan(self) -> Optional[LastScan]:
@@ -312,6 +313,12 @@ class LaserCheck(Check):
         a0, inc, ranges, lo, hi, blind = self.last_scan
         return LastScan(a0, inc, [r if math.isfinite(r) else math.nan for r in ranges], lo, hi, blind,
                         list(self.last_kinds))
+
+    def _resting(self) -> Optional[bool]:
+        """Whether the driver's joint stiffness says the robot rests; None: no report."""
+        witness = self.ctx.services.stiffness
+        rest = witness.stiffness() if witness is not None else None
+        return None if rest is None else rest[1] <= 0.0
 
     def _frozen(self, stuck: str) -> str:
         """The one reason of a frozen scan. With the robot's boards (naoqi_driver's layout): its
