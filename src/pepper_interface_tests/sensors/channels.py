@@ -7,7 +7,9 @@ microphone:planar_as_interleaved, docs/emulator.md):
 
 * Copied: one microphone's buffer written into several channels (a bridge that fills every
   channel from one buffer). Channels identical sample for sample in every buffer of the window
-  FAIL, naming which channels carry which one's samples: the copies were never measured.
+  that carries sound (see Silence) FAIL, naming which channels carry which one's samples: the
+  copies were never measured. One real buffer clears a pair (a copy only part of the time is
+  left to the other rules).
 * Dealt out: one microphone's consecutive samples dealt over the four channels, channel c
   getting samples c, c+4, c+8 ... of it (a planar NAOqi buffer read as interleaved: the four
   "channels" of the first quarter of each buffer are all rearLeft, of the next quarter all
@@ -27,8 +29,9 @@ microphone:planar_as_interleaved, docs/emulator.md):
   >= 1, rho1 the noise's correlation between neighbouring samples). Measured on the emulator's
   audio and on robot-shaped recordings (one sound heard at four places on the head with their
   delays, +-0.5 dB gains and their own noise; test/sensors/test_channels.py): the largest pair of
-  healthy audio 18.9-297 (a 100 Hz hum, speech from every side, the emulator's tones), 1.00 for
-  a quiet room's independent noise; of dealt-out samples 0.56-0.75.
+  healthy audio 46-297 (speech from every side 46-77, a 100 Hz hum 93-168, the emulator's tones
+  and speech 40-297), 1.00 for a quiet room's independent noise; of dealt-out samples 0.56-0.75
+  (the emulator's tones 0.56, its speech 0.59, noise low-passed to a few kHz 0.75).
   When every pair of the four channels is below `similar_channels_ratio` (0.8: above the
   0.56-0.75 of dealt-out samples, below the 1 of a quiet room), the stream is a WARNING naming
   the likely cause, not a failure: a sound reaching all four microphones at once with matched
