@@ -22,6 +22,7 @@ from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
 from .sensors.base import RunContext
 from .sensors.families import traits
+from .sensors.stiffness import StiffnessWitness, witnesses
 from .sensors.stream import no_publisher_note
 from .sensors.window import SensorRun, skipped_result
 from .sources import Source, SourceLost
@@ -70,6 +71,7 @@ class Runner:
         self.results: Dict[str, SensorResult] = {}     # sensor name -> SensorResult
         self.closing: List[Tuple[SensorRun, threading.Thread]] = []   # windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
+        self.witnesses: List[StiffnessWitness] = []    # listeners a check asks about the robot (sensors/stiffness.py)
 
     def _start_next(self, i, now):
         # a plan leaves its lane only once it is recorded as running (or done): an interrupt at
@@ -139,6 +141,10 @@ class Runner:
             self.signals.raise_pending()
             interrupts.pause('run-started')
             self._nothing_published()
+            # before the first window: a bag then reads their topics from its start
+            self.witnesses = witnesses(self.plan, self.ctx)
+            for witness in self.witnesses:
+                self.source.attach(witness)
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
             while any(self.current) or self.closing:
@@ -216,6 +222,10 @@ class Runner:
                 except Exception as e:  # keep closing the others
                     self.run.interrupt_reason += '; %s: %s' % (run.sensor.name, e)
         self._collect(wait=True)
+        for witness in self.witnesses:
+            self.source.detach(witness)     # never waits for the master (sources/live.py)
+        self.ctx.services.stiffness = None
+        self.witnesses = []
         for lane in self.lanes:
             for plan in lane:
                 if plan.name in self.results:   # interrupted between starting it and popping it

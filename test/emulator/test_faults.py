@@ -84,11 +84,50 @@ def test_robot_stuck_and_impossible_data_fail(master, tmp_path):
     res, _ = run(master, tmp_path, ['_audio:=direct', '_camera_resolution:=QQVGA', '_faults:=' + faults],
                  ROBOT_SENSORS, duration=3)
     reason_with(res['laser'], 'laser stuck:', 'identical scans in a row from t =', 'stuck_scans 20')
+    # an awake robot (stiffness 1 on /diagnostics): the laser or the driver, said once
+    assert len(res['laser']['reasons']) == 1, res['laser']['reasons']
+    reason_with(res['laser'], 'every board at once', 'the robot is not resting', 'restart naoqi_driver')
     reason_with(res['imu'], 'median |linear acceleration| 0 m/s^2', 'a dead accelerometer reads 0')
     reason_with(res['depthCamera'], 'depth image frozen:', 'identical frames in a row')
     reason_with(res['microphone'], 'microphone stream stuck:', 'identical buffers')
     reason_with(res['jointState'], 'position of HeadYaw jumps', 'pepper.urdf:15')
     reason_with(res['odometry'], 'pose jumps: consecutive poses imply more than max_speed 0.8 m/s')
+
+
+def test_a_resting_robot_laser_is_one_reason_that_says_resting(master, tmp_path):
+    """~condition resting: stiffness 0 on /diagnostics and the laser frozen with fresh stamps,
+    as stock naoqi_driver publishes a robot in Rest mode (laser.cpp:148, :154). robotHealth is
+    not selected: the laser check's own witness reads /diagnostics (issue 24, point 7)."""
+    res, done = run(master, tmp_path, ['_audio:=off', '_condition:=resting', '_camera_resolution:=QQVGA'],
+                    ['laser'], duration=3)
+    laser = res['laser']
+    assert laser['verdict'] == 'FAIL' and len(laser['reasons']) == 1, (laser['reasons'], done.stderr[-1500:])
+    reason_with(laser, 'laser stuck:', 'every board at once', 'the robot is resting (stiffness 0 on all',
+                'wake it up (ALMotion.wakeUp, or press the chest button twice quickly)')
+
+
+@pytest.mark.parametrize('profile', ['robot', 'robot-stock'])
+def test_a_broken_bridges_microphone_channels(master, tmp_path, profile):
+    """microphone:copied_channels (rearLeft in all four channels) FAILs naming the copies;
+    microphone:planar_as_interleaved (one microphone dealt out over four channels) is a warning
+    naming the cause: through AudioCustomMsg (robot) and stock naoqi_driver's interleaved
+    AudioBuffer (robot-stock) alike (issue 24, point 8)."""
+    base = ['_profile:=' + profile, '_audio:=direct', '_camera_resolution:=QQVGA']
+    res, done = run(master, tmp_path, base, ['microphone'], duration=3, tag='healthy')
+    mic = res['microphone']      # healthy input through either message: four microphones
+    assert mic['verdict'] == 'PASS' and not mic['warnings'], (mic['reasons'], mic['warnings'])
+    assert min(mic['values']['channel_step_ratios'].values()) > 1
+    res, done = run(master, tmp_path, base + ['_faults:=microphone:copied_channels'], ['microphone'],
+                    duration=3, tag='copied')
+    text = reason_with(res['microphone'], 'rearRight, frontLeft and frontRight carry rearLeft\'s samples, '
+                       'sample for sample, in all')
+    assert 'never measured' in text, done.stderr[-1500:]
+    res, done = run(master, tmp_path, base + ['_faults:=microphone:planar_as_interleaved'], ['microphone'],
+                    duration=3, tag='dealt')
+    mic = res['microphone']
+    assert mic['verdict'] == 'PASS', (mic['reasons'], done.stderr[-1500:])
+    hits = [w for w in mic['warnings'] if w.startswith('the four channels are nearly identical')]
+    assert len(hits) == 1 and 'as when planar NAOqi buffers are read as interleaved' in hits[0], mic['warnings']
 
 
 def test_robot_impossible_values_second_batch_fail(master, tmp_path):

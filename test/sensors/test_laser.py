@@ -33,9 +33,9 @@ DEAD_FRONT = 0.056
 DEAD_SIDE = math.hypot(0.018, 0.090)
 
 
-def judged_scans(msgs, expect=None, rate=10.0):
+def judged_scans(msgs, expect=None, rate=10.0, services=None):
     plan = SensorPlan(catalog.SENSORS['laser'], '/laser', (expect or ROBOT['laser']))
-    run = SensorRun(plan, RunContext('/nonexistent-not-written', 'robot', Options()), T0,
+    run = SensorRun(plan, RunContext('/nonexistent-not-written', 'robot', Options(), services), T0,
                     quick=False, wait=2.0, duration=3.0)
     run.begin(T0)
     for i, m in enumerate(msgs):
@@ -272,7 +272,7 @@ def test_laser_stuck_scans_fail_and_say_from_when(tmp_path):
     20 (2 s at 10 Hz) are a cached scan republished."""
     r = judged('laser', tmp_path, [laser(0) for _ in range(N)])
     assert r.verdict == FAIL
-    one_reason_with(r, 'laser stuck: 25 identical scans in a row from t = 0.05 s to the end of '
+    one_reason_with(r, ': 25 identical scans in a row from t = 0.05 s to the end of '
                        'the window (stuck_scans 20)')
     r = judged('laser', tmp_path, [laser(i // 3) for i in range(N)])      # each scan three times
     assert r.verdict == PASS, r.reasons
@@ -306,3 +306,95 @@ def test_robot_layout_is_not_applied_to_the_simulator(tmp_path):
     r = feed(run_of('laser', tmp_path, ROBOT), [sim_scan(i=i) for i in range(18)], rate=6.25)
     assert r.verdict == FAIL        # NaN is invalid for naoqi_driver: most beams invalid
     assert any('488 slots instead of 61' in x for x in r.warnings)   # the layout: a warning
+
+
+# ------------------------------------------------------------------ a frozen scan: a resting robot
+
+def witness_of(stiffness):
+    """The run's stiffness witness fed naoqi_driver's /diagnostics (emulator/events.py
+    driver_array, diagnostics.cpp:159-222) as it comes off the wire, every joint at `stiffness`."""
+    from pepper_interface_tests.emulator.events import driver_array
+    from pepper_interface_tests.sensors.base import Services
+    from pepper_interface_tests.sensors.stiffness import StiffnessWitness
+    witness = StiffnessWitness('/diagnostics')
+    array = driver_array({'HipPitch': 35.0, 'HeadYaw': 33.0, 'RHand': 30.0}, 85, False,
+                         stiffness=stiffness)
+    witness.feed_raw('diagnostic_msgs/DiagnosticArray', serialized(array), 1.0, 1.0)
+    return Services(stiffness=witness)
+
+
+def frozen_reasons(services=None):
+    r = judged_scans([laser(0) for _ in range(N)], services=services)
+    assert r.verdict == FAIL        # a frozen scan is unusable, whatever the cause
+    rest = services.stiffness.stiffness() if services else None
+    assert r.values.robot_resting == (None if rest is None else rest[1] == 0)
+    assert len(r.reasons) == 1, r.reasons     # not once more per board (issue 24)
+    assert not [x for x in r.reasons if 'board (slots' in x], r.reasons
+    text = r.reasons[0]
+    # the cause and the fix first (the terminal shortens a long reason), what was seen last
+    assert text.startswith('laser stuck: '), text
+    assert text.endswith(': 25 identical scans in a row from t = 0.05 s to the end of the window '
+                         '(stuck_scans 20), every board at once'), text
+    return text
+
+
+WAKE = ('wake it up (ALMotion.wakeUp, or press the chest button twice quickly) and test again; '
+        'at rest the laser boards stop sampling and naoqi_driver republishes their last values '
+        'with fresh stamps: ')
+
+
+def test_a_frozen_scan_is_one_reason_naming_a_resting_robot_and_the_fix():
+    """Without /diagnostics: the usual cause (a resting robot) and how to wake it up."""
+    text = frozen_reasons()
+    assert text.startswith('laser stuck: probably a resting robot (no joint stiffness from the '
+                           'driver on /diagnostics to tell): ' + WAKE), text
+
+
+def test_a_frozen_scan_with_stiffness_0_says_the_robot_is_resting():
+    text = frozen_reasons(witness_of(0.0))
+    assert text.startswith('laser stuck: the robot is resting (stiffness 0 on all 3 joints in the '
+                           'driver\'s /diagnostics): ' + WAKE), text
+
+
+def test_a_frozen_scan_of_an_awake_robot_blames_the_laser_or_the_driver():
+    text = frozen_reasons(witness_of(1.0))
+    assert text.startswith('laser stuck: the robot is not resting (stiffness up to 1 on 3 joints in '
+                           'the driver\'s /diagnostics), so the laser boards or naoqi_driver stopped '
+                           'updating: restart naoqi_driver, then the robot: '), text
+    assert 'wake it up' not in text, text
+
+
+def test_a_frozen_simulator_scan_is_not_blamed_on_a_resting_robot():
+    """Gazebo's laser has no boards and no rest: what was seen, nothing more."""
+    r = feed(run_of('laser', '/nonexistent-not-written', SIM), [sim_scan() for _ in range(18)], rate=6.25)
+    assert r.reasons == ['laser stuck: 18 identical scans in a row from t = 0.05 s to the end of the '
+                         'window (stuck_scans 13)'], r.reasons
+
+
+def test_boards_sampling_at_6_66_hz_read_at_10_hz_pass():
+    """Each board frames every 150 ms (yohatad/naoqi_driver2 laser.hpp:49) with its own phase,
+    the driver reads every 100 ms with +-20 ms of timer jitter: a board repeats its segment in
+    two or three reads in a row, and so, now and then, does the whole scan. Healthy: PASS."""
+    import random
+    rnd = random.Random(7)
+    phase = {RIGHT: 0.0, FRONT: 0.05, LEFT: 0.11}
+    scans = []
+    for i in range(N):
+        t = i * 0.1 + rnd.uniform(-0.02, 0.02)
+        m = laser(0)
+        r = list(m.ranges)
+        for board, p in phase.items():
+            frame = int((t + p) / 0.15)         # the board's last frame at this read
+            for k in board:
+                r[k] = laser(frame).ranges[k] + 0.001 * ((frame * 7 + k) % 5)
+        m.ranges = r
+        scans.append(m)
+    r = judged_scans(scans)
+    assert r.verdict == PASS, r.reasons
+    assert 2 <= max(r.values.longest_identical_board_run.values()) <= 3
+    assert r.values.longest_identical_run <= 3
+
+
+def test_the_stuck_threshold_stays_above_what_6_66_hz_boards_give():
+    """The configuration's stuck_scans leaves room for the boards' own rate (the rule's reason)."""
+    assert ROBOT['laser'].stuck_scans >= 3 * 10 / 6.66

@@ -14,7 +14,8 @@ OK, WARN "Hot" from 68 °C, ERROR "Too hot" from 74 °C), the aggregate naoqi_dr
 naoqi_driver_battery:Status (Percentage, Charging, Fully Charged; OK charging or above 60 %,
 WARN discharging above 30 %, ERROR almost empty), naoqi_driver_battery:Current and
 naoqi_driver_computer:CPU (Temperature -1). Faults: hot_joint=C (HipPitch at C °C),
-empty_battery (12 %, not charging).
+empty_battery (12 %, not charging). Stiffness 1 on every joint (an awake robot), 0 under the
+~condition resting (every motor off).
 """
 import threading
 import time
@@ -118,27 +119,30 @@ class HealthPublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         pct = EMPTY_BATTERY if self.faults.empty_battery else HEALTHY_BATTERY
-        return driver_array(self.temperatures(t), pct, charging=False)
+        # a resting robot has every motor off: Hardness 0 on every joint (diagnostics.cpp:165)
+        stiffness = 0.0 if self.condition == 'resting' else 1.0
+        return driver_array(self.temperatures(t), pct, charging=False, stiffness=stiffness)
 
 
 def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
-                 fully_charged: bool = False) -> DiagnosticArray:
+                 fully_charged: bool = False, stiffness: float = 1.0) -> DiagnosticArray:
     """The DiagnosticArray naoqi_driver builds (diagnostics.cpp:134-313) from joint temperatures
-    (°C) and the battery's charge (%) and flags."""
+    (°C), every joint's stiffness (0 motor off .. 1) and the battery's charge (%) and flags."""
     msg = DiagnosticArray()
     worst, hottest, hot = 0, 0.0, ''
     for joint, temp in temperatures.items():
         level, words = (0, 'OK') if temp < 68 else (1, 'Hot') if temp < 74 else (2, 'Too hot')
         lo, hi, vel, _ = joint_limits.LIMITS.get(joint, (0.0, 0.0, 0.0, 0))
         msg.status.append(_status('naoqi_driver_joints:' + joint, joint, level, words, [
-            ('Temperature', _num(temp)), ('Stiffness', '1'), ('minAngle', _num(lo or 0.0)),
+            ('Temperature', _num(temp)), ('Stiffness', _num(stiffness)), ('minAngle', _num(lo or 0.0)),
             ('maxAngle', _num(hi or 0.0)), ('maxVelocity', _num(vel)), ('maxTorque', '0')]))
         worst, hottest = max(worst, level), max(hottest, temp)
         if level >= 1:
             hot += '\n%s: %s°C' % (joint, _num(temp))
     msg.status.append(_status('naoqi_driver_joints:Status', 'joints', worst, ('OK', 'WARN', 'ERROR')[worst], [
-        ('Highest Temperature', _num(hottest)), ('Highest Stiffness', '1'), ('Lowest Stiffness', '1'),
-        ('Lowest Stiffness without Hands', '1'), ('Hot Joints', hot)]))
+        ('Highest Temperature', _num(hottest)), ('Highest Stiffness', _num(stiffness)),
+        ('Lowest Stiffness', _num(stiffness)), ('Lowest Stiffness without Hands', _num(stiffness)),
+        ('Hot Joints', hot)]))
     if charging:
         level, text = 0, 'Charging (%4d%%)' % percent
     elif percent > 60:

@@ -40,6 +40,10 @@ EFFECTS = {
     'silent_channel': 'channel VALUE all zeros: rearLeft, rearRight, frontLeft or frontRight '
                       '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
                       'silent_channel)',
+    'copied_channels': 'rearLeft\'s samples in all four channels: a bridge filling every '
+                       'channel from one buffer; needs ~audio direct',
+    'planar_as_interleaved': 'each buffer\'s planar samples read as interleaved: channel c '
+                             'gets samples c, c+4, ... of one microphone; needs ~audio direct',
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',

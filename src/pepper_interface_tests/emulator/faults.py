@@ -35,6 +35,9 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'all_blind': (False, ('laser',)),
     'no_returns': (False, ('laser',)),
     'silent_channel': (True, ('audio',)),
+    # a broken bridge's channels (issue 24): one microphone in every channel, or dealt out
+    'copied_channels': (False, ('audio',)),
+    'planar_as_interleaved': (False, ('audio',)),
     # data that looks healthy but cannot be real (issue 10)
     'stuck': (False, ('laser', 'imu', 'depth', 'camera', 'audio')),
     'after': (True, None),
@@ -85,6 +88,8 @@ class Faults:
     all_blind: bool = False         # laser: every slot blind (-1.0 robot, NaN simulator)
     no_returns: bool = False        # laser, simulator: no point reaches laser_2 (all NaN)
     silent_channel: Tuple[str, ...] = ()
+    copied_channels: bool = False   # microphone: rearLeft's samples in all four channels
+    planar_as_interleaved: bool = False     # microphone: planar buffers read as interleaved
     stuck: bool = False             # the data of one message republished with new stamps
     after: Optional[float] = None   # stuck/frozen/black/silent_channel from T s after the first subscriber
     dead_accelerometer: bool = False    # imu: linear acceleration 0, 0, 0

@@ -10,9 +10,10 @@ Private params (each also a command-line option, which wins):
                       or Pepper 1.7 Xtion head (no stereo topic)   (stereo; robot profiles)
   ~real_time_factor   simulator: simulated seconds per wall second; the emulator sets
                       /use_sim_time and publishes /clock       (0.6)
-  ~condition          normal | loaded | still | dark: healthy but unusual (loaded: cameras
-                      ~1.3 fps with jitter; still: the robot stands still; dark: a dark room)
-                                                                (normal)
+  ~condition          normal | loaded | still | dark | resting: healthy but unusual (loaded:
+                      cameras ~1.3 fps with jitter; still: the robot stands still; dark: a
+                      dark room; resting: a robot in Rest mode, stiffness 0 on /diagnostics
+                      and its laser frozen, as naoqi_driver publishes it)       (normal)
   ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
   ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
@@ -186,8 +187,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument('--real-time-factor', dest='real_time_factor', type=float, metavar='F',
                    help='simulator: simulated seconds per wall second on /clock (default 0.6)')
     p.add_argument('--condition', choices=CONDITIONS, help='healthy but unusual: loaded (cameras '
-                   '~1.3 fps with jitter), still (the robot stands still), dark (a dark room) '
-                   '(default normal)')
+                   '~1.3 fps with jitter), still (the robot stands still), dark (a dark room), '
+                   'resting (Rest mode: stiffness 0, the laser frozen) (default normal)')
     p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')

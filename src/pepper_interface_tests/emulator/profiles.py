@@ -22,7 +22,8 @@ RESOLUTIONS = {'QQVGA': (160, 120), 'QVGA': (320, 240), 'VGA': (640, 480)}
 # camera/stereo/image_raw exists; without it (Pepper 1.7, ASUS Xtion) depth is the Xtion's at
 # xtion_resolution and there is no stereo topic (src/naoqi_driver.cpp:607-616, 712-760).
 HEADS = ('stereo', 'xtion')
-CONDITIONS = ('normal', 'loaded', 'still', 'dark')   # healthy but unusual (docs/emulator.md)
+# healthy but unusual (docs/emulator.md); resting: a robot in Rest mode (its laser frozen)
+CONDITIONS = ('normal', 'loaded', 'still', 'dark', 'resting')
 
 AUDIO_RATE = 48000          # Hz, all four channels (src/event/audio.cpp:107-113, 179)
 AUDIO_BUFFER = 4096         # samples per channel per AudioCustomMsg: the CSSR fork's bridge

@@ -12,7 +12,7 @@ every header stamp is the simulated time (the /clock the emulator publishes).
 import math
 import threading
 import time
-from typing import TYPE_CHECKING, Any, Dict, Optional, Tuple, Type
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type
 
 import numpy as np
 import rospy
@@ -297,12 +297,19 @@ class ImagePublisher(StreamPublisher):
 # ---------------------------------------------------------------- range sensors
 
 class LaserPublisher(StreamPublisher):
-    """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout)."""
+    """naoqi_driver's 61-slot scan or the simulator's 488-slot /pepper/laser_2 (spec.layout).
+
+    Under the ~condition resting (naoqi_driver's layout only), the robot is in Rest mode: its
+    laser boards do not sample (yohatad/naoqi_driver2 src/converters/laser.hpp:72-75) and stock
+    naoqi_driver reads the same last values from ALMemory at every tick and stamps them with the
+    current time (ros-naoqi/naoqi_driver src/converters/laser.cpp:148, :154): the first scan's
+    ranges are published for ever, with fresh stamps."""
 
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
         self.blind = np.asarray(laser_blind_mask())
+        self.rested: Optional[List[float]] = None     # the boards' last values while resting
 
     def msg_class(self) -> type:
         return LaserScan
@@ -357,6 +364,10 @@ class LaserPublisher(StreamPublisher):
         # naoqi_driver and laser_publisher.py leave time_increment and scan_time at 0
         msg.range_min, msg.range_max = s.range_min, s.range_max
         msg.ranges = ranges.tolist()
+        if self.condition == 'resting' and s.layout != 'gazebo':
+            if self.rested is None:
+                self.rested = list(msg.ranges)
+            msg.ranges = list(self.rested)
         return msg
 
 
@@ -524,7 +535,12 @@ class AudioPublisher(StreamPublisher):
         self.block = self.source.read(self.spec.width)
 
     def data_block(self, t: float) -> np.ndarray:
-        """This tick's samples, with after=T's silent channels zeroed from T on."""
+        """This tick's samples (n, 4), with after=T's silent channels zeroed from T on, and a
+        broken bridge's channels (sensors/channels.py): copied_channels puts rearLeft's samples
+        in all four; planar_as_interleaved takes NAOqi's buffer as planar (rearLeft's n
+        samples, then rearRight's ...) and reads it as interleaved, so channel c gets samples
+        c, c+4, c+8 ... of one microphone (rearLeft in the first quarter of the buffer, rearRight
+        in the next ...), as a bridge that ignores the buffer's layout would."""
         b = self.block
         f = self.faults
         if f.silent_channel and f.after is not None and self.partial_on(t):
@@ -532,6 +548,10 @@ class AudioPublisher(StreamPublisher):
             b = b.copy()
             for name in f.silent_channel:
                 b[:, MIC_CHANNELS.index(name)] = 0
+        if f.copied_channels:
+            b = np.repeat(b[:, :1], b.shape[1], axis=1)
+        if f.planar_as_interleaved:
+            b = np.ascontiguousarray(b.T).reshape(-1, b.shape[1])
         return b
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':

@@ -263,6 +263,10 @@ class AudioExpect(Expect):
     # a channel silent (below silence_dbfs) from some time to the end for at least this many
     # seconds fails as "went silent at t = ..."; None: not checked
     channel_death_s: Optional[float] = _field(number(0, lo_open=True, example='1.0'))
+    # every pair of the four channels differing by less than this share of a channel's own
+    # one-sample step is a warning (one microphone dealt out over four channels,
+    # sensors/channels.py); None: not checked
+    similar_channels_ratio: Optional[float] = _field(number(0, lo_open=True, example='0.8'))
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,11 @@ Over the window (FAIL at the end):
     resends its last buffer does;
   * a channel that dies partway: silent (below `silence_dbfs`, or all zero) in every buffer
     from some time to the end of the window, for at least `channel_death_s` seconds and 3
-    buffers, fails as "microphone frontLeft went silent from t = 2.1 s".
+    buffers, fails as "microphone frontLeft went silent from t = 2.1 s";
+  * copied channels: channels identical sample for sample in every buffer with sound fail,
+    naming which carry whose samples; four nearly identical channels (every pair's difference
+    below `similar_channels_ratio` of a channel's own one-sample step: one microphone's samples
+    dealt out over four channels) are a warning. The rules and their margin: sensors/channels.py.
 Reported: RMS and peak per channel in dBFS (0 dBFS = full scale 32768), clipping share per
 channel (|sample| >= 32767; above `max_clipping_share`, default 0.01, a warning), gaps (a pause
 between buffers longer than 3 buffer periods; a warning), buffer size.
@@ -60,6 +64,7 @@ import numpy as np
 from ..media.recording import WavWriter
 from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from .base import Check, StuckRun, TrailingRun, fmt
+from .channels import ChannelSimilarity, copy_reasons, similar_warning
 from .values import Point
 from .values.audio import AudioValues, ChannelLevel, WavFile
 
@@ -147,6 +152,7 @@ class AudioCheck(Check):
         self.stuck = StuckRun(self.expect.stuck_buffers)
         self.last_block = None
         self.dying = [TrailingRun() for _ in CHANNELS]
+        self.similar = ChannelSimilarity(CHANNELS, self.silence)   # copied channels (channels.py)
 
     # ---- set-up -------------------------------------------------------------------------
     def window(self, duration: float) -> float:
@@ -234,6 +240,7 @@ class AudioCheck(Check):
             same = last is not None and last.shape == block.shape and np.array_equal(last, block)
             self.last_block = block
             self.stuck.repeat(same, t)
+        self.similar.add(block, sq)
         for i, run in enumerate(self.dying):
             run.add(sq[i] == 0 or dbfs(math.sqrt(sq[i] / n)) < self.silence, t)
         if len(self.level_series['rearLeft']) < SERIES_MAX:
@@ -315,6 +322,11 @@ class AudioCheck(Check):
         stuck = self.stuck.finding('buffers', 'stuck_buffers')
         if stuck:
             self.fail('microphone stream stuck: ' + stuck)
+        for reason in copy_reasons(self.similar):
+            self.fail(reason)
+        similar = similar_warning(self.similar, self.expect.similar_channels_ratio)
+        if similar:
+            self.warn(similar)
         self.notes.append('Levels (RMS / peak dBFS): ' + ', '.join(
             '%s %s / %s' % (n, fmt(v.rms_dbfs, 1), fmt(v.peak_dbfs, 1)) for n, v in levels.items()))
         gaps = None
@@ -327,7 +339,7 @@ class AudioCheck(Check):
             found, samples_per_channel=self.samples, buffer_sizes=dict(self.lengths),
             sample_rate_hz=round(rate, 1) if rate else None, sample_rate_expected_hz=self.rate,
             message_rate_band_hz=derived_band, channels=levels, longest_identical_run=self.stuck.longest,
-            gaps=gaps)
+            gaps=gaps, channel_step_ratios=self.similar.ratios())
         self._play()
 
     def _judge_death(self, name, i):

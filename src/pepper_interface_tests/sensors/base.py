@@ -134,6 +134,13 @@ class Hearing(Protocol):
         """Whether the level rose between `t0` and `t1` (monotonic seconds)."""
 
 
+class RestWitness(Protocol):
+    """What the laser check asks: whether the robot rests (sensors/stiffness.py)."""
+
+    def stiffness(self) -> Optional[Tuple[int, float]]:
+        """(joints the driver reported, the highest latest stiffness), None: no report yet."""
+
+
 class Operator(Protocol):
     """A person asked to act, zone by zone (sensors/guide.py Guide): one sensor asks at a time."""
 
@@ -168,6 +175,7 @@ class Services:
     microphone_levels: Optional[Hearing] = None  # what the microphones hear (speech)
     debug: Optional[Callable[[str], None]] = None      # --debug: one line per received message
     operator: Optional[Operator] = None                # guided mode: a person who touches the robot
+    stiffness: Optional[RestWitness] = None            # the joints' stiffness: is the robot resting?
 
 
 class RunContext:

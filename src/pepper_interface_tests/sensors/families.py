@@ -85,6 +85,9 @@ class Traits:
     guided: bool = False
     # the topic is shared by many nodes (/diagnostics): several publishers are normal
     shared_topic: bool = False
+    # asks whether the robot rests (the laser: its boards stop sampling at rest): the run offers
+    # it the driver's joint stiffness from /diagnostics (sensors/stiffness.py)
+    asks_rest: bool = False
     # its WARN or FAIL explains other sensors' failures (the robot's health): shown at the top
     # of the summary
     headline: bool = False
@@ -112,7 +115,7 @@ class Family:
 
 FAMILIES: Dict[str, Family] = {f.name: f for f in [
     Family('range', 'range:RangeCheck', 'range', values=RangeValues),
-    Family('laser', 'laser:LaserCheck', 'laser', values=LaserValues),
+    Family('laser', 'laser:LaserCheck', 'laser', Traits(asks_rest=True), LaserValues),
     Family('camera', 'camera:CameraCheck', 'camera', Traits(images=True), CameraValues),
     Family('depth', 'depth:DepthCheck', 'depth', Traits(images=True), DepthValues),
     Family('audio', 'audio:AudioCheck', 'audio', Traits(audio=True), AudioValues),

@@ -47,9 +47,26 @@ and no-return slots excluded) fails.
 Stuck (`stuck_scans`): that many scans in a row identical slot for slot (every float to the
 last bit) fail, naming when the run began; as for a board, only scans holding a reading within
 [range_min, range_max] count. naoqi_driver reads the laser from ALMemory at the
-converter's rate (laser.cpp:165-205), so a few identical scans in a row happen when it reads
-faster than ALMemory updates (reference/pepper-sensors.md); a run of seconds of identical raw
-distances, which carry measurement noise, is a driver republishing a cached scan.
+converter's rate (laser.cpp:142-154, 10 Hz), faster than the boards sample: each board frames
+at about 6.66 Hz, every 150 ms (yohatad/naoqi_driver2 src/converters/laser.hpp:49; Aldebaran's
+laser documentation, cited by ros-naoqi pepper_robot pepper_sensors_py laser.py:39-40, gives 6
+Hz), so a board's segment repeats in two reads in a row (three with the converter's timer
+jitter) and so may the whole scan. `stuck_scans` (20, 2 s at 10 Hz) is far above that; a run of
+seconds of identical raw distances, which carry measurement noise, is a frozen scan.
+
+A frozen scan (the whole scan stuck) is said once, as the laser's, not once more per board
+(line numbers: yohatad/naoqi_driver2 at 9506ea2, ros-naoqi/naoqi_driver at aed1b87):
+Pepper's laser boards stop sampling while the robot rests (yohatad/naoqi_driver2
+src/converters/laser.hpp:72-75; its converter then stops publishing, laser.cpp:226-243, "The
+boards stop sampling while the robot is at rest"), and stock naoqi_driver goes on reading their
+last values and stamping them with the current time (ros-naoqi/naoqi_driver
+src/converters/laser.cpp:148 getListData, :154 `ros::Time::now()`): the usual cause of a frozen
+scan is a resting robot, not three broken boards. The reason says so and how to wake the robot
+(ALMotion.wakeUp, or press the chest button twice quickly: SoftBank's Pepper NAOqi 2.9 "Daily
+use" guide, Rest mode), and, when the run has the driver's joint stiffness on /diagnostics
+(sensors/stiffness.py), whether the robot is in fact resting (stiffness 0 on every joint) or
+awake (then the laser or the driver stopped updating). It stays a FAIL: a frozen scan is
+unusable. A board frozen while the others move keeps its own reason (above).
 """
 import math
 from array import array
@@ -269,8 +286,8 @@ class LaserCheck(Check):
                               % self.beyond)
         stuck = self.stuck.finding('scans', 'stuck_scans')
         if stuck:
-            self.fail('laser stuck: ' + stuck)
-        dead = self._judge_boards()
+            self.fail(self._frozen(stuck))
+        dead = self._judge_boards(frozen=bool(stuck))
         if self.layout_count:
             self.warn(self._layout_warning())
         limit = self.expect.max_invalid_share
@@ -286,6 +303,7 @@ class LaserCheck(Check):
             other_layout_scans=self.layout_count or None,
             dead_boards=dead if boards else None,
             longest_identical_board_run={b.name: b.stuck.longest for b in self.boards} if boards else None,
+            robot_resting=self._resting(),
             last_scan=self._last_scan())
 
     def _last_scan(self) -> Optional[LastScan]:
@@ -296,8 +314,38 @@ class LaserCheck(Check):
         return LastScan(a0, inc, [r if math.isfinite(r) else math.nan for r in ranges], lo, hi, blind,
                         list(self.last_kinds))
 
-    def _judge_boards(self) -> List[str]:
-        """Fails each dead or stuck board -> the names of the dead boards."""
+    def _resting(self) -> Optional[bool]:
+        """Whether the driver's joint stiffness says the robot rests; None: no report."""
+        witness = self.ctx.services.stiffness
+        rest = witness.stiffness() if witness is not None else None
+        return None if rest is None else rest[1] <= 0.0
+
+    def _frozen(self, stuck: str) -> str:
+        """The one reason of a frozen scan. With the robot's boards (naoqi_driver's layout): its
+        likely cause, whether the robot rests and the fix first (the terminal shortens long
+        reasons), then what was seen. Without (the simulator, another driver): what was seen."""
+        if not self.boards:
+            return 'laser stuck: ' + stuck
+        seen = '%s, every board at once' % stuck
+        witness = self.ctx.services.stiffness
+        rest = witness.stiffness() if witness is not None else None
+        wake = ('wake it up (ALMotion.wakeUp, or press the chest button twice quickly) and test '
+                'again; at rest the laser boards stop sampling and naoqi_driver republishes their '
+                'last values with fresh stamps')
+        if rest is None:
+            return ('laser stuck: probably a resting robot (no joint stiffness from the driver on '
+                    '/diagnostics to tell): %s: %s' % (wake, seen))
+        joints, highest = rest
+        if highest <= 0.0:
+            return ('laser stuck: the robot is resting (stiffness 0 on all %d joints in the '
+                    'driver\'s /diagnostics): %s: %s' % (joints, wake, seen))
+        return ('laser stuck: the robot is not resting (stiffness up to %s on %d joints in the '
+                'driver\'s /diagnostics), so the laser boards or naoqi_driver stopped updating: '
+                'restart naoqi_driver, then the robot: %s' % (fmt(highest, 2), joints, seen))
+
+    def _judge_boards(self, frozen: bool = False) -> List[str]:
+        """Fails each dead or stuck board (not as stuck when the whole scan is `frozen`: the
+        laser's own reason says it once) -> the names of the dead boards."""
         lo = self.last_scan[3] if self.last_scan else 0.0
         found = [(board, board.dead(lo)) for board in self.boards]
         dead = [board.name for board, text in found if text]
@@ -308,7 +356,7 @@ class LaserCheck(Check):
                 if not said:
                     self.fail(text)
                 continue
-            stuck = board.stuck_text()
+            stuck = None if frozen else board.stuck_text()
             if stuck:
                 self.fail(stuck)
         return dead

@@ -36,6 +36,9 @@ class AudioValues:
     channels: Optional[Dict[str, ChannelLevel]] = optional()  # CHANNELS -> levels
     longest_identical_run: Optional[int] = optional()
     gaps: Optional[List[List[float]]] = optional()            # [t, pause s], the first 50
+    # 'rearLeft-rearRight' -> mean square difference over the channels' own one-sample step
+    # (sensors/channels.py; None: no step); 0 for copied channels, below 1 when dealt out
+    channel_step_ratios: Optional[Dict[str, Optional[float]]] = optional()
     level_rear_left: List[Point] = series('level_dbfs_rearLeft')
     level_rear_right: List[Point] = series('level_dbfs_rearRight')
     level_front_left: List[Point] = series('level_dbfs_frontLeft')

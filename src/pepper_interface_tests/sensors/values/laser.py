@@ -55,4 +55,7 @@ class LaserValues:
     other_layout_scans: Optional[int] = optional()       # scans laid out otherwise than the profile
     dead_boards: Optional[List[str]] = optional()        # boards with no valid reading in the window
     longest_identical_board_run: Optional[Dict[str, int]] = optional()   # board -> scans
+    # the driver's joint stiffness on /diagnostics (sensors/stiffness.py): True when every joint
+    # was at 0 (a resting robot), False when one was above; absent without a report
+    robot_resting: Optional[bool] = optional()
     last_scan: Optional[LastScan] = series_optional()
