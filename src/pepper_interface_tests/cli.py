@@ -205,11 +205,18 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
     interrupts.POLICY.phase = 'defer'
     interrupts.pause('run-folder')
-    from .outputs import observers
-    from .outputs.history import RunFolder
+    from .outputs import baseline, observers
+    from .outputs.history import HistoryError, RunFolder
     from .outputs.terminal import Terminal
     from .runner import Runner
     from .sensors.base import RunContext
+    try:   # the run it is compared with: --baseline's (refused: exit 2), else the pinned one
+        compare, note = baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform)
+    except HistoryError as e:
+        raise ConfigError('--baseline: %s' % e, fix='pin a run where every sensor passed (sensorTestHistory '
+                          'baseline set RUN), or run with --no-baseline') from None
+    if note:
+        print('sensorTest: note: %s' % note, flush=True)
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
         folder = RunFolder.create(plan.output_dir, keep=plan.options.history is not False)
     except OSError as e:
@@ -220,7 +227,8 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     if plan.options.debug:
         ctx.services.debug = _debug_line
     watchers = observers.observers_for(plan, ctx, source_name, folder)
-    runner = Runner(plan, ctx, source, observers=[Terminal()] + watchers, clock=clock,
+    first = [compare] if compare is not None else []     # drift on each result before any output sees it
+    runner = Runner(plan, ctx, source, observers=first + [Terminal()] + watchers, clock=clock,
                     signals=interrupts.POLICY)
     runner.run.run_id = folder.run_id
     runner.run.source = source_name

@@ -292,6 +292,7 @@ class Terminal(RunObserver):
             self._table(run, width)
         else:
             self._blocks(run, width)
+        self._drift(run, width)
         c = run.counts()
         warned = sum(1 for r in run.sensors if r.verdict == PASS and r.warnings)
         self.line()
@@ -316,6 +317,26 @@ class Terminal(RunObserver):
                 self.line(self._paint(part, FAIL if r.verdict == FAIL else SKIPPED if bad else PASS)
                           if i == 0 else part)
             self.line()
+
+    def _drift(self, run: RunResult, width: int) -> None:
+        """Under the table, when the run was compared with a baseline (outputs/baseline.py):
+        every value that drifted beyond its margin, sensor by sensor, or that none did."""
+        if not run.baseline:
+            return
+        drifted = [r for r in run.sensors if r.drift]
+        self.line()
+        base = 'the baseline run %s' % printable(run.baseline.get('run_id'), 80)
+        if not drifted:
+            self.line('no drift since %s' % base)
+            return
+        count = sum(len(r.drift) for r in drifted)
+        self.line('drift since %s (%d value%s, warnings, not failures):'
+                  % (base, count, '' if count == 1 else 's'))
+        for r in drifted:
+            for d in r.drift:
+                for i, part in enumerate(textwrap.wrap('%s: %s' % (r.name, printable(d.text, REASON_LIMIT)),
+                                                       width - 2, break_on_hyphens=False)):
+                    self.line(('  ' if i == 0 else '      ') + part)
 
     def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance
