@@ -136,8 +136,8 @@ def measures(r: SensorResult) -> Dict[str, float]:
     """The values of one sensor's result that drift is judged on: key -> number, the key
     'kind' or 'kind:subject' (a channel, board or joint), the kind a row of RULES."""
     out: Dict[str, Optional[float]] = {}
-    row = families.FAMILIES.get(r.family)
-    if r.rate_hz and row is not None and row.traits.periodic and not row.traits.drives_itself:
+    fam = families.FAMILIES.get(r.family)
+    if r.rate_hz and fam is not None and fam.traits.periodic and not fam.traits.drives_itself:
         out['rate'] = r.rate_hz        # event streams (touch) have no rate of their own
     v = r.values
     if isinstance(v, CameraValues):
@@ -157,16 +157,16 @@ def measures(r: SensorResult) -> Dict[str, float]:
     elif isinstance(v, RangeValues):
         if r.messages:
             out['valid_share'] = 1.0 - (v.infinite_ranges or 0) / r.messages
-        out['range_noise'] = getattr(v, 'range_sd_m', None)
+        out['range_noise'] = v.range_noise_m
     elif isinstance(v, AudioValues):
         for ch, level in (v.channels or {}).items():
             out['level:' + ch] = level.rms_dbfs
     elif isinstance(v, ImuValues):
         out['gyro_bias'] = v.angular_velocity_norm_rad_s.mean if v.angular_velocity_norm_rad_s else None
-        out['gyro_noise'] = getattr(v, 'angular_velocity_sd_rad_s', None)
+        out['gyro_noise'] = v.angular_velocity_noise_rad_s
         out['gravity'] = v.acceleration_norm_median_m_s2
     elif isinstance(v, JointsValues):
-        for joint, noise in (getattr(v, 'position_noise_rad', None) or {}).items():
+        for joint, noise in (v.position_noise_rad or {}).items():
             out['joint_noise:' + joint] = noise
     elif isinstance(v, HealthValues):
         for row in v.hottest:

@@ -1,0 +1,71 @@
+"""Cheap measures of how a sensor wears, for the drift from a baseline (outputs/drift.py).
+
+`Noise`: the scatter of a reading that changes slowly (a still robot's joint positions, a sonar
+facing a wall, the gyrometer at rest) without the slow change: the second difference of
+consecutive readings, d2 = x[i] - 2 x[i-1] + x[i-2], cancels a straight-line trend, and for white
+noise of standard deviation s its variance is 6 s^2, so s = sqrt(mean(d2^2) / 6). A slow
+sinusoid of amplitude A and frequency f sampled at r Hz adds only about A (2 pi f / r)^2.
+`BeamNoise` does the same for every beam of a scan (numpy arrays), the median over beams.
+"""
+import math
+from typing import List, Optional
+
+import numpy as np
+
+
+class Noise:
+    """Standard deviation of a slowly varying reading's noise (see the module's docstring)."""
+
+    __slots__ = ('prev', 'prev2', 'total', 'n')
+
+    def __init__(self) -> None:
+        self.prev: Optional[float] = None
+        self.prev2: Optional[float] = None
+        self.total, self.n = 0.0, 0
+
+    def add(self, v: float) -> None:
+        if not math.isfinite(v):          # a gap: start again after it
+            self.prev = self.prev2 = None
+            return
+        if self.prev is not None and self.prev2 is not None:
+            d2 = v - 2.0 * self.prev + self.prev2
+            self.total += d2 * d2
+            self.n += 1
+        self.prev2, self.prev = self.prev, v
+
+    def sd(self, nd: int = 6) -> Optional[float]:
+        """The noise's standard deviation; None under 10 second differences."""
+        return round(math.sqrt(self.total / self.n / 6.0), nd) if self.n >= 10 else None
+
+
+class BeamNoise:
+    """`Noise` per beam of consecutive scans of one layout; the median over the beams."""
+
+    def __init__(self) -> None:
+        self.prev: Optional[np.ndarray] = None
+        self.prev2: Optional[np.ndarray] = None
+        self.total: Optional[np.ndarray] = None
+        self.n: Optional[np.ndarray] = None
+
+    def add(self, ranges: np.ndarray) -> None:
+        r = np.asarray(ranges, dtype=float)
+        if self.prev is not None and self.prev.shape != r.shape:
+            self.prev = self.prev2 = self.total = self.n = None    # another layout: start again
+        if self.prev is not None and self.prev2 is not None:
+            d2 = r - 2.0 * self.prev + self.prev2
+            ok = np.isfinite(d2)
+            if self.total is None or self.n is None:
+                self.total, self.n = np.zeros(r.shape), np.zeros(r.shape)
+            self.total[ok] += d2[ok] ** 2
+            self.n[ok] += 1
+        self.prev2, self.prev = self.prev, r
+
+    def sd(self, nd: int = 5) -> Optional[float]:
+        """The median over beams with 10 or more second differences; None when none has."""
+        if self.total is None or self.n is None:
+            return None
+        enough = self.n >= 10
+        if not enough.any():
+            return None
+        per_beam: List[float] = list(np.sqrt(self.total[enough] / self.n[enough] / 6.0))
+        return round(float(np.median(per_beam)), nd)
