@@ -149,11 +149,11 @@ def measures(r: SensorResult) -> Dict[str, float]:
         out['valid_share'] = v.valid_share.mean if v.valid_share else None
         out['distance'] = v.depth_m.median if v.depth_m else None
     elif isinstance(v, LaserValues):
-        for board, share in (getattr(v, 'board_valid_share', None) or {}).items():
+        for board, share in (v.board_valid_share or {}).items():
             out['valid_share:' + board] = share
-        if v.invalid_share is not None and not getattr(v, 'board_valid_share', None):
+        if v.invalid_share is not None and not v.board_valid_share:
             out['valid_share'] = 1.0 - v.invalid_share
-        out['range_noise'] = getattr(v, 'range_noise_m', None)
+        out['range_noise'] = v.range_noise_m
     elif isinstance(v, RangeValues):
         if r.messages:
             out['valid_share'] = 1.0 - (v.infinite_ranges or 0) / r.messages

@@ -55,4 +55,6 @@ class LaserValues:
     other_layout_scans: Optional[int] = optional()       # scans laid out otherwise than the profile
     dead_boards: Optional[List[str]] = optional()        # boards with no valid reading in the window
     longest_identical_board_run: Optional[Dict[str, int]] = optional()   # board -> scans
+    board_valid_share: Optional[Dict[str, float]] = optional()   # board -> returns / non-blind slots
+    range_noise_m: Optional[float] = optional()     # sensors/wear.py BeamNoise of the returns
     last_scan: Optional[LastScan] = series_optional()
