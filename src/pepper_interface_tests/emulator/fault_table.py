@@ -40,6 +40,12 @@ EFFECTS = {
     'silent_channel': 'channel VALUE all zeros: rearLeft, rearRight, frontLeft or frontRight '
                       '(several: a|b); needs ~audio direct (with the bridge: the launch arg '
                       'silent_channel)',
+    'blur': 'out of focus: a 5 x 5 box blur (passes; a drift of its sharpness)',
+    'dim': 'brightness times VALUE, e.g. 0.6: a dusty lens (passes; a drift)',
+    'gyro_bias': 'VALUE rad/s added about x: a drifting gyrometer (passes; a drift)',
+    'noisy': 'four times the noise of a sonar or the joint encoders (passes; a drift)',
+    'quiet_channel': 'channel VALUE 12 dB quieter: a clogged grille; needs ~audio direct '
+                     '(passes; a drift)',
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',
