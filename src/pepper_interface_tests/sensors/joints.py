@@ -96,7 +96,7 @@ class JointsCheck(Check):
             return
         lower, upper, velocity, line = limits
         if lower is not None:        # not a wheel (its position wraps at +-pi)
-            self.noise.setdefault(name, Noise()).add(p)
+            self.noise.setdefault(name, Noise()).add(p, stamp if stamp is not None else t)
         if self.margin is not None and lower is not None and upper is not None and \
                 not (lower - self.margin <= p <= upper + self.margin):
             self.failures.add('limit_' + name, 'position of %s outside Pepper\'s joint limits '

@@ -15,28 +15,39 @@ import numpy as np
 
 
 class Noise:
-    """Standard deviation of a slowly varying reading's noise (see the module's docstring)."""
+    """Standard deviation of a slowly varying reading's noise (see the module's docstring). With
+    the times of the readings (`add(v, t)`: the header stamps, when they are the sampling
+    times) the residual of each reading from the straight line through its neighbours is used
+    instead, r = x1 - (x0 + (x2 - x0) w), w = (t1 - t0) / (t2 - t0), whose variance for white
+    noise is s^2 (1 + w^2 + (1 - w)^2): readings that move (an arm's slow motion) at an uneven
+    pace then add no false noise."""
 
     __slots__ = ('prev', 'prev2', 'total', 'n')
 
     def __init__(self) -> None:
-        self.prev: Optional[float] = None
-        self.prev2: Optional[float] = None
+        self.prev: Optional[Tuple[float, Optional[float]]] = None
+        self.prev2: Optional[Tuple[float, Optional[float]]] = None
         self.total, self.n = 0.0, 0
 
-    def add(self, v: float) -> None:
+    def add(self, v: float, t: Optional[float] = None) -> None:
         if not math.isfinite(v):          # a gap: start again after it
             self.prev = self.prev2 = None
             return
         if self.prev is not None and self.prev2 is not None:
-            d2 = v - 2.0 * self.prev + self.prev2
-            self.total += d2 * d2
+            (x0, t0), (x1, t1) = self.prev2, self.prev
+            if t is not None and t0 is not None and t1 is not None and t > t1 > t0:
+                w = (t1 - t0) / (t - t0)
+                r = x1 - (x0 + (v - x0) * w)
+                self.total += r * r / (1.0 + w * w + (1.0 - w) ** 2)
+            else:
+                d2 = v - 2.0 * x1 + x0
+                self.total += d2 * d2 / 6.0
             self.n += 1
-        self.prev2, self.prev = self.prev, v
+        self.prev2, self.prev = self.prev, (v, t)
 
     def sd(self, nd: int = 6) -> Optional[float]:
-        """The noise's standard deviation; None under 10 second differences."""
-        return round(math.sqrt(self.total / self.n / 6.0), nd) if self.n >= 10 else None
+        """The noise's standard deviation; None under 10 readings past the first two."""
+        return round(math.sqrt(self.total / self.n), nd) if self.n >= 10 else None
 
 
 class BeamNoise:
