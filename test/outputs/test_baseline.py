@@ -115,7 +115,7 @@ def test_the_observer_puts_drift_on_each_result_and_the_run_names_its_baseline(t
                        family='audio', values=mics(-41, -30, -29, -31), rate_hz=10.0, messages=100)
     compare.sensor_done(now)
     assert now.verdict == PASS and [d.measure for d in now.drift] == ['level:rearLeft']
-    assert now.warnings[0].startswith('rearLeft level -41.00 dBFS, was -29.00 dBFS on')
+    assert now.warnings[0].startswith('rearLeft level -41 dBFS, was -29 dBFS on')
     data = run.to_dict()
     assert data['baseline']['run_id'] == '20261120-101500'
     back = results.sensor_dict(now)
@@ -137,7 +137,7 @@ def test_compare_shows_the_drift_between_any_two_runs(tmp_path):
     write_run(str(tmp_path), '20261127-090000', levels=(-41, -30, -29, -31))
     code, text = cli(tmp_path, 'compare', '20261120-101500', '20261127-090000')
     assert code == 0 and '1 value drifted beyond its margin' in text
-    assert 'microphone: rearLeft level -41.00 dBFS, was -29.00 dBFS' in text
+    assert 'microphone: rearLeft level -41 dBFS, was -29 dBFS' in text
     assert all(len(line) <= 80 for line in text.splitlines())
     code, text = cli(tmp_path, 'compare', '20261120-101500', '20261120-101500')
     assert 'no value drifted beyond its margin (5 values compared' in text

@@ -54,7 +54,7 @@ def test_a_quiet_microphone_is_named_with_then_and_now_and_the_others_level():
     d = found(mics(-29, -30, -29, -30), mics(-41, -30, -29, -31), 'audio')
     assert [x.measure for x in d] == ['level:rearLeft']
     text = d[0].text
-    assert text.startswith('rearLeft level -41.00 dBFS, was -29.00 dBFS on 2026-11-20 (run 20261120-101500): '
+    assert text.startswith('rearLeft level -41 dBFS, was -29 dBFS on 2026-11-20 (run 20261120-101500): '
                            '12 dB quieter, the others within 1 dB')
     assert 'grille' in text and d[0].then == -29 and d[0].now == -41
 

@@ -28,6 +28,7 @@ from ..sensors.values.joints import JointsValues
 from ..sensors.values.laser import LaserValues
 from ..sensors.values.range import RangeValues
 
+WHOLE = ('dBFS', 'degC')      # units shown in whole numbers
 ROOM = 'or the room differs from the baseline\'s'
 
 
@@ -42,15 +43,20 @@ class Rule:
     down: str               # ... and when it fell
     advice: str             # what to look at
     reason: str             # why this margin (docs/drift.md repeats it)
-    digits: int = 2
+    floor: float = 0.0      # a relative margin: no change smaller than this is a drift (in unit)
+    way: int = 0            # +1: only a rise is wear, -1: only a fall, 0: either
 
     def beyond(self, then: float, now: float) -> bool:
+        if self.way and (now - then) * self.way <= 0:
+            return False
         if self.relative:
-            return then > 0 and abs(now - then) > self.margin * then
+            return then > 0 and abs(now - then) > max(self.margin * then, self.floor)
         return abs(now - then) > self.margin
 
     def margin_text(self) -> str:
-        return '%g %%' % (100 * self.margin) if self.relative else '%g %s' % (self.margin, self.unit)
+        if self.relative:
+            return '%g %%' % (100 * self.margin) + (' and %g %s' % (self.floor, self.unit) if self.floor else '')
+        return '%g %s' % (self.margin, self.unit)
 
 
 RULES: Dict[str, Rule] = {
@@ -72,25 +78,27 @@ RULES: Dict[str, Rule] = {
         'sharpness (Laplacian variance)', '', 0.50, True, 'sharper', 'blurred',
         'check the focus and the lens, %s (its detail)' % ROOM,
         'the focus measure of one scene varies by about 20 % between runs; a knocked lens or a '
-        'smear halves it or worse'),
+        'smear halves it or worse', way=-1),
     'noise': Rule(
         'image noise', '/255', 0.50, True, 'noisier', 'less noisy',
         'check the sensor\'s gain and temperature, %s (darker rooms are noisier)' % ROOM,
         'the noise of one sensor at one light level varies by about 20 %; an ageing or hot '
-        'sensor adds half again'),
+        'sensor adds half again; under 0.5 grey levels of change is not worth a word', floor=0.5, way=1),
     'valid_share': Rule(
         'valid share', '', 0.10, False, 'more valid readings', 'fewer valid readings',
         'check the window in front of it for dirt or scratches',
         'the share of valid readings of a healthy sensor in one place moves by a few hundredths; '
-        'a scratched or dirty window loses a tenth or more'),
+        'a scratched or dirty window loses a tenth or more', way=-1),
     'distance': Rule(
-        'median distance', 'm', 0.30, True, 'farther', 'nearer',
+        'median distance', 'm', 0.60, True, 'farther', 'nearer',
         'check that nothing covers it, %s' % ROOM,
-        'the median distance follows the room: only a large change is worth a word'),
+        'the median distance follows the room and where the robot looks: only a collapse (a '
+        'hand, a cover, dirt in front of the lens) is worth a word', way=-1),
     'range_noise': Rule(
         'range noise (sd)', 'm', 1.0, True, 'noisier', 'less noisy',
         'check the sensor\'s window and mounting',
-        'a still sensor\'s scatter is its own; a doubling is wear or a loose mounting, not the room'),
+        'a still sensor\'s scatter is its own; a doubling is wear or a loose mounting, not the '
+        'room; under 5 mm of change is below what a sonar or the laser resolves', floor=0.005, way=1),
     'level': Rule(
         'level', 'dBFS', 6.0, False, 'louder', 'quieter',
         'check that microphone\'s grille',
@@ -100,11 +108,12 @@ RULES: Dict[str, Rule] = {
         'gyro bias (mean |w| at rest)', 'rad/s', 0.01, False, 'larger', 'smaller',
         'recalibrate the IMU (keep the robot still during the run)',
         'a still gyrometer reads within about 0.003 rad/s of zero; a bias growing by 0.01 rad/s '
-        '(0.6 deg/s) is drift of the sensor'),
+        '(0.6 deg/s) is drift of the sensor', way=1),
     'gyro_noise': Rule(
         'gyro noise (sd of |w|)', 'rad/s', 1.0, True, 'noisier', 'quieter',
         'check the IMU board',
-        'the noise of a still gyrometer is its own; a doubling is the sensor'),
+        'the noise of a still gyrometer is its own; a doubling is the sensor; under 0.002 rad/s '
+        'of change is within a healthy gyrometer\'s own noise', floor=0.002, way=1),
     'gravity': Rule(
         'gravity magnitude', 'm/s^2', 0.3, False, 'larger', 'smaller',
         'recalibrate the accelerometer',
@@ -113,13 +122,15 @@ RULES: Dict[str, Rule] = {
     'joint_noise': Rule(
         '%s position noise', 'rad', 1.0, True, 'noisier', 'quieter',
         'check that joint\'s encoder (keep the robot still during the run)',
-        'a still joint\'s encoder noise is its own; a doubling is a worn encoder or a loose magnet'),
+        'a still joint\'s encoder noise is its own; a doubling is a worn encoder or a loose '
+        'magnet; under 0.001 rad of change is within the quantisation of a 12-bit encoder '
+        '(2 pi / 4096 = 0.0015 rad a step)', floor=0.001, way=1),
     'temperature': Rule(
         '%s temperature', 'degC', 8.0, False, 'hotter', 'cooler',
         'check that joint (friction, a stalled motor) %s (its temperature, the robot\'s work '
         'before the run)' % ROOM,
         'a joint at rest settles within a few degrees of where it did; 8 degC hotter in the same '
-        'conditions is friction or a motor working against something', digits=0),
+        'conditions is friction or a motor working against something', way=1),
 }
 
 
@@ -182,7 +193,11 @@ class Ref:
 
 
 def _num(v: float, rule: Rule) -> str:
-    return '%.*f' % (rule.digits if abs(v) < 1000 else 0, v)
+    """Three significant digits, none after the point from 100 on (nor for dB and degrees):
+    0.00213, 9.81, 1530, -41 dBFS."""
+    if v == 0 or abs(v) >= 100 or rule.unit in WHOLE:
+        return '%.0f' % v
+    return '%.*f' % (max(0, 2 - int(math.floor(math.log10(abs(v))))), v)
 
 
 def _sentence(label: str, rule: Rule, then: float, now: float, change: str, extra: str, ref: Ref) -> str:

@@ -349,7 +349,11 @@ class Terminal(RunObserver):
         return [r.replace(said, '') for r in reasons] if said else list(reasons)
 
     def _summary_reasons(self, r: SensorResult) -> str:
-        return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
+        drifted = {d.text for d in r.drift}      # said in full under the table (_drift)
+        warnings = [w for w in r.warnings if w not in drifted]
+        if drifted:
+            warnings.append('drifted since the baseline: %s (below)' % ', '.join(d.label for d in r.drift))
+        return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(warnings) if warnings else '')
 
     def _table(self, run: RunResult, width: int) -> None:
         """One row per sensor, reasons wrapped inside their own column."""

@@ -87,7 +87,7 @@ class ImuCheck(Check):
         an, wn = math.sqrt(a.x ** 2 + a.y ** 2 + a.z ** 2), math.sqrt(w.x ** 2 + w.y ** 2 + w.z ** 2)
         self.acc_norm.add(an)
         self.gyro_norm.add(wn)
-        self.gyro_noise.add(wn)
+        self.gyro_noise.add(wn, msg.header.stamp.to_sec() or None)     # the sampling time
         self.acc_values.append(an)
         self.stuck.add((a.x, a.y, a.z, w.x, w.y, w.z), t)
         band = self.expect.acceleration_norm

@@ -55,7 +55,7 @@ class RangeCheck(Check):
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         lo, hi, r = msg.min_range, msg.max_range, msg.range
         self.range.add(r)
-        self.noise.add(r)
+        self.noise.add(r, msg.header.stamp.to_sec() or None)     # the sampling time
         self.fov.add(msg.field_of_view)
         if len(self.range_series) < 2000:
             self.range_series.append((round(t, 3), r if math.isfinite(r) else None))

@@ -1,11 +1,14 @@
 """Cheap measures of how a sensor wears, for the drift from a baseline (outputs/drift.py).
 
 `Noise`: the scatter of a reading that changes slowly (a still robot's joint positions, a sonar
-facing a wall, the gyrometer at rest) without the slow change: the second difference of
-consecutive readings, d2 = x[i] - 2 x[i-1] + x[i-2], cancels a straight-line trend, and for white
-noise of standard deviation s its variance is 6 s^2, so s = sqrt(mean(d2^2) / 6). A slow
-sinusoid of amplitude A and frequency f sampled at r Hz adds only about A (2 pi f / r)^2.
-`BeamNoise` does the same for every beam of a scan (numpy arrays), the median over beams.
+facing a wall, the gyrometer at rest) without the slow change: each reading's residual from the
+straight line through the readings before and after it, r = x1 - (x0 + (x2 - x0) w) with
+w = (t1 - t0) / (t2 - t0) (w = 1/2 without times), whose variance for white noise of standard
+deviation s is s^2 (1 + w^2 + (1 - w)^2): a slow motion, also at an uneven pace when the times
+are the sampling times, adds almost nothing. The estimate is robust: the median absolute
+residual / 0.6745 (the standard deviation of normal noise), so a step (a person walking past
+a sonar, a turn of the robot) in a few readings does not count as noise.
+`BeamNoise` does the same for every beam of a scan (numpy arrays), over all beams together.
 `focus_and_noise` measures a camera frame's sharpness and noise.
 """
 import math
@@ -13,74 +16,66 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+MAD_TO_SD = 0.6745      # median |x| of a normal variable / its standard deviation
+KEEP = 20000            # residuals kept (the first ones): a 10 s window at 50 Hz of 17 joints is 8500
+MIN_RESIDUALS = 10
+
+
+def _robust_sd(residuals: List[float], nd: int) -> Optional[float]:
+    if len(residuals) < MIN_RESIDUALS:
+        return None
+    return round(float(np.median(np.abs(residuals))) / MAD_TO_SD, nd)
+
 
 class Noise:
-    """Standard deviation of a slowly varying reading's noise (see the module's docstring). With
-    the times of the readings (`add(v, t)`: the header stamps, when they are the sampling
-    times) the residual of each reading from the straight line through its neighbours is used
-    instead, r = x1 - (x0 + (x2 - x0) w), w = (t1 - t0) / (t2 - t0), whose variance for white
-    noise is s^2 (1 + w^2 + (1 - w)^2): readings that move (an arm's slow motion) at an uneven
-    pace then add no false noise."""
+    """Standard deviation of a slowly varying reading's noise (see the module's docstring);
+    `add(v, t)` with the reading's sampling time (a header stamp) when there is one."""
 
-    __slots__ = ('prev', 'prev2', 'total', 'n')
+    __slots__ = ('prev', 'prev2', 'residuals')
 
     def __init__(self) -> None:
         self.prev: Optional[Tuple[float, Optional[float]]] = None
         self.prev2: Optional[Tuple[float, Optional[float]]] = None
-        self.total, self.n = 0.0, 0
+        self.residuals: List[float] = []
 
     def add(self, v: float, t: Optional[float] = None) -> None:
         if not math.isfinite(v):          # a gap: start again after it
             self.prev = self.prev2 = None
             return
-        if self.prev is not None and self.prev2 is not None:
+        if self.prev is not None and self.prev2 is not None and len(self.residuals) < KEEP:
             (x0, t0), (x1, t1) = self.prev2, self.prev
+            w = 0.5
             if t is not None and t0 is not None and t1 is not None and t > t1 > t0:
                 w = (t1 - t0) / (t - t0)
-                r = x1 - (x0 + (v - x0) * w)
-                self.total += r * r / (1.0 + w * w + (1.0 - w) ** 2)
-            else:
-                d2 = v - 2.0 * x1 + x0
-                self.total += d2 * d2 / 6.0
-            self.n += 1
+            r = x1 - (x0 + (v - x0) * w)
+            self.residuals.append(r / math.sqrt(1.0 + w * w + (1.0 - w) ** 2))
         self.prev2, self.prev = self.prev, (v, t)
 
     def sd(self, nd: int = 6) -> Optional[float]:
         """The noise's standard deviation; None under 10 readings past the first two."""
-        return round(math.sqrt(self.total / self.n), nd) if self.n >= 10 else None
+        return _robust_sd(self.residuals, nd)
 
 
 class BeamNoise:
-    """`Noise` per beam of consecutive scans of one layout; the median over the beams."""
+    """`Noise` of every beam over consecutive scans of one layout, all beams' residuals together."""
 
     def __init__(self) -> None:
         self.prev: Optional[np.ndarray] = None
         self.prev2: Optional[np.ndarray] = None
-        self.total: Optional[np.ndarray] = None
-        self.n: Optional[np.ndarray] = None
+        self.residuals: List[float] = []
 
     def add(self, ranges: np.ndarray) -> None:
         r = np.asarray(ranges, dtype=float)
         if self.prev is not None and self.prev.shape != r.shape:
-            self.prev = self.prev2 = self.total = self.n = None    # another layout: start again
-        if self.prev is not None and self.prev2 is not None:
-            d2 = r - 2.0 * self.prev + self.prev2
-            ok = np.isfinite(d2)
-            if self.total is None or self.n is None:
-                self.total, self.n = np.zeros(r.shape), np.zeros(r.shape)
-            self.total[ok] += d2[ok] ** 2
-            self.n[ok] += 1
+            self.prev = self.prev2 = None        # another layout: start again
+        if self.prev is not None and self.prev2 is not None and len(self.residuals) < KEEP:
+            res = (self.prev - (self.prev2 + r) / 2.0) / math.sqrt(1.5)
+            self.residuals.extend(res[np.isfinite(res)].tolist())
         self.prev2, self.prev = self.prev, r
 
     def sd(self, nd: int = 5) -> Optional[float]:
-        """The median over beams with 10 or more second differences; None when none has."""
-        if self.total is None or self.n is None:
-            return None
-        enough = self.n >= 10
-        if not enough.any():
-            return None
-        per_beam: List[float] = list(np.sqrt(self.total[enough] / self.n[enough] / 6.0))
-        return round(float(np.median(per_beam)), nd)
+        """The noise's standard deviation over all beams; None under 10 residuals."""
+        return _robust_sd(self.residuals, nd)
 
 
 def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
