@@ -158,3 +158,19 @@ def test_apply_puts_each_drift_on_the_result_as_a_warning_never_a_failure():
 def test_every_rule_has_a_margin_a_reason_and_advice():
     for key, rule in drift.RULES.items():
         assert rule.margin > 0 and len(rule.reason) > 40 and rule.advice, key
+
+
+def test_every_joint_noisier_is_one_warning_naming_them_and_one_noisier_joint_its_own():
+    names = ['HeadYaw', 'HeadPitch', 'HipRoll', 'HipPitch', 'KneePitch']
+    then = JointsValues(position_noise_rad={n: 0.00005 for n in names})
+    d = found(then, JointsValues(position_noise_rad={n: 0.002 for n in names}), 'joints')
+    assert len(d) == 1 and d[0].measure == 'joint_noise:*'
+    assert d[0].text.startswith('position noise of all 5: median 0.00200 rad, was 0.0000500 rad on 2026-11-20')
+    assert "40 times the baseline's" in d[0].text and 'stood still' in d[0].text
+    six = JointsValues(position_noise_rad=dict(then.position_noise_rad, RHand=0.00005))
+    d = found(six, JointsValues(position_noise_rad=dict(six.position_noise_rad, **{n: 0.002 for n in names})),
+              'joints')
+    assert [x.label for x in d] == ['position noise of 5 of 6 (HeadYaw, HeadPitch, HipRoll, HipPitch, KneePitch)']
+    three = dict(then.position_noise_rad, HeadYaw=0.002, HipRoll=0.002, KneePitch=0.002)
+    assert [x.label for x in found(then, JointsValues(position_noise_rad=three), 'joints')] == \
+        ['HeadYaw position noise', 'HipRoll position noise', 'KneePitch position noise']

@@ -44,6 +44,8 @@ EFFECTS = {
     'dim': 'brightness times VALUE, e.g. 0.6: a dusty lens (passes; a drift)',
     'gyro_bias': 'VALUE rad/s added about x: a drifting gyrometer (passes; a drift)',
     'noisy': 'four times the noise of a sonar or the joint encoders (passes; a drift)',
+    'scratched': 'board VALUE\'s window scratched: a third of its points read as a stopped '
+                 'board\'s, each scan (passes; a drift of its valid share)',
     'quiet_channel': 'channel VALUE 12 dB quieter: a clogged grille; needs ~audio direct '
                      '(passes; a drift)',
 }

@@ -59,6 +59,7 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'gyro_bias': (True, ('imu',)),
     'noisy': (False, ('range', 'joints')),
     'quiet_channel': (True, ('audio',)),
+    'scratched': (True, ('laser',)),
 }
 # the laser's boards, in slot order (naoqi_driver laser.cpp:166-205: right, front, left)
 LASER_BOARDS = ('right', 'front', 'left')
@@ -112,6 +113,7 @@ class Faults:
     gyro_bias: Optional[float] = None   # imu: VALUE rad/s added about x (a drifting gyrometer)
     noisy: bool = False                 # sonar, joints: four times the noise (a worn sensor)
     quiet_channel: Tuple[str, ...] = () # audio: these channels 12 dB quieter (a clogged grille)
+    scratched: Optional[str] = None     # laser: this board's window scratched (a third of its points lost)
 
     def describe(self) -> str:
         out = []
@@ -188,7 +190,8 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                                                   'dead_zone': 'dead_zone=front', 'jammed': 'jammed=back',
                                                   'hot_joint': 'hot_joint=76', 'dim': 'dim=0.6',
                                                   'gyro_bias': 'gyro_bias=0.02',
-                                                  'quiet_channel': 'quiet_channel=rearLeft'}[fault]))
+                                                  'quiet_channel': 'quiet_channel=rearLeft',
+                                                  'scratched': 'scratched=front'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
@@ -218,7 +221,7 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                     if match[0] not in channels:
                         channels.append(match[0])
                 values[fault] = tuple(channels)
-            elif fault in ('dead_board', 'nan_board'):
+            elif fault in ('dead_board', 'nan_board', 'scratched'):
                 if value.lower() not in LASER_BOARDS:
                     raise FaultError('unknown laser board "%s" in %s:%s; valid boards: %s'
                                      % (value, name, fault, ', '.join(LASER_BOARDS)))

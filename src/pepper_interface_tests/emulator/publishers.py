@@ -298,6 +298,9 @@ class ImagePublisher(StreamPublisher):
         return msg
 
 
+SCRATCHED_SHARE = 0.35     # laser:scratched: the share of a board's points lost in each scan
+
+
 def _box_blur(img: np.ndarray, k: int = 5) -> np.ndarray:
     """A k x k box blur (separable, edge pixels repeated), the image's dtype kept."""
     out = img.astype(np.float32)
@@ -333,6 +336,13 @@ class LaserPublisher(StreamPublisher):
         f = self.faults
         dead = LASER_BOARDS.index(f.dead_board) if f.dead_board else None
         ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, dead)
+        if f.scratched:       # a scratched window: a third of the board's points lost, each scan
+            # a lost point reads x = y = 0 in ALMemory, as a stopped board's (laser.cpp:170-171)
+            board = LASER_BOARDS.index(f.scratched)
+            lost = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, board)
+            slots = np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]
+            hit = slots[self.rng.random(15) < SCRATCHED_SHARE]
+            ranges[hit] = lost[hit]
         if f.nan_board:       # yohatad/naoqi_driver2: kUnknownRange in a stopped board's slots
             board = LASER_BOARDS.index(f.nan_board)
             ranges[np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]] = np.nan

@@ -45,6 +45,7 @@ class Rule:
     reason: str             # why this margin (docs/drift.md repeats it)
     floor: float = 0.0      # a relative margin: no change smaller than this is a drift (in unit)
     way: int = 0            # +1: only a rise is wear, -1: only a fall, 0: either
+    many: str = ''          # the advice when GROUP or more subjects drift together
 
     def beyond(self, then: float, now: float) -> bool:
         if self.way and (now - then) * self.way <= 0:
@@ -75,7 +76,7 @@ RULES: Dict[str, Rule] = {
         'check the lens (dust, a smear), %s' % ROOM,
         'the spread of a still scene varies by about 10 % between runs; haze on the lens flattens it'),
     'sharpness': Rule(
-        'sharpness (Laplacian variance)', '', 0.50, True, 'sharper', 'blurred',
+        'sharpness (Laplacian / grey variance)', '', 0.50, True, 'sharper', 'blurred',
         'check the focus and the lens, %s (its detail)' % ROOM,
         'the focus measure of one scene varies by about 20 % between runs; a knocked lens or a '
         'smear halves it or worse', way=-1),
@@ -85,7 +86,7 @@ RULES: Dict[str, Rule] = {
         'the noise of one sensor at one light level varies by about 20 %; an ageing or hot '
         'sensor adds half again; under 0.5 grey levels of change is not worth a word', floor=0.5, way=1),
     'valid_share': Rule(
-        'valid share', '', 0.10, False, 'more valid readings', 'fewer valid readings',
+        'valid share', '%', 10.0, False, 'more valid readings', 'fewer valid readings',
         'check the window in front of it for dirt or scratches',
         'the share of valid readings of a healthy sensor in one place moves by a few hundredths; '
         'a scratched or dirty window loses a tenth or more', way=-1),
@@ -124,13 +125,16 @@ RULES: Dict[str, Rule] = {
         'check that joint\'s encoder (keep the robot still during the run)',
         'a still joint\'s encoder noise is its own; a doubling is a worn encoder or a loose '
         'magnet; under 0.001 rad of change is within the quantisation of a 12-bit encoder '
-        '(2 pi / 4096 = 0.0015 rad a step)', floor=0.001, way=1),
+        '(2 pi / 4096 = 0.0015 rad a step)', floor=0.001, way=1,
+        many='many joints at once: check that the robot stood still, then the supply of the '
+             'encoders and the boards that read them'),
     'temperature': Rule(
         '%s temperature', 'degC', 8.0, False, 'hotter', 'cooler',
         'check that joint (friction, a stalled motor) %s (its temperature, the robot\'s work '
         'before the run)' % ROOM,
         'a joint at rest settles within a few degrees of where it did; 8 degC hotter in the same '
-        'conditions is friction or a motor working against something', way=1),
+        'conditions is friction or a motor working against something', way=1,
+        many='many joints at once: the room is warmer or the robot worked before the run'),
 }
 
 
@@ -157,17 +161,18 @@ def measures(r: SensorResult) -> Dict[str, float]:
         out['sharpness'] = getattr(v, 'sharpness', None)
         out['noise'] = getattr(v, 'noise', None)
     elif isinstance(v, DepthValues):
-        out['valid_share'] = v.valid_share.mean if v.valid_share else None
+        out['valid_share'] = 100 * v.valid_share.mean if v.valid_share and v.valid_share.mean is not None \
+            else None
         out['distance'] = v.depth_m.median if v.depth_m else None
     elif isinstance(v, LaserValues):
         for board, share in (v.board_valid_share or {}).items():
-            out['valid_share:' + board] = share
+            out['valid_share:' + board] = 100 * share
         if v.invalid_share is not None and not v.board_valid_share:
-            out['valid_share'] = 1.0 - v.invalid_share
+            out['valid_share'] = 100 * (1.0 - v.invalid_share)
         out['range_noise'] = v.range_noise_m
     elif isinstance(v, RangeValues):
         if r.messages:
-            out['valid_share'] = 1.0 - (v.infinite_ranges or 0) / r.messages
+            out['valid_share'] = 100 * (1.0 - (v.infinite_ranges or 0) / r.messages)
         out['range_noise'] = v.range_noise_m
     elif isinstance(v, AudioValues):
         for ch, level in (v.channels or {}).items():
@@ -180,8 +185,9 @@ def measures(r: SensorResult) -> Dict[str, float]:
         for joint, noise in (v.position_noise_rad or {}).items():
             out['joint_noise:' + joint] = noise
     elif isinstance(v, HealthValues):
-        for row in v.hottest:
-            out['temperature:' + row.joint] = row.temperature_c
+        for joint, temp in (v.temperatures or {row.joint: row.temperature_c for row in v.hottest
+                                                 if row.temperature_c is not None}).items():
+            out['temperature:' + joint] = temp
     return {k: float(x) for k, x in out.items() if _finite(x)}   # type: ignore[arg-type]
 
 
@@ -200,18 +206,25 @@ def _num(v: float, rule: Rule) -> str:
     return '%.*f' % (max(0, 2 - int(math.floor(math.log10(abs(v))))), v)
 
 
+def _unit(rule: Rule) -> str:
+    """The unit as it follows a number: ' m', '/255', '%'."""
+    return (' ' + rule.unit) if rule.unit and rule.unit[0] not in '/%' else rule.unit
+
+
 def _sentence(label: str, rule: Rule, then: float, now: float, change: str, extra: str, ref: Ref) -> str:
-    unit = (' ' + rule.unit) if rule.unit and not rule.unit.startswith('/') else rule.unit
+    unit = _unit(rule)
     return '%s %s%s, was %s%s on %s (run %s): %s%s: %s' % (
         label, _num(now, rule), unit, _num(then, rule), unit, ref.day, ref.run_id, change, extra, rule.advice)
 
 
 def _change(rule: Rule, then: float, now: float) -> str:
     word = rule.up if now > then else rule.down
+    if rule.relative and now >= 2 * then:
+        return '%s: %.2g times the baseline\'s' % (word, now / then)
     if rule.relative:
         return '%.0f %% %s' % (100 * abs(now - then) / then, word)
-    unit = {'dBFS': 'dB'}.get(rule.unit, rule.unit)
-    return '%s %s %s' % (_num(abs(now - then), rule), unit, word)
+    unit = {'dBFS': 'dB', '%': ' points'}.get(rule.unit, ' ' + rule.unit if rule.unit else '')
+    return '%s%s %s' % (_num(abs(now - then), rule), unit, word)
 
 
 def drift(then: SensorResult, now: SensorResult, ref: Ref) -> List[Drift]:
@@ -250,6 +263,43 @@ def drift(then: SensorResult, now: SensorResult, ref: Ref) -> List[Drift]:
         text = _sentence(label, rule, x, y, change, extra, ref)
         out.append(Drift(measure=key, label=label, unit=rule.unit, then=x, now=y, change=change,
                          margin=rule.margin_text(), text=text))
+    return _grouped(out, a, ref)
+
+
+GROUP = 4       # this many subjects (joints, boards) of one kind drifting: one warning for them all
+
+
+def _grouped(found: List[Drift], a: Dict[str, float], ref: Ref) -> List[Drift]:
+    """Drifts of GROUP or more subjects of one kind (every joint noisier) as one: something
+    they share (a supply, the board reading them) rather than each one, and one line to read."""
+    by_kind: Dict[str, List[Drift]] = {}
+    for d in found:
+        kind, _, subject = d.measure.partition(':')
+        if subject:
+            by_kind.setdefault(kind, []).append(d)
+    out = []
+    for d in found:
+        kind, _, subject = d.measure.partition(':')
+        group = by_kind.get(kind, [])
+        if len(group) < GROUP or not subject:
+            out.append(d)
+            continue
+        if d is not group[0]:
+            continue
+        rule = RULES[kind]
+        of = sum(1 for k in a if k.startswith(kind + ':'))
+        names = [g.measure.partition(':')[2] for g in group]
+        then = statistics.median(g.then for g in group if g.then is not None)
+        now = statistics.median(g.now for g in group if g.now is not None)
+        label = '%s of %s' % ((rule.label % '').strip(), 'all %d' % of if len(group) == of else
+                              '%d of %d (%s)' % (len(group), of, ', '.join(names)))
+        change = 'median ' + _change(rule, then, now)
+        unit = _unit(rule)
+        text = '%s: median %s%s, was %s%s on %s (run %s): %s: %s' % (
+            label, _num(now, rule), unit, _num(then, rule), unit, ref.day, ref.run_id, change,
+            rule.many or rule.advice)
+        out.append(Drift(measure=kind + ':*', label=label, unit=rule.unit, then=then, now=now, change=change,
+                         margin=rule.margin_text(), text=text))
     return out
 
 
@@ -257,14 +307,17 @@ def table(then: SensorResult, now: SensorResult) -> List[Tuple[str, float, float
     """Every value both runs measured, drifted or not: (label, then, now, margin, beyond) for
     `sensorTestHistory compare` and the report."""
     a, b = measures(then), measures(now)
-    drifted = {d.measure for d in drift(then, now, Ref('', ''))}
+    found = drift(then, now, Ref('', ''))
+    drifted = {d.measure for d in found}
+    grouped = {d.measure.partition(':')[0] for d in found if d.measure.endswith(':*')}
     rows = []
     for key in (k for k in b if k in a):
         rule, subject = _rule(key)
         label = rule.label % subject if '%s' in rule.label else \
             ('%s %s' % (subject, rule.label) if subject else rule.label)
-        rows.append((label + (' (%s)' % rule.unit if rule.unit and not rule.unit.startswith('/') else ''),
-                     a[key], b[key], rule.margin_text(), key in drifted))
+        rows.append((label + (' (%s)' % rule.unit if rule.unit and rule.unit[0] not in '/%' else ''),
+                     a[key], b[key], rule.margin_text(),
+                     key in drifted or (key.partition(':')[0] in grouped and rule.beyond(a[key], b[key]))))
     return rows
 
 

@@ -376,7 +376,7 @@ class CameraCheck(ImageCheck):
             CameraValues, brightness_mean=self.brightness.spread(2), brightness_spread=self.spread.spread(2),
             frames_black=self.black, frames_constant=self.constant,
             longest_identical_run=self.stuck.longest, stereo=stereo, brightness=list(self.brightness_series),
-            sharpness=self.sharpness.spread(2).mean, noise=self.noise.spread(3).mean)
+            sharpness=self.sharpness.spread(4).mean, noise=self.noise.spread(3).mean)
         if not n:
             return
         self.notes.append('Brightness mean %s; spread (std) %s (0-255, every %dth row and column)'

@@ -81,7 +81,9 @@ class BeamNoise:
 def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
     """(sharpness, noise) of one frame (H x W x channels, 0-255), on every 2nd row and column of
     its grey. Sharpness: the variance of the 4-neighbour Laplacian, the usual focus measure (a
-    blurred or smeared lens loses the fine detail it measures). Noise: Immerkaer's estimate
+    blurred or smeared lens loses the fine detail it measures), over the variance of the grey
+    itself, so that a darker picture of the same scene (less light, a dimmer lens) keeps its
+    sharpness (0 for a flat frame). Noise: Immerkaer's estimate
     (Fast noise variance estimation, CVIU 64(2), 1996): the mean absolute response to the mask
     [[1,-2,1],[-2,4,-2],[1,-2,1]] (which cancels edges and gradients) times sqrt(pi/2) / 6."""
     g = colour[::2, ::2].astype(np.float32).mean(axis=2) if colour.ndim == 3 else \
@@ -91,4 +93,6 @@ def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
     lap = 4 * g[1:-1, 1:-1] - g[:-2, 1:-1] - g[2:, 1:-1] - g[1:-1, :-2] - g[1:-1, 2:]
     dy2 = g[:-2] - 2 * g[1:-1] + g[2:]
     mask = dy2[:, :-2] - 2 * dy2[:, 1:-1] + dy2[:, 2:]
-    return float(lap.var()), float(math.sqrt(math.pi / 2) * np.abs(mask).mean() / 6.0)
+    spread = float(g.var())
+    sharpness = float(lap.var()) / spread if spread > 1e-6 else 0.0
+    return sharpness, float(math.sqrt(math.pi / 2) * np.abs(mask).mean() / 6.0)
