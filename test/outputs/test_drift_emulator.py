@@ -13,16 +13,26 @@ import pytest
 from rosmaster import kill_group, script, spawn, wait_until
 
 PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SENSORS = ['frontCamera', 'imu', 'microphone', 'backSonar', 'jointState']
-WEAR = ('frontCamera:blur;imu:gyro_bias=0.02;microphone:quiet_channel=rearLeft;backSonar:noisy;'
-        'jointState:noisy')
+SENSORS = ['frontCamera', 'bottomCamera', 'laser', 'imu', 'microphone', 'backSonar', 'frontSonar',
+           'jointState', 'robotHealth']
+WEAR = ('frontCamera:blur;bottomCamera:dim=0.6;laser:scratched=front;imu:gyro_bias=0.02;'
+        'microphone:quiet_channel=rearLeft;backSonar:noisy;frontSonar:rate=0.5;jointState:noisy;'
+        'robotHealth:hot_joint=55')
+# what each fault drifts (the measure's key in outputs/drift.py)
+EXPECTED = {'frontCamera': 'sharpness', 'bottomCamera': 'brightness', 'laser': 'valid_share:front',
+            'imu': 'gyro_bias', 'microphone': 'level:rearLeft', 'backSonar': 'range_noise',
+            'frontSonar': 'rate', 'jointState': 'joint_noise:', 'robotHealth': 'temperature:HipPitch'}
+# the degraded conditions, each against a baseline of the same condition (loaded: ~1.3 fps cameras)
+CONDITIONS = {'dark': (['frontCamera', 'depthCamera', 'laser', 'imu', 'backSonar', 'jointState'], 3),
+              'loaded': (['frontCamera', 'depthCamera', 'imu', 'jointState'], 6)}
 
 
 class Emulator:
-    def __init__(self, master, tmp_path, faults=''):
+    def __init__(self, master, tmp_path, faults='', condition='still'):
         self.log_path = tmp_path / ('emulator-%d.log' % time.time_ns())
         self.log = open(str(self.log_path), 'w')
-        params = ['_profile:=robot', '_condition:=still', '_camera_resolution:=QQVGA', '_audio:=direct']
+        params = ['_profile:=robot', '_condition:=' + condition, '_camera_resolution:=QQVGA',
+                  '_audio:=direct']
         if faults:
             params.append('_faults:=' + faults)
         self.proc = spawn(script('pepperEmulator') + ['__name:=emu_%d' % time.time_ns()] + params,
@@ -34,10 +44,10 @@ class Emulator:
         self.log.close()
 
 
-def sensor_test(master, out, *extra):
+def sensor_test(master, out, *extra, sensors=SENSORS, duration=3):
     cmd = script('sensorTest') + [
-        '--topics', os.path.join(PKG, 'data', 'pepperTopics.dat'), '--sensors', ','.join(SENSORS),
-        '--platform', 'robot', '--mode', 'parallel', '--duration', '3', '--wait', '8',
+        '--topics', os.path.join(PKG, 'data', 'pepperTopics.dat'), '--sensors', ','.join(sensors),
+        '--platform', 'robot', '--mode', 'parallel', '--duration', str(duration), '--wait', '8',
         '--output-dir', str(out), '--no-show', '--no-report', '--no-diagnostics', '--no-record'] + list(extra)
     done = subprocess.run(cmd, env=master.env(), capture_output=True, text=True, timeout=120)
     data = json.loads((out / 'sensorTestResults.json').read_text()) if done.returncode in (0, 1) else None
@@ -88,9 +98,7 @@ def test_each_worn_sensor_passes_with_a_drift_warning_naming_then_and_now(runs):
     data = runs['worn']
     assert data is not None, runs['third'].stderr
     s = by_name(data)
-    expected = {'frontCamera': 'sharpness', 'imu': 'gyro_bias', 'microphone': 'level:rearLeft',
-                'backSonar': 'range_noise', 'jointState': 'joint_noise:'}
-    for name, measure in expected.items():
+    for name, measure in EXPECTED.items():
         assert s[name]['verdict'] == 'PASS', (name, s[name]['reasons'])
         hits = [d for d in s[name]['drift'] if d['measure'].startswith(measure)]
         assert hits, (name, s[name]['drift'])
@@ -116,3 +124,20 @@ def test_no_baseline_compares_with_none_and_a_failed_run_is_refused(runs, module
     done, _ = sensor_test(module_master, out, '--baseline', str(folder))
     assert done.returncode == 2 and 'cannot be the baseline' in done.stderr and 'failed in it' in done.stderr
     assert sorted(os.listdir(out / 'runs')) == before
+
+
+@pytest.mark.parametrize('condition', sorted(CONDITIONS))
+def test_a_degraded_condition_against_a_baseline_of_the_same_condition_shows_no_drift(
+        module_master, tmp_path, condition):
+    sensors, duration = CONDITIONS[condition]
+    out = tmp_path / 'out'
+    emu = Emulator(module_master, tmp_path, condition=condition)
+    try:
+        first, base = sensor_test(module_master, out, sensors=sensors, duration=duration)
+        second, data = sensor_test(module_master, out, '--baseline', base['run_id'] if base else 'latest',
+                                   sensors=sensors, duration=duration)
+    finally:
+        emu.stop()
+    assert data is not None and data['baseline']['pinned'] is False, second.stderr
+    for s in data['sensors']:
+        assert s['verdict'] == 'PASS' and s['drift'] == [], (s['name'], s['drift'], s['reasons'])
