@@ -174,3 +174,13 @@ def test_every_joint_noisier_is_one_warning_naming_them_and_one_noisier_joint_it
     three = dict(then.position_noise_rad, HeadYaw=0.002, HipRoll=0.002, KneePitch=0.002)
     assert [x.label for x in found(then, JointsValues(position_noise_rad=three), 'joints')] == \
         ['HeadYaw position noise', 'HipRoll position noise', 'KneePitch position noise']
+
+
+def test_docs_list_every_rule_with_its_margin_and_reason():
+    import os
+    from pepper_interface_tests.plan.settings import package_dir
+    with open(os.path.join(package_dir(), 'docs', 'drift.md'), encoding='utf-8') as f:
+        text = f.read()
+    for key, rule in drift.RULES.items():
+        row = [line for line in text.splitlines() if line.startswith('| `%s` |' % key)]
+        assert row and rule.margin_text() in row[0] and rule.reason in row[0], key

@@ -56,16 +56,18 @@ class Rule:
 
     def margin_text(self) -> str:
         if self.relative:
-            return '%g %%' % (100 * self.margin) + (' and %g %s' % (self.floor, self.unit) if self.floor else '')
-        return '%g %s' % (self.margin, self.unit)
+            return '%g %% of the baseline\'s' % (100 * self.margin) + \
+                (', at least %g%s' % (self.floor, _unit_of(self.unit)) if self.floor else '')
+        return '%g%s' % (self.margin, ' points' if self.unit == '%' else _unit_of(self.unit))
 
 
 RULES: Dict[str, Rule] = {
     'rate': Rule(
         'message rate', 'Hz', 0.30, True, 'faster', 'slower',
         'check the driver\'s settings and the robot\'s load',
-        'a healthy stream keeps its rate within a few per cent from run to run; a loaded machine '
-        'wobbles it by up to about 15 %; a driver update or a failing board halves it'),
+        'a healthy stream keeps its rate within a few per cent from run to run (the emulator\'s '
+        'streams: within 1 %, its loaded cameras at 1.3 fps within 3 %); a busy machine adds a '
+        'few per cent more; a driver update or a failing board halves it'),
     'brightness': Rule(
         'brightness', '/255', 0.35, True, 'brighter', 'darker',
         'check the lens and the exposure, %s (its light)' % ROOM,
@@ -106,12 +108,12 @@ RULES: Dict[str, Rule] = {
         'the four microphones hear one room within a few dB of each other; a channel that moves '
         '6 dB against the other three (a clogged grille, a failing capsule) is the microphone'),
     'gyro_bias': Rule(
-        'gyro bias (mean |w| at rest)', 'rad/s', 0.01, False, 'larger', 'smaller',
+        'gyro bias (mean angular speed at rest)', 'rad/s', 0.01, False, 'larger', 'smaller',
         'recalibrate the IMU (keep the robot still during the run)',
         'a still gyrometer reads within about 0.003 rad/s of zero; a bias growing by 0.01 rad/s '
         '(0.6 deg/s) is drift of the sensor', way=1),
     'gyro_noise': Rule(
-        'gyro noise (sd of |w|)', 'rad/s', 1.0, True, 'noisier', 'quieter',
+        'gyro noise (sd of the angular speed)', 'rad/s', 1.0, True, 'noisier', 'quieter',
         'check the IMU board',
         'the noise of a still gyrometer is its own; a doubling is the sensor; under 0.002 rad/s '
         'of change is within a healthy gyrometer\'s own noise', floor=0.002, way=1),
@@ -136,6 +138,11 @@ RULES: Dict[str, Rule] = {
         'conditions is friction or a motor working against something', way=1,
         many='many joints at once: the room is warmer or the robot worked before the run'),
 }
+
+
+def _unit_of(unit: str) -> str:
+    """A unit as it follows a number: ' m', '/255', '%'."""
+    return (' ' + unit) if unit and unit[0] not in '/%' else unit
 
 
 def _rule(key: str) -> Tuple[Rule, str]:
@@ -207,8 +214,7 @@ def _num(v: float, rule: Rule) -> str:
 
 
 def _unit(rule: Rule) -> str:
-    """The unit as it follows a number: ' m', '/255', '%'."""
-    return (' ' + rule.unit) if rule.unit and rule.unit[0] not in '/%' else rule.unit
+    return _unit_of(rule.unit)
 
 
 def _sentence(label: str, rule: Rule, then: float, now: float, change: str, extra: str, ref: Ref) -> str:
