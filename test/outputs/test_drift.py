@@ -178,6 +178,7 @@ def test_every_joint_noisier_is_one_warning_naming_them_and_one_noisier_joint_it
 
 def test_docs_list_every_rule_with_its_margin_and_reason():
     import os
+
     from pepper_interface_tests.plan.settings import package_dir
     with open(os.path.join(package_dir(), 'docs', 'drift.md'), encoding='utf-8') as f:
         text = f.read()
