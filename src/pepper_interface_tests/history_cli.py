@@ -261,8 +261,12 @@ def build_parser() -> argparse.ArgumentParser:
                         help='this robot\'s baseline: "set RUN" pins a run where every sensor passed '
                              '(an id, a run folder or its sensorTestResults.json), every later run '
                              'is compared with it; "show" names it; "clear" unpins it')
-    bl.add_argument('action', choices=('set', 'show', 'clear'))
-    bl.add_argument('run', nargs='?')
+    bl.add_argument('action', choices=('set', 'show', 'clear'),
+                    help='set RUN: pin it (refused, with the reason, when a sensor failed in it, it '
+                         'was interrupted or cannot be read); show: the pinned run; clear: unpin it')
+    bl.add_argument('run', nargs='?', metavar='RUN',
+                    help='for set: a run id (or a unique prefix, latest, -1, -2, ...), a run folder or '
+                         'its sensorTestResults.json')
     return p
 
 

@@ -226,7 +226,8 @@ def _sentence(label: str, rule: Rule, then: float, now: float, change: str, extr
 def _change(rule: Rule, then: float, now: float) -> str:
     word = rule.up if now > then else rule.down
     if rule.relative and now >= 2 * then:
-        return '%s: %.2g times the baseline\'s' % (word, now / then)
+        ratio = now / then
+        return '%s: %s times the baseline\'s' % (word, '%.1f' % ratio if ratio < 10 else '%.0f' % ratio)
     if rule.relative:
         return '%.0f %% %s' % (100 * abs(now - then) / then, word)
     unit = {'dBFS': 'dB', '%': ' points'}.get(rule.unit, ' ' + rule.unit if rule.unit else '')

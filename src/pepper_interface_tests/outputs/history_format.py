@@ -129,8 +129,9 @@ def format_drift(rows: Sequence[Dict[str, Any]], total: int = 80) -> List[str]:
     drifted = [(r['sensor'], text) for r in rows for text in r.get('drift') or []]
     if not drifted:
         return ['no value drifted beyond its margin (%d values compared; docs/drift.md)' % compared]
-    lines = ['%d value%s drifted beyond its margin (of %d compared; docs/drift.md):'
-             % (len(drifted), '' if len(drifted) == 1 else 's', compared)]
+    lines = ['%s drifted beyond %s margin (of %d compared; docs/drift.md):'
+             % ('1 value' if len(drifted) == 1 else '%d values' % len(drifted),
+                'its' if len(drifted) == 1 else 'their', compared)]
     for sensor, text in drifted:
         lines += textwrap.wrap('%s: %s' % (sensor, text), total - 2, initial_indent='  ',
                                subsequent_indent='      ', break_on_hyphens=False)
