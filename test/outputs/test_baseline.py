@@ -141,3 +141,14 @@ def test_compare_shows_the_drift_between_any_two_runs(tmp_path):
     assert all(len(line) <= 80 for line in text.splitlines())
     code, text = cli(tmp_path, 'compare', '20261120-101500', '20261120-101500')
     assert 'no value drifted beyond its margin (5 values compared' in text
+
+
+def test_a_hand_edited_pointer_is_a_note_not_a_traceback(tmp_path, capsys):
+    (tmp_path / baseline.POINTER).write_text('{"run_id": ')
+    compare, note = baseline.for_run(str(tmp_path), None, 'robot')
+    assert compare is None and 'cannot read' in note and 'baseline clear' in note
+    (tmp_path / baseline.POINTER).write_text('[1, 2]')
+    assert 'names no run' in baseline.for_run(str(tmp_path), None, 'robot')[1]
+    code, _ = cli(tmp_path, 'baseline', 'show')
+    assert code == 2 and 'names no run' in capsys.readouterr().err
+    assert cli(tmp_path, 'baseline', 'clear')[0] == 0 and not (tmp_path / baseline.POINTER).exists()

@@ -145,7 +145,7 @@ class Compare(RunObserver):
 
     def _say(self, text: str) -> None:
         s = self.out or sys.stdout
-        s.write('sensorTest: %s\n' % text)
+        s.write('sensorTest: %s\n' % results.printable(text, 400))
         s.flush()
 
     def run_started(self, run: RunResult, plan: object) -> None:

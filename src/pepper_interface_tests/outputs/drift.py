@@ -191,6 +191,9 @@ def measures(r: SensorResult) -> Dict[str, float]:
     elif isinstance(v, JointsValues):
         for joint, noise in (v.position_noise_rad or {}).items():
             out['joint_noise:' + joint] = noise
+    # the hook for --move runs (the motion check, not here yet): its values dataclass gets a
+    # branch here (how closely each joint and the base followed its command, e.g.
+    # 'tracking_error:<joint>') and its kinds a row each in RULES and docs/drift.md
     elif isinstance(v, HealthValues):
         for joint, temp in (v.temperatures or {row.joint: row.temperature_c for row in v.hottest
                                                  if row.temperature_c is not None}).items():
