@@ -19,6 +19,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+import textwrap
 from typing import List, Optional, Sequence, TextIO
 
 from . import results
@@ -114,8 +115,9 @@ def cmd_baseline(args: argparse.Namespace, base: str, out: TextIO) -> int:
                                'folder or its %s' % results.JSON_FILE)
         run = baseline.find(base, args.run)
         record = baseline.pin(base, run)
-        out.write('baseline: run %s (%s), pinned in %s\n' % (
-            record['run_id'], (run.data or {}).get('start', '-'), os.path.join(base, baseline.POINTER)))
+        out.write('\n'.join(textwrap.wrap('baseline: run %s (%s), pinned in %s' % (
+            record['run_id'], (run.data or {}).get('start', '-'), os.path.join(base, baseline.POINTER)),
+            width(), subsequent_indent='  ', break_on_hyphens=False)) + '\n')
         _note('every later sensorTest run in %s is compared with it (--no-baseline: not)' % base)
         return EXIT_OK
     if args.run:

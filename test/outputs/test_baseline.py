@@ -152,3 +152,28 @@ def test_a_hand_edited_pointer_is_a_note_not_a_traceback(tmp_path, capsys):
     code, _ = cli(tmp_path, 'baseline', 'show')
     assert code == 2 and 'names no run' in capsys.readouterr().err
     assert cli(tmp_path, 'baseline', 'clear')[0] == 0 and not (tmp_path / baseline.POINTER).exists()
+
+
+@pytest.mark.parametrize('columns', [80, 50])
+def test_the_terminal_summary_has_a_drift_section_that_fits(tmp_path, monkeypatch, columns):
+    from pepper_interface_tests.outputs.terminal import Terminal
+    monkeypatch.setenv('COLUMNS', str(columns))
+    write_run(str(tmp_path), '20261120-101500')
+    compare, _ = baseline.for_run(str(tmp_path), '20261120-101500', 'robot')
+    compare.out = io.StringIO()
+    run = RunResult(platform='robot', mode='parallel', start=1795100000.0, end=1795100010.0)
+    compare.run_started(run, None)
+    now = SensorResult(name='microphone', title='Microphones', topic='/mic', msg_type='x', verdict=PASS,
+                       family='audio', values=mics(-41, -30, -29, -31), rate_hz=10.0, messages=100)
+    compare.sensor_done(now)
+    run.sensors.append(now)
+    out = io.StringIO()
+    Terminal(stream=out).run_ended(run)
+    text = out.getvalue() + compare.out.getvalue()
+    assert 'drift since the baseline run 20261120-101500 (1 value, warnings, not failures):' in text
+    assert 'drifted since the baseline: rearLeft level (below)' in ' '.join(text.split())
+    assert 'grille' in text and all(len(line) <= columns for line in text.splitlines()), text
+    run.sensors[0].drift, run.sensors[0].warnings = [], []
+    out = io.StringIO()
+    Terminal(stream=out).run_ended(run)
+    assert 'no drift since the baseline run 20261120-101500' in out.getvalue()

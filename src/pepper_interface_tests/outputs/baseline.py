@@ -23,6 +23,7 @@ from ..results import FAIL, RunResult, SensorResult
 from . import drift, files
 from .atomicfile import write_atomic
 from .history import HistoryError, RunInfo, list_runs, resolve
+from .terminal import fill
 
 POINTER = 'baseline.json'
 
@@ -145,7 +146,7 @@ class Compare(RunObserver):
 
     def _say(self, text: str) -> None:
         s = self.out or sys.stdout
-        s.write('sensorTest: %s\n' % results.printable(text, 400))
+        s.write(fill('sensorTest: %s' % results.printable(text, 400)) + '\n')
         s.flush()
 
     def run_started(self, run: RunResult, plan: object) -> None:

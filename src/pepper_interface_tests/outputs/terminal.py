@@ -334,9 +334,10 @@ class Terminal(RunObserver):
                   % (base, count, '' if count == 1 else 's'))
         for r in drifted:
             for d in r.drift:
-                for i, part in enumerate(textwrap.wrap('%s: %s' % (r.name, printable(d.text, REASON_LIMIT)),
-                                                       width - 2, break_on_hyphens=False)):
-                    self.line(('  ' if i == 0 else '      ') + part)
+                for part in textwrap.wrap('%s: %s' % (r.name, printable(d.text, REASON_LIMIT)), width,
+                                          initial_indent='  ', subsequent_indent='      ',
+                                          break_on_hyphens=False):
+                    self.line(part)
 
     def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance
