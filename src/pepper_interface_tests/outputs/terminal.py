@@ -330,8 +330,9 @@ class Terminal(RunObserver):
             self.line('no drift since %s' % base)
             return
         count = sum(len(r.drift) for r in drifted)
-        self.line('drift since %s (%d value%s, warnings, not failures):'
-                  % (base, count, '' if count == 1 else 's'))
+        for part in textwrap.wrap('drift since %s (%d value%s, warnings, not failures):'
+                                  % (base, count, '' if count == 1 else 's'), width, subsequent_indent='  '):
+            self.line(part)
         for r in drifted:
             for d in r.drift:
                 for part in textwrap.wrap('%s: %s' % (r.name, printable(d.text, REASON_LIMIT)), width,
