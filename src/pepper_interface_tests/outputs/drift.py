@@ -93,10 +93,11 @@ RULES: Dict[str, Rule] = {
         'the share of valid readings of a healthy sensor in one place moves by a few hundredths; '
         'a scratched or dirty window loses a tenth or more', way=-1),
     'distance': Rule(
-        'median distance', 'm', 0.60, True, 'farther', 'nearer',
+        'distance (the middle third of the frame)', 'm', 0.75, True, 'farther', 'nearer',
         'check that nothing covers it, %s' % ROOM,
-        'the median distance follows the room and where the robot looks: only a collapse (a '
-        'hand, a cover, dirt in front of the lens) is worth a word', way=-1),
+        'the distance follows the room and where the robot looks (a robot turning in a room '
+        'halves it from run to run): only a collapse to a quarter (a hand, a cover, dirt in '
+        'front of the lens) is worth a word', way=-1),
     'range_noise': Rule(
         'range noise (sd)', 'm', 1.0, True, 'noisier', 'less noisy',
         'check the sensor\'s window and mounting',
@@ -170,7 +171,8 @@ def measures(r: SensorResult) -> Dict[str, float]:
     elif isinstance(v, DepthValues):
         out['valid_share'] = 100 * v.valid_share.mean if v.valid_share and v.valid_share.mean is not None \
             else None
-        out['distance'] = v.depth_m.median if v.depth_m else None
+        out['distance'] = v.centre_depth_m if v.centre_depth_m is not None else \
+            v.depth_m.median if v.depth_m else None
     elif isinstance(v, LaserValues):
         for board, share in (v.board_valid_share or {}).items():
             out['valid_share:' + board] = 100 * share
