@@ -120,6 +120,8 @@ def test_the_observer_puts_drift_on_each_result_and_the_run_names_its_baseline(t
     assert data['baseline']['run_id'] == '20261120-101500'
     back = results.sensor_dict(now)
     assert back['drift'][0]['then'] == -29 and back['drift'][0]['now'] == -41
+    read = results.read_run(json.loads(json.dumps(dict(data, sensors=[back]))))
+    assert read.baseline['run_id'] == '20261120-101500' and read.sensors[0].drift == now.drift
 
 
 def test_a_pinned_baseline_of_another_platform_is_noted_and_not_used(tmp_path):

@@ -90,8 +90,11 @@ def test_half_the_rate_is_a_drift_and_a_loaded_wobble_is_not():
     assert drift.drift(result('camera', v, rate=10.0), result('camera', v, rate=8.5), REF) == []
 
 
-def test_touch_events_have_no_rate_to_drift():
+def test_touch_events_and_a_rate_from_few_messages_have_no_rate_to_drift():
     assert drift.drift(result('touch', None, rate=10.0), result('touch', None, rate=1.0), REF) == []
+    few = drift.drift(result('camera', camera(), rate=1.0, messages=3), result('camera', camera(), rate=0.5,
+                                                                                messages=2), REF)
+    assert few == []
 
 
 def test_imu_bias_noise_and_gravity():

@@ -28,6 +28,7 @@ from ..sensors.values.joints import JointsValues
 from ..sensors.values.laser import LaserValues
 from ..sensors.values.range import RangeValues
 
+MIN_RATE_MESSAGES = 10        # a rate from fewer messages (robotHealth's 1 Hz arrays) is too coarse
 WHOLE = ('dBFS', 'degC')      # units shown in whole numbers
 ROOM = 'or the room differs from the baseline\'s'
 
@@ -160,7 +161,8 @@ def measures(r: SensorResult) -> Dict[str, float]:
     'kind' or 'kind:subject' (a channel, board or joint), the kind a row of RULES."""
     out: Dict[str, Optional[float]] = {}
     fam = families.FAMILIES.get(r.family)
-    if r.rate_hz and fam is not None and fam.traits.periodic and not fam.traits.drives_itself:
+    if r.rate_hz and fam is not None and fam.traits.periodic and not fam.traits.drives_itself \
+            and r.messages >= MIN_RATE_MESSAGES:
         out['rate'] = r.rate_hz        # event streams (touch) have no rate of their own
     v = r.values
     if isinstance(v, CameraValues):
