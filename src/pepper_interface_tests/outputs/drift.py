@@ -128,8 +128,9 @@ RULES: Dict[str, Rule] = {
         '%s position noise', 'rad', 1.0, True, 'noisier', 'quieter',
         'check that joint\'s encoder (keep the robot still during the run)',
         'a still joint\'s encoder noise is its own; a doubling is a worn encoder or a loose '
-        'magnet; under 0.001 rad of change is within the quantisation of a 12-bit encoder '
-        '(2 pi / 4096 = 0.0015 rad a step)', floor=0.001, way=1,
+        'magnet; a change under 0.001 rad (0.06 deg) is not worth a word (a real Pepper\'s '
+        'still joints were not measured here: the floor is a judgement, not a datasheet '
+        'figure)', floor=0.001, way=1,
         many='many joints at once: check that the robot stood still, then the supply of the '
              'encoders and the boards that read them'),
     'temperature': Rule(
