@@ -15,7 +15,7 @@ import os
 import sys
 import tempfile
 import time
-from typing import Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional
 
 from . import interrupts, results
 from .outputs.terminal import HelpFormatter
@@ -109,12 +109,26 @@ def _main(argv):
         plan_error = e   # private ROS params may still set it right: see run_live
     interrupts.pause('start-up')
     try:
+        if plan is not None and isinstance(cli.baseline, str):
+            _baseline(plan)         # a run that cannot serve is refused before any master is sought
         if cli.bag:
             assert plan is not None     # a bag's plan error ended the run above
             return run_bag(plan, cli.bag, cli)
         return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))
+
+
+def _baseline(plan: TestPlan) -> Any:
+    """The run's baseline comparison (outputs/baseline.py) and its note; ConfigError (exit 2)
+    when --baseline names a run that is not there or cannot serve."""
+    from .outputs import baseline
+    from .outputs.history import HistoryError
+    try:
+        return baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform)
+    except HistoryError as e:
+        raise ConfigError('--baseline: %s' % e, fix='pin a run where every sensor passed (sensorTestHistory '
+                          'baseline set RUN), or run with --no-baseline') from None
 
 
 def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[ConfigError] = None,
@@ -205,16 +219,12 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
     interrupts.POLICY.phase = 'defer'
     interrupts.pause('run-folder')
-    from .outputs import baseline, observers
-    from .outputs.history import HistoryError, RunFolder
+    from .outputs import observers
+    from .outputs.history import RunFolder
     from .outputs.terminal import Terminal
     from .runner import Runner
     from .sensors.base import RunContext
-    try:   # the run it is compared with: --baseline's (refused: exit 2), else the pinned one
-        compare, note = baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform)
-    except HistoryError as e:
-        raise ConfigError('--baseline: %s' % e, fix='pin a run where every sensor passed (sensorTestHistory '
-                          'baseline set RUN), or run with --no-baseline') from None
+    compare, note = _baseline(plan)   # --baseline's run (refused: exit 2), else the pinned one
     if note:
         print('sensorTest: note: %s' % note, flush=True)
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>

@@ -141,3 +141,19 @@ def test_a_degraded_condition_against_a_baseline_of_the_same_condition_shows_no_
     assert data is not None and data['baseline']['pinned'] is False, second.stderr
     for s in data['sensors']:
         assert s['verdict'] == 'PASS' and s['drift'] == [], (s['name'], s['drift'], s['reasons'])
+
+
+def test_a_baseline_that_cannot_serve_is_refused_before_any_master_is_sought(tmp_path):
+    folder = tmp_path / 'out' / 'runs' / '20261120-101500'
+    folder.mkdir(parents=True)
+    (folder / 'sensorTestResults.json').write_text(json.dumps(
+        {'schema_version': 1, 'run_id': '20261120-101500', 'platform': 'robot', 'interrupted': True,
+         'interrupt_reason': 'SIGTERM', 'sensors': [{'name': 'laser', 'verdict': 'PASS'}]}))
+    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:9')     # nothing listens there
+    for ref, why in (('20261120', 'it was interrupted (SIGTERM)'), ('2025', 'unknown run id "2025"')):
+        done = subprocess.run(script('sensorTest') + ['--output-dir', str(tmp_path / 'out'), '--baseline', ref,
+                                                      '--sensors', 'laser'],
+                              env=env, capture_output=True, text=True, timeout=60)
+        assert done.returncode == 2 and why in done.stderr and 'no ROS master' not in done.stderr, done.stderr
+        assert '--no-baseline' in done.stderr
+    assert os.listdir(tmp_path / 'out' / 'runs') == ['20261120-101500']
