@@ -47,6 +47,7 @@ class Rule:
     floor: float = 0.0      # a relative margin: no change smaller than this is a drift (in unit)
     way: int = 0            # +1: only a rise is wear, -1: only a fall, 0: either
     many: str = ''          # the advice when GROUP or more subjects drift together
+    against: str = ''       # the margin is against these, not against the value then
 
     def beyond(self, then: float, now: float) -> bool:
         if self.way and (now - then) * self.way <= 0:
@@ -56,6 +57,8 @@ class Rule:
         return abs(now - then) > self.margin
 
     def margin_text(self) -> str:
+        if self.against:
+            return '%g %s against %s' % (self.margin, {'dBFS': 'dB'}.get(self.unit, self.unit), self.against)
         if self.relative:
             return '%g %% of the baseline\'s' % (100 * self.margin) + \
                 (', at least %g%s' % (self.floor, _unit_of(self.unit)) if self.floor else '')
@@ -108,7 +111,8 @@ RULES: Dict[str, Rule] = {
         'level', 'dBFS', 6.0, False, 'louder', 'quieter',
         'check that microphone\'s grille',
         'the four microphones hear one room within a few dB of each other; a channel that moves '
-        '6 dB against the other three (a clogged grille, a failing capsule) is the microphone'),
+        '6 dB against the other three (a clogged grille, a failing capsule) is the microphone',
+        against='the change of the other channels'),
     'gyro_bias': Rule(
         'gyro bias (mean angular speed at rest)', 'rad/s', 0.01, False, 'larger', 'smaller',
         'recalibrate the IMU (keep the robot still during the run)',
@@ -153,6 +157,13 @@ def _rule(key: str) -> Tuple[Rule, str]:
     return RULES[kind], subject
 
 
+def _label(rule: Rule, subject: str) -> str:
+    """'rearLeft level', 'HipPitch position noise', 'brightness'."""
+    if '%s' in rule.label:
+        return rule.label % subject
+    return '%s %s' % (subject, rule.label) if subject else rule.label
+
+
 def _finite(v: Optional[float]) -> bool:
     return v is not None and isinstance(v, (int, float)) and math.isfinite(v)
 
@@ -169,8 +180,8 @@ def measures(r: SensorResult) -> Dict[str, float]:
     if isinstance(v, CameraValues):
         out['brightness'] = v.brightness_mean.mean if v.brightness_mean else None
         out['contrast'] = v.brightness_spread.mean if v.brightness_spread else None
-        out['sharpness'] = getattr(v, 'sharpness', None)
-        out['noise'] = getattr(v, 'noise', None)
+        out['sharpness'] = v.sharpness
+        out['noise'] = v.noise
     elif isinstance(v, DepthValues):
         out['valid_share'] = 100 * v.valid_share.mean if v.valid_share and v.valid_share.mean is not None \
             else None
@@ -253,8 +264,7 @@ def drift(then: SensorResult, now: SensorResult, ref: Ref) -> List[Drift]:
     for key in (k for k in b if k in a):
         rule, subject = _rule(key)
         x, y = a[key], b[key]
-        label = rule.label % subject if '%s' in rule.label else \
-            ('%s %s' % (subject, rule.label) if subject else rule.label)
+        label = _label(rule, subject)
         extra = ''
         if rule is RULES['level']:
             # one channel against the others: a louder or quieter room moves all four
@@ -328,8 +338,7 @@ def table(then: SensorResult, now: SensorResult) -> List[Tuple[str, float, float
     rows = []
     for key in (k for k in b if k in a):
         rule, subject = _rule(key)
-        label = rule.label % subject if '%s' in rule.label else \
-            ('%s %s' % (subject, rule.label) if subject else rule.label)
+        label = _label(rule, subject)
         rows.append((label + (' (%s)' % rule.unit if rule.unit and rule.unit[0] not in '/%' else ''),
                      a[key], b[key], rule.margin_text(),
                      key in drifted or (key.partition(':')[0] in grouped and rule.beyond(a[key], b[key]))))
