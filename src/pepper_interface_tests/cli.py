@@ -15,7 +15,7 @@ import os
 import sys
 import tempfile
 import time
-from typing import Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional
 
 from . import interrupts, results
 from .outputs.terminal import HelpFormatter
@@ -109,12 +109,26 @@ def _main(argv):
         plan_error = e   # private ROS params may still set it right: see run_live
     interrupts.pause('start-up')
     try:
+        if plan is not None and isinstance(cli.baseline, str):
+            _baseline(plan)         # a run that cannot serve is refused before any master is sought
         if cli.bag:
             assert plan is not None     # a bag's plan error ended the run above
             return run_bag(plan, cli.bag, cli)
         return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))
+
+
+def _baseline(plan: TestPlan) -> Any:
+    """The run's baseline comparison (outputs/baseline.py) and its note; ConfigError (exit 2)
+    when --baseline names a run that is not there or cannot serve."""
+    from .outputs import baseline
+    from .outputs.history import HistoryError
+    try:
+        return baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform)
+    except HistoryError as e:
+        raise ConfigError('--baseline: %s' % e, fix='pin a run where every sensor passed (sensorTestHistory '
+                          'baseline set RUN), or run with --no-baseline') from None
 
 
 def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[ConfigError] = None,
@@ -210,6 +224,9 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     from .outputs.terminal import Terminal
     from .runner import Runner
     from .sensors.base import RunContext
+    compare, note = _baseline(plan)   # --baseline's run (refused: exit 2), else the pinned one
+    if note:
+        print('sensorTest: note: %s' % note, flush=True)
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
         folder = RunFolder.create(plan.output_dir, keep=plan.options.history is not False)
     except OSError as e:
@@ -220,7 +237,8 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     if plan.options.debug:
         ctx.services.debug = _debug_line
     watchers = observers.observers_for(plan, ctx, source_name, folder)
-    runner = Runner(plan, ctx, source, observers=[Terminal()] + watchers, clock=clock,
+    first = [compare] if compare is not None else []     # drift on each result before any output sees it
+    runner = Runner(plan, ctx, source, observers=first + [Terminal()] + watchers, clock=clock,
                     signals=interrupts.POLICY)
     runner.run.run_id = folder.run_id
     runner.run.source = source_name

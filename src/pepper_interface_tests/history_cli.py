@@ -6,10 +6,11 @@
     sensorTestHistory [--output-dir DIR] open [RUN] [--browser]
     sensorTestHistory [--output-dir DIR] failed [RUN]
     sensorTestHistory [--output-dir DIR] prune (--keep N | --days D) [--dry-run]
+    sensorTestHistory [--output-dir DIR] baseline (set RUN | show | clear)
 
 `--output-dir` may also come after the command. Text output fits the terminal's width (80
 columns when it is not a terminal, or `COLUMNS`). Exit codes: 0 done; 1 `failed`: no sensor
-failed, `prune`: a folder could not be deleted; 2 unknown run id, no runs, bad usage.
+failed, `prune`: a folder could not be deleted, `baseline show`: none pinned; 2 unknown run id, no runs, bad usage.
 """
 import argparse
 import json
@@ -18,6 +19,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+import textwrap
 from typing import List, Optional, Sequence, TextIO
 
 from . import results
@@ -102,6 +104,41 @@ def _run_or_latest(runs, ref, usable, what):
             return run
         _note('skipping run %s: it %s' % (run.run_id, why))
     raise HistoryError('no run has %s' % what)
+
+
+def cmd_baseline(args: argparse.Namespace, base: str, out: TextIO) -> int:
+    """Pin, show or clear this robot's baseline run (outputs/baseline.py)."""
+    from .outputs import baseline
+    if args.action == 'set':
+        if not args.run:
+            raise HistoryError('baseline set needs a run: an id (sensorTestHistory list), a run '
+                               'folder or its %s' % results.JSON_FILE)
+        run = baseline.find(base, args.run)
+        record = baseline.pin(base, run)
+        out.write('\n'.join(textwrap.wrap('baseline: run %s (%s), pinned in %s' % (
+            record['run_id'], (run.data or {}).get('start', '-'), os.path.join(base, baseline.POINTER)),
+            width(), subsequent_indent='  ', break_on_hyphens=False)) + '\n')
+        _note('every later sensorTest run in %s is compared with it (--no-baseline: not)' % base)
+        return EXIT_OK
+    if args.run:
+        raise HistoryError('baseline %s takes no run' % args.action)
+    if args.action == 'clear':
+        if baseline.clear(base):
+            out.write('baseline cleared in %s\n' % base)
+        else:
+            _note('no baseline was pinned in %s' % base)
+        return EXIT_OK
+    shown = baseline.pinned(base)
+    if shown is None:
+        out.write('no baseline pinned in %s (sensorTestHistory baseline set RUN pins one)\n' % base)
+        return EXIT_NOTHING
+    pinned_run, why = baseline.load_pinned(base)
+    usable = why or (baseline.why_not(pinned_run) if pinned_run is not None else '')
+    out.write('baseline: run %s, pinned %s\n  %s\n' % (shown.get('run_id'), shown.get('pinned_at', '-'),
+                                                       shown.get('path')))
+    if usable:
+        out.write('  not used: %s\n' % usable)
+    return EXIT_OK
 
 
 def cmd_open(args: argparse.Namespace, runs: List[RunInfo], out: TextIO) -> int:
@@ -189,10 +226,10 @@ def build_parser() -> argparse.ArgumentParser:
                             '<output dir>/runs/, and print the sensors that failed.',
                 epilog='run ids: an exact id (20260121-091500), a unique prefix, "latest", or -1, -2, ...\n'
                        'exit codes: 0 done; 1 failed: no sensor failed, prune: a folder could not be '
-                       'deleted; 2 unknown run id, no runs, or bad usage')
+                       'deleted, baseline show: none pinned; 2 unknown run id, no runs, or bad usage')
     p.add_argument('--output-dir', metavar='DIR', help='the output folder sensorTest wrote to '
                    '(default: sensorTest\'s default); also accepted after the command')
-    sub = p.add_subparsers(dest='command', metavar='{list,compare,path,open,failed,prune}',
+    sub = p.add_subparsers(dest='command', metavar='{list,compare,path,open,failed,prune,baseline}',
                            parser_class=_Parser)
     sub.required = True
     ls = sub.add_parser('list', parents=[where], help='list past runs, oldest first')
@@ -222,6 +259,16 @@ def build_parser() -> argparse.ArgumentParser:
     pr.add_argument('--keep', type=_non_negative_int, metavar='N', help='keep the N newest runs')
     pr.add_argument('--days', type=_positive_days, metavar='D', help='keep runs newer than D days')
     pr.add_argument('--dry-run', action='store_true', help='say what would be deleted, delete nothing')
+    bl = sub.add_parser('baseline', parents=[where],
+                        help='this robot\'s baseline: "set RUN" pins a run where every sensor passed '
+                             '(an id, a run folder or its sensorTestResults.json), every later run '
+                             'is compared with it; "show" names it; "clear" unpins it')
+    bl.add_argument('action', choices=('set', 'show', 'clear'),
+                    help='set RUN: pin it (refused, with the reason, when a sensor failed in it, it '
+                         'was interrupted or cannot be read); show: the pinned run; clear: unpin it')
+    bl.add_argument('run', nargs='?', metavar='RUN',
+                    help='for set: a run id (or a unique prefix, latest, -1, -2, ...), a run folder or '
+                         'its sensorTestResults.json')
     return p
 
 
@@ -259,6 +306,8 @@ def main(argv: Optional[Sequence[str]] = None, out: Optional[TextIO] = None) -> 
             return cmd_open(args, runs, out)
         if args.command == 'failed':
             return cmd_failed(args, runs, out)
+        if args.command == 'baseline':
+            return cmd_baseline(args, base, out)
         if args.command == 'prune':
             return prune(runs, base, args.keep, args.days, args.dry_run, out, width())
         return cmd_compare(args, runs, base, out)

@@ -69,6 +69,20 @@ def timestamp(t: Optional[float] = None) -> str:
     return dt.strftime('%Y-%m-%d.%H:%M:%S')
 
 
+@dataclass(frozen=True)
+class Drift:
+    """One measured value that moved beyond its margin since the baseline run (outputs/drift.py):
+    a warning on the sensor, never a failure."""
+    measure: str            # the drift table's key, e.g. 'level_rearLeft', 'rate'
+    label: str              # 'rearLeft level'
+    unit: str               # 'dBFS', 'Hz', ...
+    then: Optional[float] = None     # the baseline run's value
+    now: Optional[float] = None      # this run's value
+    change: str = ''        # '12 dB quieter'
+    margin: str = ''        # the margin it went beyond, in words: '6 dB'
+    text: str = ''          # the whole warning, as SensorResult.warnings holds it
+
+
 @dataclass
 class SensorResult:
     name: str
@@ -98,6 +112,7 @@ class SensorResult:
     artifacts: Dict = field(default_factory=dict)
     family: str = ''                     # the check family (sensors/families.py), '' when unknown
     rate_series: Optional[List[Tuple[float, float]]] = None   # messages per second over the window
+    drift: List[Drift] = field(default_factory=list)   # values beyond their margin since the baseline
 
     @property
     def ok(self) -> bool:
@@ -120,6 +135,8 @@ class RunResult:
     sensors: List[SensorResult] = field(default_factory=list)
     write_errors: List[str] = field(default_factory=list)   # results files that could not be written
     param_sources: Dict = field(default_factory=dict)        # option -> where its ROS param came from
+    # the run compared with (outputs/baseline.py): run_id, start, path; {} when none
+    baseline: Dict = field(default_factory=dict)
 
     @property
     def exit_code(self) -> int:
@@ -157,6 +174,7 @@ class RunResult:
             'files': self.files,
             'options': self.options,
             'param_sources': self.param_sources,
+            'baseline': self.baseline or None,
             'sensors': sensors,
         }
 
@@ -239,7 +257,8 @@ def read_run(data: Dict[str, Any], values_of: Optional[ValuesOf] = None,
                     output_dir=_text(data.get('output_dir')), run_id=_text(data.get('run_id')),
                     source=_text(data.get('source')) or 'live', files=_dict(data.get('files')),
                     options=_dict(data.get('options')), write_errors=_texts(data.get('write_errors')),
-                    param_sources=_dict(data.get('param_sources')))
+                    param_sources=_dict(data.get('param_sources')),
+                    baseline=_dict(data.get('baseline')))
     for s in data.get('sensors') or []:
         run.sensors.append(_read_sensor(s, values_of, family_of))
     return run
@@ -268,6 +287,11 @@ def _read_sensor(s, values_of, family_of):
             r.values = codec.join(cls, s.get('values'), s.get('series'))
         except codec.CodecError:
             r.values = None          # values of another version that do not fit: the verdict stays
+    for d in s.get('drift') if isinstance(s.get('drift'), list) else []:
+        try:
+            r.drift.append(codec.from_json(Drift, d))
+        except codec.CodecError:
+            pass                 # a drift of another version: its warning stays in warnings
     series = s.get('series')
     if isinstance(series, dict) and isinstance(series.get('rate_hz'), list):
         r.rate_series = [(float(p[0]), float(p[1])) for p in series['rate_hz']

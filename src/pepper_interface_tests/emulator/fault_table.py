@@ -44,6 +44,14 @@ EFFECTS = {
                        'channel from one buffer; needs ~audio direct',
     'planar_as_interleaved': 'each buffer\'s planar samples read as interleaved: channel c '
                              'gets samples c, c+4, ... of one microphone; needs ~audio direct',
+    'blur': 'out of focus: a 5 x 5 box blur (passes; a drift of its sharpness)',
+    'dim': 'brightness times VALUE, e.g. 0.6: a dusty lens (passes; a drift)',
+    'gyro_bias': 'VALUE rad/s added about x: a drifting gyrometer (passes; a drift)',
+    'noisy': 'four times the noise of a sonar or the joint encoders (passes; a drift)',
+    'scratched': 'board VALUE\'s window scratched: a third of its points read as a stopped '
+                 'board\'s, each scan (passes; a drift of its valid share)',
+    'quiet_channel': 'channel VALUE 12 dB quieter: a clogged grille; needs ~audio direct '
+                     '(passes; a drift)',
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',

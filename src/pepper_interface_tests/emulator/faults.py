@@ -56,6 +56,13 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'jammed': (True, ('touch',)),
     'hot_joint': (True, ('health',)),
     'empty_battery': (False, ('health',)),
+    # wear: still within the absolute rules, a drift from a baseline (outputs/drift.py)
+    'blur': (False, ('camera',)),
+    'dim': (True, ('camera',)),
+    'gyro_bias': (True, ('imu',)),
+    'noisy': (False, ('range', 'joints')),
+    'quiet_channel': (True, ('audio',)),
+    'scratched': (True, ('laser',)),
 }
 # the laser's boards, in slot order (naoqi_driver laser.cpp:166-205: right, front, left)
 LASER_BOARDS = ('right', 'front', 'left')
@@ -106,6 +113,12 @@ class Faults:
     jammed: Tuple[str, ...] = ()        # touch: pressed 1 s after the first subscriber, never released
     hot_joint: Optional[float] = None   # health: HipPitch at this temperature (°C)
     empty_battery: bool = False         # health: 12 %, not charging
+    blur: bool = False                  # camera: out of focus (a 5 x 5 box blur)
+    dim: Optional[float] = None         # camera: brightness times VALUE (a dusty lens)
+    gyro_bias: Optional[float] = None   # imu: VALUE rad/s added about x (a drifting gyrometer)
+    noisy: bool = False                 # sonar, joints: four times the noise (a worn sensor)
+    quiet_channel: Tuple[str, ...] = () # audio: these channels 12 dB quieter (a clogged grille)
+    scratched: Optional[str] = None     # laser: this board's window scratched (a third of its points lost)
 
     def describe(self) -> str:
         out = []
@@ -180,12 +193,15 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                                                   'silent_channel': 'silent_channel=rearRight',
                                                   'dead_board': 'dead_board=front', 'nan_board': 'nan_board=left',
                                                   'dead_zone': 'dead_zone=front', 'jammed': 'jammed=back',
-                                                  'hot_joint': 'hot_joint=76'}[fault]))
+                                                  'hot_joint': 'hot_joint=76', 'dim': 'dim=0.6',
+                                                  'gyro_bias': 'gyro_bias=0.02',
+                                                  'quiet_channel': 'quiet_channel=rearLeft',
+                                                  'scratched': 'scratched=front'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
                 values['rate'] = _number(name, fault, value)
-            elif fault == 'hot_joint':
+            elif fault in ('hot_joint', 'dim', 'gyro_bias'):
                 values[fault] = _number(name, fault, value)
             elif fault in ('dead_zone', 'jammed'):
                 zones = [z.id for z in touch.zones_of(catalog.SENSORS[name].msg_type)[1]]
@@ -200,8 +216,8 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                 values[fault] = tuple(chosen)
             elif fault in ('die_after', 'after'):
                 values[fault] = _number(name, fault, value, positive_only=False)
-            elif fault == 'silent_channel':
-                channels = list(values.get('silent_channel', ()))
+            elif fault in ('silent_channel', 'quiet_channel'):
+                channels = list(values.get(fault, ()))
                 for ch in (c.strip() for c in value.replace('+', '|').split('|')):
                     match = [c for c in MIC_CHANNELS if c.lower() == ch.lower()]
                     if not match:
@@ -209,8 +225,8 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                                          % (ch, ', '.join(MIC_CHANNELS)))
                     if match[0] not in channels:
                         channels.append(match[0])
-                values['silent_channel'] = tuple(channels)
-            elif fault in ('dead_board', 'nan_board'):
+                values[fault] = tuple(channels)
+            elif fault in ('dead_board', 'nan_board', 'scratched'):
                 if value.lower() not in LASER_BOARDS:
                     raise FaultError('unknown laser board "%s" in %s:%s; valid boards: %s'
                                      % (value, name, fault, ', '.join(LASER_BOARDS)))

@@ -275,6 +275,10 @@ class ImagePublisher(StreamPublisher):
         img = self.renderer.render(t)
         if self.dark:
             img = (img * DARK_FACTOR).astype(img.dtype)
+        if f.dim is not None:       # a dusty lens lets less light through
+            img = np.clip(img * f.dim, 0, 255).astype(img.dtype)
+        if f.blur:                  # out of focus: each pixel the mean of its 5 x 5 neighbours
+            img = _box_blur(img)
         if f.far_depth:         # every pixel ~20 m: beyond what the camera measures
             img = (20000 + img % 100).astype(img.dtype)
         elif f.flat_depth:      # one value everywhere, no noise, no floor
@@ -292,6 +296,24 @@ class ImagePublisher(StreamPublisher):
             msg.step = s.width * self.bpp // 2
         msg.data = self.pixels(t)
         return msg
+
+
+SCRATCHED_SHARE = 0.35     # laser:scratched: the share of a board's points lost in each scan
+
+
+def _box_blur(img: np.ndarray, k: int = 5) -> np.ndarray:
+    """A k x k box blur (separable, edge pixels repeated), the image's dtype kept."""
+    out = img.astype(np.float32)
+    pad = k // 2
+    for axis in (0, 1):
+        widths = [(0, 0)] * out.ndim
+        widths[axis] = (pad, pad)
+        padded = np.pad(out, widths, mode='edge')
+        c = np.cumsum(padded, axis=axis, dtype=np.float32)
+        c = np.concatenate([np.zeros_like(np.take(c, [0], axis=axis)), c], axis=axis)
+        n = out.shape[axis]
+        out = (np.take(c, range(k, k + n), axis=axis) - np.take(c, range(0, n), axis=axis)) / k
+    return out.astype(img.dtype)
 
 
 # ---------------------------------------------------------------- range sensors
@@ -321,6 +343,13 @@ class LaserPublisher(StreamPublisher):
         f = self.faults
         dead = LASER_BOARDS.index(f.dead_board) if f.dead_board else None
         ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, dead)
+        if f.scratched:       # a scratched window: a third of the board's points lost, each scan
+            # a lost point reads x = y = 0 in ALMemory, as a stopped board's (laser.cpp:170-171)
+            board = LASER_BOARDS.index(f.scratched)
+            lost = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, board)
+            slots = np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]
+            hit = slots[self.rng.random(15) < SCRATCHED_SHARE]
+            ranges[hit] = lost[hit]
         if f.nan_board:       # yohatad/naoqi_driver2: kUnknownRange in a stopped board's slots
             board = LASER_BOARDS.index(f.nan_board)
             ranges[np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]] = np.nan
@@ -385,7 +414,7 @@ class SonarPublisher(StreamPublisher):
         if s.layout == 'gazebo':
             msg.range = scene.gazebo_sonar_range(t, back, s.range_max, s.noise, self.rng)
         else:
-            msg.range = scene.sonar_range(t, back, s.noise, self.rng)
+            msg.range = scene.sonar_range(t, back, s.noise * (4 if f.noisy else 1), self.rng)
         if f.nan:
             msg.range = float('nan')
         elif f.out_of_range:
@@ -452,6 +481,8 @@ class ImuPublisher(StreamPublisher):
             msg.linear_acceleration.x = msg.linear_acceleration.y = msg.linear_acceleration.z = 0.0
         if f.gyro_overrange:
             msg.angular_velocity.z = 12.0 + 0.002 * n[2]
+        if f.gyro_bias is not None:
+            msg.angular_velocity.x += f.gyro_bias
         if f.nan:
             msg.angular_velocity.z = float('nan')
             msg.linear_acceleration.z = float('nan')
@@ -489,6 +520,8 @@ class JointStatePublisher(StreamPublisher):
         v, w = scene.speeds()
         wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
                             w * _WHEEL_BASE]) / _WHEEL_RADIUS
+        if f.noisy:        # worn encoders: 0.002 rad of noise on every joint but the wheels
+            pos = pos + self.rng.normal(0.0, 0.002, pos.shape)
         positions = np.concatenate([pos, np.mod(wheel_v * t + math.pi, 2 * math.pi) - math.pi])
         velocities = np.concatenate([vel, wheel_v])
         efforts = np.concatenate([eff, [0.3, 0.3, 0.2]])
@@ -548,6 +581,12 @@ class AudioPublisher(StreamPublisher):
             b = b.copy()
             for name in f.silent_channel:
                 b[:, MIC_CHANNELS.index(name)] = 0
+        if f.quiet_channel:         # a clogged grille: a quarter of the amplitude, 12 dB (at the
+            # microphone, before any transport fault below)
+            from .profiles import MIC_CHANNELS
+            b = b.copy()
+            for name in f.quiet_channel:
+                b[:, MIC_CHANNELS.index(name)] //= 4
         if f.copied_channels:
             b = np.repeat(b[:, :1], b.shape[1], axis=1)
         if f.planar_as_interleaved:

@@ -37,7 +37,7 @@ from ..observer import RunObserver
 from ..plan import catalog
 from ..results import malformed
 from ..sensors import families
-from . import files
+from . import drift, files
 from .atomicfile import write_atomic, write_error
 from .terminal import fill
 
@@ -303,6 +303,8 @@ def compare(a: RunInfo, b: RunInfo, threshold: float = RATE_FLAG) -> List[Dict[s
         if not r.complete:
             raise HistoryError('run %s cannot be compared: %s' % (r.run_id, r.problem))
     sa, sb = a.sensors(), b.sensors()
+    start = (a.data or {}).get('start') or ''
+    ref = drift.Ref(a.run_id, start.split('.')[0] if isinstance(start, str) else '')
     names = list(sa) + [n for n in sb if n not in sa]
     rows = []
     for name in names:
@@ -317,5 +319,9 @@ def compare(a: RunInfo, b: RunInfo, threshold: float = RATE_FLAG) -> List[Dict[s
         row['rate_flag'] = row['rate_change'] is not None and abs(row['rate_change']) > threshold
         if ra and rb is None and y is not None and y.verdict != results.SKIPPED:
             row['rate_flag'] = True       # it had a rate, now nothing arrives
+        # the drift table of B against A (outputs/drift.py): every value both measured
+        row['values'] = [{'value': v[0], 'a': v[1], 'b': v[2], 'margin': v[3], 'drifted': v[4]}
+                         for v in (drift.table(x, y) if x and y else [])]
+        row['drift'] = [d.text for d in (drift.drift(x, y, ref) if x and y else [])]
         rows.append(row)
     return rows

@@ -117,4 +117,22 @@ def format_compare(a: RunInfo, b: RunInfo, rows: Sequence[Dict[str, Any]], thres
                          for r in flagged], right=(1,))
     else:
         lines.append('no rate changed by more than %g%%' % (100 * threshold))
+    lines.append('')
+    lines += format_drift(rows, total)
     return '\n'.join(lines) + '\n'
+
+
+def format_drift(rows: Sequence[Dict[str, Any]], total: int = 80) -> List[str]:
+    """The drift of B from A (outputs/drift.py): each value beyond its margin, in the words of
+    sensorTest's warning, or that none was."""
+    compared = sum(len(r.get('values') or []) for r in rows)
+    drifted = [(r['sensor'], text) for r in rows for text in r.get('drift') or []]
+    if not drifted:
+        return ['no value drifted beyond its margin (%d values compared; docs/drift.md)' % compared]
+    lines = ['%s drifted beyond %s margin (of %d compared; docs/drift.md):'
+             % ('1 value' if len(drifted) == 1 else '%d values' % len(drifted),
+                'its' if len(drifted) == 1 else 'their', compared)]
+    for sensor, text in drifted:
+        lines += textwrap.wrap('%s: %s' % (sensor, text), total - 2, initial_indent='  ',
+                               subsequent_indent='      ', break_on_hyphens=False)
+    return lines

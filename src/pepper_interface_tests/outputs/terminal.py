@@ -292,6 +292,7 @@ class Terminal(RunObserver):
             self._table(run, width)
         else:
             self._blocks(run, width)
+        self._drift(run, width)
         c = run.counts()
         warned = sum(1 for r in run.sensors if r.verdict == PASS and r.warnings)
         self.line()
@@ -317,6 +318,28 @@ class Terminal(RunObserver):
                           if i == 0 else part)
             self.line()
 
+    def _drift(self, run: RunResult, width: int) -> None:
+        """Under the table, when the run was compared with a baseline (outputs/baseline.py):
+        every value that drifted beyond its margin, sensor by sensor, or that none did."""
+        if not run.baseline:
+            return
+        drifted = [r for r in run.sensors if r.drift]
+        self.line()
+        base = 'the baseline run %s' % printable(run.baseline.get('run_id'), 80)
+        if not drifted:
+            self.line('no drift since %s' % base)
+            return
+        count = sum(len(r.drift) for r in drifted)
+        for part in textwrap.wrap('drift since %s (%d value%s, warnings, not failures):'
+                                  % (base, count, '' if count == 1 else 's'), width, subsequent_indent='  '):
+            self.line(part)
+        for r in drifted:
+            for d in r.drift:
+                for part in textwrap.wrap('%s: %s' % (r.name, printable(d.text, REASON_LIMIT)), width,
+                                          initial_indent='  ', subsequent_indent='      ',
+                                          break_on_hyphens=False):
+                    self.line(part)
+
     def _verdict_cell(self, r: SensorResult) -> str:
         """The verdict column's text: a PASS that carries warnings reads "PASS*" at a glance
         (legend under the table)."""
@@ -328,7 +351,11 @@ class Terminal(RunObserver):
         return [r.replace(said, '') for r in reasons] if said else list(reasons)
 
     def _summary_reasons(self, r: SensorResult) -> str:
-        return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(r.warnings) if r.warnings else '')
+        drifted = {d.text for d in r.drift}      # said in full under the table (_drift)
+        warnings = [w for w in r.warnings if w not in drifted]
+        if drifted:
+            warnings.append('drifted since the baseline: %s (below)' % ', '.join(d.label for d in r.drift))
+        return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(warnings) if warnings else '')
 
     def _table(self, run: RunResult, width: int) -> None:
         """One row per sensor, reasons wrapped inside their own column."""

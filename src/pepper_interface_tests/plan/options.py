@@ -10,7 +10,7 @@ To add an option: one row in OPTIONS, one field in Options, one row in README's 
 """
 import argparse
 from dataclasses import dataclass, fields, replace
-from typing import Any, Callable, Dict, Optional, Tuple
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 from .textfile import ConfigError, parse_bool, positive_seconds
 
@@ -95,6 +95,12 @@ OPTIONS: Tuple[Opt, ...] = (
         'together (4-channel WAV, default) or sequential (each microphone in turn, as the spec)', 'MODE'),
     Opt('require_heard', '--require-heard', ON, 'media',
         'speech fails unless the microphones hear it (needs the microphone in the run)'),
+    Opt('baseline', '--baseline', TEXT, 'results',
+        'compare this run with that run (an id, a run folder or its sensorTestResults.json) '
+        'instead of the pinned baseline (sensorTestHistory baseline set RUN); "none": with none',
+        'RUN'),
+    Opt('baseline', '--no-baseline', OFF, 'results',
+        'compare with no baseline, not even the pinned one', param=False),
     Opt('history', '--no-history', OFF, 'results', 'do not keep this run in the run history'),
     Opt('diagnostics', '--no-diagnostics', OFF, 'results', 'do not publish /diagnostics'),
     Opt('report', '--no-report', OFF, 'results', 'do not write the HTML report'),
@@ -135,6 +141,7 @@ class Options:
     rerun_failed: Optional[bool] = None
     guided: Optional[bool] = None
     touch_wait: Optional[float] = None
+    baseline: Optional[Union[str, bool]] = None     # a run; False: --no-baseline
 
     def merged(self, other: 'Options') -> 'Options':
         """Values of `other` where given, else ours."""

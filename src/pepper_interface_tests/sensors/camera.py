@@ -35,6 +35,7 @@ from ..media.recording import VideoRecorder, save_jpeg, to_bgr
 from .base import Acc, Check, StuckRun, TrailingRun, fmt, same_bytes
 from .values import Point
 from .values.camera import CameraValues, ImageValues, Stereo, VideoSummary
+from .wear import focus_and_noise
 
 if TYPE_CHECKING:
     import genpy
@@ -57,6 +58,7 @@ _HEADER = struct.Struct('<3I')       # seq, stamp secs, stamp nsecs
 _SIZE = struct.Struct('<2I')         # height, width
 _STEP = struct.Struct('<BI')         # is_bigendian, step
 STRIDE = 8        # statistics sample every 8th row and column
+WEAR_EVERY = 4    # sharpness and noise (sensors/wear.py, ~2 ms a VGA frame) of every 4th frame
 # 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
 RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
                'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
@@ -307,6 +309,7 @@ class CameraCheck(ImageCheck):
         self.same_halves = 0
         self.brightness_series: List[Point] = []
         self.found: Optional[CameraValues] = None
+        self.sharpness, self.noise = Acc(), Acc()       # every WEAR_EVERY-th frame (drift)
 
     def settled(self) -> bool:
         return self.count >= self.frozen_frames + 1
@@ -337,6 +340,10 @@ class CameraCheck(ImageCheck):
             self.constant += 1
             bad = 'constant'
         self._frozen(msg, t)
+        if self.converted % WEAR_EVERY == 1:
+            sharp, noise = focus_and_noise(colour)
+            self.sharpness.add(sharp)
+            self.noise.add(noise)
         self.black_run.add(bad == 'black', t)
         if self.stereo and not bad and msg.width % 2 == 0:
             half = msg.width // 2
@@ -368,7 +375,8 @@ class CameraCheck(ImageCheck):
         self.found = self.image_values(
             CameraValues, brightness_mean=self.brightness.spread(2), brightness_spread=self.spread.spread(2),
             frames_black=self.black, frames_constant=self.constant,
-            longest_identical_run=self.stuck.longest, stereo=stereo, brightness=list(self.brightness_series))
+            longest_identical_run=self.stuck.longest, stereo=stereo, brightness=list(self.brightness_series),
+            sharpness=self.sharpness.spread(4).mean, noise=self.noise.spread(3).mean)
         if not n:
             return
         self.notes.append('Brightness mean %s; spread (std) %s (0-255, every %dth row and column)'

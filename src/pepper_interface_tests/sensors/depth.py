@@ -90,6 +90,7 @@ class DepthCheck(ImageCheck):
         self.median_range = self.expect.median_range
         self.share = Acc()
         self.medians: List[float] = []
+        self.centre = Acc()         # mean depth of the frame's middle third (drift)
         self.lo = Acc()
         self.hi = Acc()
         self.all_zero = 0
@@ -144,6 +145,7 @@ class DepthCheck(ImageCheck):
                 values = depth[depth > 0] if scale != 1.0 else depth[np.isfinite(depth) & (depth > 0)]
             median = float(np.median(values)) * scale
             self.medians.append(median)
+            self._centre(sample, scale)
             v_lo, v_hi = float(values.min()) * scale, float(values.max()) * scale
             self.lo.add(v_lo)
             self.hi.add(v_hi)
@@ -163,6 +165,15 @@ class DepthCheck(ImageCheck):
             self.viewer.post(self.plan.name, to_bgr(*self.colour_map(depth, kind)))
         if self.recorder is not None:
             self.recorder.add(depth, t, kind)
+
+    def _centre(self, sample, scale):
+        """The mean depth of the valid pixels in the middle third of the frame (rows and
+        columns), a fixed region the drift from a baseline compares (outputs/drift.py)."""
+        h, w = sample.shape[:2]
+        mid = sample[h // 3:h - h // 3, w // 3:w - w // 3]
+        ok = mid[mid > 0] if scale != 1.0 else mid[np.isfinite(mid) & (mid > 0)]
+        if ok.size:
+            self.centre.add(float(ok.mean()) * scale)
 
     def _frozen(self, msg, t):
         """Identical to the previous image (same_bytes, as the cameras' frozen test)."""
@@ -259,6 +270,7 @@ class DepthCheck(ImageCheck):
             DepthValues, video_range_m=list(self.video_range), frames_all_zero=self.all_zero,
             valid_share=self.share.spread(4) if converted else None, depth_m=depth_m if converted else None,
             longest_identical_run=self.stuck.longest if converted else None,
+            centre_depth_m=self.centre.spread(4).mean,
             median_depth_m=list(self.median_series), valid_series=list(self.valid_series))
         if not converted:
             return

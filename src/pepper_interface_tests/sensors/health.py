@@ -134,7 +134,8 @@ class HealthCheck(Check):
         values = HealthValues(self.arrays, b.get('percent'), b.get('charging'), b.get('fully_charged'),
                               LEVELS.get(self.battery_worst) if self.battery else None,
                               self.battery_worst_message or None,
-                              rows[0].temperature_c if rows else None, rows[:HOTTEST], hot)
+                              rows[0].temperature_c if rows else None, rows[:HOTTEST], hot,
+                              {r.joint: r.temperature_c for r in rows if r.temperature_c is not None} or None)
         self.found = values
         if not self.arrays:
             others = (' (%d array%s from other nodes only)' % (self.others, '' if self.others == 1 else 's')

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 from .base import Acc, Check, StuckRun, finite, fmt, quaternion_norm
 from .values import Point
 from .values.imu import ImuValues
+from .wear import Noise
 
 if TYPE_CHECKING:
     import genpy
@@ -51,6 +52,7 @@ class ImuCheck(Check):
         self.found: Optional[ImuValues] = None
         self.stuck = StuckRun(self.expect.stuck_messages)
         self.acc_values: List[float] = []
+        self.gyro_noise = Noise()
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         q = msg.orientation
@@ -85,6 +87,7 @@ class ImuCheck(Check):
         an, wn = math.sqrt(a.x ** 2 + a.y ** 2 + a.z ** 2), math.sqrt(w.x ** 2 + w.y ** 2 + w.z ** 2)
         self.acc_norm.add(an)
         self.gyro_norm.add(wn)
+        self.gyro_noise.add(wn, msg.header.stamp.to_sec() or None)     # the sampling time
         self.acc_values.append(an)
         self.stuck.add((a.x, a.y, a.z, w.x, w.y, w.z), t)
         band = self.expect.acceleration_norm
@@ -119,7 +122,7 @@ class ImuCheck(Check):
                              'values in g instead of m/s^2?' if median < 2 else
                              'not the gravity an upright robot measures'))
         self.found = ImuValues(self.stuck.longest, median_value, self.acc_norm.spread(), self.gyro_norm.spread(),
-                               list(self.acc_series), list(self.gyro_series))
+                               self.gyro_noise.sd(), list(self.acc_series), list(self.gyro_series))
         if self.count:
             self.notes.append('|linear acceleration|: %s; |angular velocity|: %s'
                               % (self.acc_norm.text('m/s^2'), self.gyro_norm.text('rad/s')))

@@ -25,6 +25,7 @@ from .base import Acc, Check, fmt
 from .joint_limits import LIMITS
 from .jumps import JumpWatch
 from .values.joints import JointsValues
+from .wear import Noise
 
 if TYPE_CHECKING:
     import genpy
@@ -48,6 +49,7 @@ class JointsCheck(Check):
         self.margin = self.expect.position_margin
         self.factor = self.expect.velocity_factor
         self.jumps: Dict[str, JumpWatch] = {}      # name -> its positions' jumps
+        self.noise: Dict[str, Noise] = {}          # name -> its positions' noise (drift from a baseline)
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         out = [('Header frame id', msg.header.frame_id), ('Number of joints', len(msg.name))]
@@ -93,6 +95,8 @@ class JointsCheck(Check):
         if limits is None or not math.isfinite(p):
             return
         lower, upper, velocity, line = limits
+        if lower is not None:        # not a wheel (its position wraps at +-pi)
+            self.noise.setdefault(name, Noise()).add(p, stamp if stamp is not None else t)
         if self.margin is not None and lower is not None and upper is not None and \
                 not (lower - self.margin <= p <= upper + self.margin):
             self.failures.add('limit_' + name, 'position of %s outside Pepper\'s joint limits '
@@ -112,7 +116,9 @@ class JointsCheck(Check):
         self.found = JointsValues({name: {k: a.spread() for k, a in acc.items()} for name, acc in self.joints.items()},
                                   len(self.joints),
                                   {n: w.jumps for n, w in jumped.items()} if jumped else None,
-                                  {n: round(w.largest, 3) for n, w in jumped.items()} if jumped else None)
+                                  {n: round(w.largest, 3) for n, w in jumped.items()} if jumped else None,
+                                  {n: sd for n, sd in ((n, w.sd(7)) for n, w in self.noise.items())
+                                   if sd is not None} or None)
         for name, w in jumped.items():
             lower, upper, velocity, line = LIMITS[name]
             self.fail('position of %s jumps: implied speed above %s rad/s (URDF velocity limit %s '

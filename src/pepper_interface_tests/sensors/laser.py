@@ -72,8 +72,11 @@ import math
 from array import array
 from typing import TYPE_CHECKING, Any, List, Optional, Set, Tuple
 
+import numpy as np
+
 from .base import Acc, Check, StuckRun, fmt
 from .values.laser import BeamKind, LaserValues, LastScan
+from .wear import BeamNoise
 
 if TYPE_CHECKING:
     import genpy
@@ -99,10 +102,14 @@ class Board:
         self.uniform = True                     # every slot of every scan held `held`
         self.stuck = StuckRun(stuck_scans)
         self.stuck_seg: Any = ()
+        self.slots = self.returns = 0           # non-blind slots seen, returns among them (drift)
 
     def add(self, ranges: Any, kinds: List[BeamKind], lo: float, hi: float, t: float) -> None:
         seg = ranges[self.first:self.last + 1]
         self.scans += 1
+        own = kinds[self.first:self.last + 1]
+        self.slots += sum(1 for k in own if k is not BLIND)
+        self.returns += sum(1 for k in own if k is RETURN)
         if not self.alive and any(k in (RETURN, NO_RETURN) for k in kinds[self.first:self.last + 1]):
             self.alive = True
         if self.uniform:
@@ -176,6 +183,7 @@ class LaserCheck(Check):
         self.layout_count = 0
         self.layout_example: Optional[str] = None
         self.found: Optional[LaserValues] = None      # what finish() measured
+        self.range_noise = BeamNoise()
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
         return [('Frame id', msg.header.frame_id),
@@ -221,6 +229,9 @@ class LaserCheck(Check):
                 if board.last < n:
                     board.add(msg.ranges, self.last_kinds, lo, hi, t)
         self.beams += n
+        if len(self.last_kinds) == n:    # range noise per beam, returns only (sensors/wear.py)
+            self.range_noise.add(np.where([k is RETURN for k in self.last_kinds],
+                                          np.asarray(msg.ranges, dtype=float), np.nan))
         self.last_scan = (msg.angle_min, msg.angle_increment, list(msg.ranges), msg.range_min,
                           msg.range_max, self.expect.blind_value)
 
@@ -304,6 +315,8 @@ class LaserCheck(Check):
             dead_boards=dead if boards else None,
             longest_identical_board_run={b.name: b.stuck.longest for b in self.boards} if boards else None,
             robot_resting=self._resting(),
+            board_valid_share={b.name: round(b.returns / b.slots, 4) for b in self.boards if b.slots} or None,
+            range_noise_m=self.range_noise.sd(),
             last_scan=self._last_scan())
 
     def _last_scan(self) -> Optional[LastScan]:

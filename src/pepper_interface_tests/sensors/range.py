@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 from .base import Acc, Check, fmt
 from .values import Point
 from .values.range import RangeValues
+from .wear import Noise
 
 if TYPE_CHECKING:
     import genpy
@@ -41,6 +42,7 @@ class RangeCheck(Check):
         self.below = 0         # readings below the advertised min_range (physically possible)
         self.beyond_example = None
         self.range_series: List[Point] = []
+        self.noise = Noise()
         self.found: Optional[RangeValues] = None
 
     def fields(self, msg: 'genpy.Message') -> List[Tuple[str, Any]]:
@@ -53,6 +55,7 @@ class RangeCheck(Check):
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         lo, hi, r = msg.min_range, msg.max_range, msg.range
         self.range.add(r)
+        self.noise.add(r, msg.header.stamp.to_sec() or None)     # the sampling time
         self.fov.add(msg.field_of_view)
         if len(self.range_series) < 2000:
             self.range_series.append((round(t, 3), r if math.isfinite(r) else None))
@@ -91,7 +94,7 @@ class RangeCheck(Check):
 
     def finish(self) -> None:
         self.found = RangeValues(self.range.spread(), self.range.nonfinite, self.fov.spread(), self.beyond,
-                                 self.below, list(self.range_series))
+                                 self.below, self.noise.sd(), list(self.range_series))
         if self.count:
             self.notes.append('Range value: ' + self.range.text('m'))
         if self.beyond:

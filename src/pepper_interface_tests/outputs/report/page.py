@@ -23,7 +23,7 @@ from ...results import (
 )
 from ...sensors import families
 from .. import formats
-from . import plots, views
+from . import drift_view, plots, views
 from .blocks import KV, Span
 from .context import RateRow, View, anchor
 from .files import RunFiles
@@ -177,14 +177,15 @@ def stats_rows(r: SensorResult) -> List[Tuple[str, Any]]:
     return rows
 
 
-def section(r: SensorResult, run: RunResult, view: View) -> Dict[str, Any]:
+def section(r: SensorResult, run: RunResult, view: View, history: Optional[Any] = None) -> Dict[str, Any]:
     sec = {'name': r.name, 'anchor': anchor(r.name), 'title': r.title or r.name, 'verdict': r.verdict,
            'vcls': verdict_class(r.verdict), 'topic': r.topic or '-', 'msg_type': r.msg_type or '-',
            'reasons': [clean(x) for x in r.reasons or []], 'warnings': [clean(x) for x in r.warnings or []],
            'skipped': r.verdict == SKIPPED, 'body': [], 'stats': None, 'notes': [], 'values': [],
-           'fields': [], 'error': None}
+           'fields': [], 'error': None, 'drift': []}
     if sec['skipped']:
         return sec
+    sec['drift'] = drift_view.blocks(r, run, history)
     try:
         sec['summary'] = clean(summary_line(r))
     except Exception:        # a result with odd numbers still gets its section
@@ -250,10 +251,11 @@ def render(run: RunResult, folder: str, max_embed: int) -> str:
     """The report of `run` as one HTML string; recordings are read from `folder`."""
     files = RunFiles(folder, max_embed=max_embed)
     view = View(files, run)
+    history = drift_view.history_for(run, folder)
     sections = []
     for r in run.sensors:
         try:
-            sections.append(section(r, run, view))
+            sections.append(section(r, run, view, history))
         except Exception as e:     # one odd sensor must not lose the whole report
             files.problems.append('%s: %s: %s' % (r.name, type(e).__name__, e))
             sections.append({'name': r.name, 'anchor': anchor(r.name), 'title': r.title or r.name,

@@ -281,3 +281,24 @@ def imu(acc: 'Series', gyro: 'Series') -> str:
     a2.set_xlabel(T_LABEL)
     _grid(a1, a2)
     return uri(fig)
+
+
+def trend(label: str, unit: str, points: Sequence[Any], baseline: Optional[str]) -> str:
+    """One value over the runs of the history, oldest first: points [(run id, value)], the
+    baseline run's point and this run's (the last) marked."""
+    fig = figure(6.2, 2.0)
+    ax = fig.subplots()
+    xs = list(range(len(points)))
+    ys = [v for _, v in points]
+    ax.plot(xs, ys, '.-', ms=5, lw=1, color=GREY)
+    for i, (run_id, v) in enumerate(points):
+        if run_id == baseline:
+            ax.plot([i], [v], 'o', ms=7, color=GREEN, label='baseline')
+    ax.plot([xs[-1]], [ys[-1]], 'o', ms=7, color=AMBER, label='this run')
+    ax.set_xticks(xs[::max(1, len(xs) // 6)])
+    ax.set_xticklabels([points[i][0] for i in xs[::max(1, len(xs) // 6)]], rotation=0, fontsize=FONT_PT - 3)
+    ax.set_ylabel(unit or label)
+    ax.set_title(label)
+    ax.legend(loc='best')
+    _grid(ax)
+    return uri(fig)

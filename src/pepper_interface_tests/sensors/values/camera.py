@@ -53,4 +53,6 @@ class CameraValues(ImageValues):
     frames_constant: Optional[int] = optional()
     longest_identical_run: Optional[int] = optional()
     stereo: Optional[Stereo] = optional()
+    sharpness: Optional[float] = optional()     # mean Laplacian variance / grey variance (sensors/wear.py)
+    noise: Optional[float] = optional()         # mean noise sd, 0-255 (sensors/wear.py)
     brightness: List[Point] = series()

@@ -28,5 +28,6 @@ class DepthValues(ImageValues):
     depth_m: Optional[MedianSpread] = optional()
     longest_identical_run: Optional[int] = optional()
     depth_histogram: Optional[DepthHistogram] = optional()
+    centre_depth_m: Optional[float] = optional()   # mean depth of the middle third of the frame
     median_depth_m: List[Point] = series()
     valid_series: List[Point] = series('valid_share')

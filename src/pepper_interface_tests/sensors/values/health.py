@@ -1,6 +1,8 @@
 """The health family's values (the driver's own /diagnostics): see sensors/health.py for the rules."""
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import Dict, List, Optional
+
+from ...codec import optional
 
 
 @dataclass(frozen=True)
@@ -22,3 +24,4 @@ class HealthValues:
     highest_temperature_c: Optional[float] = None
     hottest: List[JointRow] = field(default_factory=list)   # the HOTTEST hottest joints
     hot: List[JointRow] = field(default_factory=list)       # every joint at WARN or ERROR
+    temperatures: Optional[Dict[str, float]] = optional()   # joint -> the highest seen (drift)

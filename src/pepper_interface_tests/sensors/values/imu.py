@@ -12,5 +12,6 @@ class ImuValues:
     acceleration_norm_median_m_s2: Optional[float] = optional()
     acceleration_norm_m_s2: Optional[Spread] = optional()
     angular_velocity_norm_rad_s: Optional[Spread] = optional()
+    angular_velocity_noise_rad_s: Optional[float] = optional()   # sensors/wear.py Noise of |w|
     acceleration_m_s2: List[Point] = series()
     angular_velocity_rad_s: List[Point] = series()

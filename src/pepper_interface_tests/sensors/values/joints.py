@@ -12,3 +12,4 @@ class JointsValues:
     joint_count: Optional[int] = optional()
     position_jumps: Optional[Dict[str, int]] = optional()              # joint -> jumps (sensors/jumps.py)
     largest_position_jump_rad: Optional[Dict[str, float]] = optional()
+    position_noise_rad: Optional[Dict[str, float]] = optional()   # joint -> sensors/wear.py Noise

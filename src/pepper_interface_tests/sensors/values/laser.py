@@ -58,4 +58,6 @@ class LaserValues:
     # the driver's joint stiffness on /diagnostics (sensors/stiffness.py): True when every joint
     # was at 0 (a resting robot), False when one was above; absent without a report
     robot_resting: Optional[bool] = optional()
+    board_valid_share: Optional[Dict[str, float]] = optional()   # board -> returns / non-blind slots
+    range_noise_m: Optional[float] = optional()     # sensors/wear.py BeamNoise of the returns
     last_scan: Optional[LastScan] = series_optional()

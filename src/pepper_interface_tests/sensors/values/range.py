@@ -13,4 +13,5 @@ class RangeValues:
     field_of_view_rad: Optional[Spread] = optional()
     beyond_advertised_max: Optional[int] = optional()
     below_advertised_min: Optional[int] = optional()
+    range_noise_m: Optional[float] = optional()      # sensors/wear.py Noise of the range
     range_series: List[Point] = series('range_m')

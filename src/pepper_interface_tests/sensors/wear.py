@@ -1,0 +1,98 @@
+"""Cheap measures of how a sensor wears, for the drift from a baseline (outputs/drift.py).
+
+`Noise`: the scatter of a reading that changes slowly (a still robot's joint positions, a sonar
+facing a wall, the gyrometer at rest) without the slow change: each reading's residual from the
+straight line through the readings before and after it, r = x1 - (x0 + (x2 - x0) w) with
+w = (t1 - t0) / (t2 - t0) (w = 1/2 without times), whose variance for white noise of standard
+deviation s is s^2 (1 + w^2 + (1 - w)^2): a slow motion, also at an uneven pace when the times
+are the sampling times, adds almost nothing. The estimate is robust: the median absolute
+residual / 0.6745 (the standard deviation of normal noise), so a step (a person walking past
+a sonar, a turn of the robot) in a few readings does not count as noise.
+`BeamNoise` does the same for every beam of a scan (numpy arrays), over all beams together.
+`focus_and_noise` measures a camera frame's sharpness and noise.
+"""
+import math
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+MAD_TO_SD = 0.6745      # median |x| of a normal variable / its standard deviation
+KEEP = 20000            # residuals kept (the first ones): a 10 s window at 50 Hz of 17 joints is 8500
+MIN_RESIDUALS = 10
+
+
+def _robust_sd(residuals: List[float], nd: int) -> Optional[float]:
+    if len(residuals) < MIN_RESIDUALS:
+        return None
+    return round(float(np.median(np.abs(residuals))) / MAD_TO_SD, nd)
+
+
+class Noise:
+    """Standard deviation of a slowly varying reading's noise (see the module's docstring);
+    `add(v, t)` with the reading's sampling time (a header stamp) when there is one."""
+
+    __slots__ = ('prev', 'prev2', 'residuals')
+
+    def __init__(self) -> None:
+        self.prev: Optional[Tuple[float, Optional[float]]] = None
+        self.prev2: Optional[Tuple[float, Optional[float]]] = None
+        self.residuals: List[float] = []
+
+    def add(self, v: float, t: Optional[float] = None) -> None:
+        if not math.isfinite(v):          # a gap: start again after it
+            self.prev = self.prev2 = None
+            return
+        if self.prev is not None and self.prev2 is not None and len(self.residuals) < KEEP:
+            (x0, t0), (x1, t1) = self.prev2, self.prev
+            w = 0.5
+            if t is not None and t0 is not None and t1 is not None and t > t1 > t0:
+                w = (t1 - t0) / (t - t0)
+            r = x1 - (x0 + (v - x0) * w)
+            self.residuals.append(r / math.sqrt(1.0 + w * w + (1.0 - w) ** 2))
+        self.prev2, self.prev = self.prev, (v, t)
+
+    def sd(self, nd: int = 6) -> Optional[float]:
+        """The noise's standard deviation; None under 10 readings past the first two."""
+        return _robust_sd(self.residuals, nd)
+
+
+class BeamNoise:
+    """`Noise` of every beam over consecutive scans of one layout, all beams' residuals together."""
+
+    def __init__(self) -> None:
+        self.prev: Optional[np.ndarray] = None
+        self.prev2: Optional[np.ndarray] = None
+        self.residuals: List[float] = []
+
+    def add(self, ranges: np.ndarray) -> None:
+        r = np.asarray(ranges, dtype=float)
+        if self.prev is not None and self.prev.shape != r.shape:
+            self.prev = self.prev2 = None        # another layout: start again
+        if self.prev is not None and self.prev2 is not None and len(self.residuals) < KEEP:
+            res = (self.prev - (self.prev2 + r) / 2.0) / math.sqrt(1.5)
+            self.residuals.extend(res[np.isfinite(res)].tolist())
+        self.prev2, self.prev = self.prev, r
+
+    def sd(self, nd: int = 5) -> Optional[float]:
+        """The noise's standard deviation over all beams; None under 10 residuals."""
+        return _robust_sd(self.residuals, nd)
+
+
+def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
+    """(sharpness, noise) of one frame (H x W x channels, 0-255), on every 2nd row and column of
+    its grey. Sharpness: the variance of the 4-neighbour Laplacian, the usual focus measure (a
+    blurred or smeared lens loses the fine detail it measures), over the variance of the grey
+    itself, so that a darker picture of the same scene (less light, a dimmer lens) keeps its
+    sharpness (0 for a flat frame). Noise: Immerkaer's estimate
+    (Fast noise variance estimation, CVIU 64(2), 1996): the mean absolute response to the mask
+    [[1,-2,1],[-2,4,-2],[1,-2,1]] (which cancels edges and gradients) times sqrt(pi/2) / 6."""
+    g = colour[::2, ::2].astype(np.float32).mean(axis=2) if colour.ndim == 3 else \
+        colour[::2, ::2].astype(np.float32)
+    if g.shape[0] < 3 or g.shape[1] < 3:
+        return 0.0, 0.0
+    lap = 4 * g[1:-1, 1:-1] - g[:-2, 1:-1] - g[2:, 1:-1] - g[1:-1, :-2] - g[1:-1, 2:]
+    dy2 = g[:-2] - 2 * g[1:-1] + g[2:]
+    mask = dy2[:, :-2] - 2 * dy2[:, 1:-1] + dy2[:, 2:]
+    spread = float(g.var())
+    sharpness = float(lap.var()) / spread if spread > 1e-6 else 0.0
+    return sharpness, float(math.sqrt(math.pi / 2) * np.abs(mask).mean() / 6.0)
