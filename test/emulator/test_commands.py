@@ -49,7 +49,7 @@ def run_motion(master, tmp_path, faults=''):
 
 
 # when each command went out (emu_move.py SCHEDULE), s after the start of the recording
-HEAD_AT, GOAL_AT, SPIN_AT, STOP_AT, END = 0.6, 1.2, 3.3, 4.0, 4.8
+HEAD_AT, GOAL_AT, SPIN_AT, STOP_AT, END = 0.8, 1.4, 3.8, 4.5, 5.3
 BEFORE_HEAD, BEFORE_TURN, AFTER_TURN = HEAD_AT - 0.05, GOAL_AT - 0.05, SPIN_AT - 0.05
 
 
