@@ -221,7 +221,9 @@ class Emulator:
         self.commands: Optional[CommandSubscribers] = None
         robot = config.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
         from .body import Body
-        self.body = Body(idle=config.condition != 'still', seed=config.seed, resting=robot.resting,
+        # a glass pane ahead of the start pose (frontSonar:glass): the robot stands before it
+        glass = any(f.glass for f in config.faults.values())
+        self.body = Body(idle=config.condition != 'still' and not glass, seed=config.seed, resting=robot.resting,
                          base_blocked=robot.base_blocked, obstacle=robot.obstacle)
 
     def start(self) -> None:
