@@ -119,8 +119,9 @@ class HealthPublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         pct = EMPTY_BATTERY if self.faults.empty_battery else HEALTHY_BATTERY
-        # a resting robot has every motor off: Hardness 0 on every joint (diagnostics.cpp:165)
-        stiffness = 0.0 if self.condition == 'resting' else 1.0
+        # Device/SubDeviceList/<joint>/Hardness/Actuator/Value (diagnostics.cpp:79-80, 165-170):
+        # 1 awake, 0 resting (the body: robot:resting or ~condition resting)
+        stiffness = self.snapshot(t).stiffness
         return driver_array(self.temperatures(t), pct, charging=False, stiffness=stiffness)
 
 

@@ -52,11 +52,24 @@ EFFECTS = {
                  'board\'s, each scan (passes; a drift of its valid share)',
     'quiet_channel': 'channel VALUE 12 dB quieter: a clogged grille; needs ~audio direct '
                      '(passes; a drift)',
+    'gyro_inverted': 'angular velocity of the opposite sign (all three axes)',
+    'dead_gyro': 'angular velocity 0, 0, 0 whatever the base does',
+    'swapped_axes': 'x and z exchanged (gyro and accelerometer)',
+    'frozen_pose': 'pose and twist of the start while the wheels turn',
+    'stuck_joint': 'joint VALUE (e.g. HeadYaw) reads its start angle whatever it does',
+    'reversed': 'the beams in the opposite order (left first)',
+    'not_following': 'a live picture that does not pan with the head',
+    'glass': 'a glass pane 0.8 m away (ahead, behind for the back sonar): the sonar sees '
+             'it, the laser sees through',
+    'clock_offset': 'header stamps VALUE s (signed) off the other sensors\'',
+    'resting': 'stiffness 0 in /diagnostics, every motion command ignored',
+    'base_blocked': 'awake, the head obeys, the base refuses to move',
+    'obstacle': 'a box 0.35 m in front of the base (laser and sonars)',
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',
               'odometry': 'odometry', 'imu': 'imu', 'touch': 'touch, bumper',
-              'health': 'robotHealth'}
+              'health': 'robotHealth', 'robot': 'robot (conditions)'}
 
 
 def applies_to(kinds: Optional[Sequence[str]]) -> str:

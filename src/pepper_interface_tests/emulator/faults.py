@@ -15,7 +15,7 @@ from typing import Any, Dict, Optional, Tuple
 
 from ..plan import catalog
 from ..sensors import families, touch
-from .profiles import MIC_CHANNELS
+from .profiles import JOINT_NAMES, MIC_CHANNELS
 
 # fault name -> (takes a value?, check families it applies to (sensors/families.py); None = every one)
 IMAGE = ('camera', 'depth')
@@ -63,7 +63,23 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'noisy': (False, ('range', 'joints')),
     'quiet_channel': (True, ('audio',)),
     'scratched': (True, ('laser',)),
+    # a robot that is commanded (issue 25: the three command topics, emulator/body.py)
+    'gyro_inverted': (False, ('imu',)),
+    'dead_gyro': (False, ('imu',)),
+    'swapped_axes': (False, ('imu',)),
+    'frozen_pose': (False, ('odometry',)),
+    'stuck_joint': (True, ('joints',)),
+    'reversed': (False, ('laser',)),
+    'not_following': (False, IMAGE),
+    'glass': (False, ('range',)),
+    'clock_offset': (True, None),
+    # conditions of the robot and its world, not of one sensor: the pseudo-sensor `robot`
+    'resting': (False, ('robot',)),
+    'base_blocked': (False, ('robot',)),
+    'obstacle': (False, ('robot',)),
 }
+# the pseudo-sensor of the robot's own conditions (`robot:resting`): no topic of its own
+ROBOT = 'robot'
 # the laser's boards, in slot order (naoqi_driver laser.cpp:166-205: right, front, left)
 LASER_BOARDS = ('right', 'front', 'left')
 
@@ -119,6 +135,18 @@ class Faults:
     noisy: bool = False                 # sonar, joints: four times the noise (a worn sensor)
     quiet_channel: Tuple[str, ...] = () # audio: these channels 12 dB quieter (a clogged grille)
     scratched: Optional[str] = None     # laser: this board's window scratched (a third of its points lost)
+    gyro_inverted: bool = False     # imu: angular velocity of the opposite sign (all three axes)
+    dead_gyro: bool = False         # imu: angular velocity 0, 0, 0 whatever the base does
+    swapped_axes: bool = False      # imu: x and z exchanged (gyro and accelerometer)
+    frozen_pose: bool = False       # odometry: pose and twist of the start while the wheels turn
+    stuck_joint: Optional[str] = None   # joints: this joint's encoder reads its start angle
+    reversed: bool = False          # laser: the beams in the opposite order
+    not_following: bool = False     # camera, depth: live picture that does not pan with the head
+    glass: bool = False             # sonar: a glass pane 0.8 m ahead the laser sees through
+    clock_offset: Optional[float] = None    # any sensor: header stamps VALUE s off the others
+    resting: bool = False           # robot: stiffness 0, every command ignored (ALMotion rest)
+    base_blocked: bool = False      # robot: awake, the head moves, the base refuses to
+    obstacle: bool = False          # robot: a box 0.35 m in front of the base
 
     def describe(self) -> str:
         out = []
@@ -135,7 +163,7 @@ HEALTHY = Faults()
 
 
 def valid_sensors() -> str:
-    return ', '.join(SENSOR_KINDS)
+    return ', '.join(list(SENSOR_KINDS) + [ROBOT])
 
 
 def valid_faults(kind: Optional[str] = None) -> str:
@@ -168,11 +196,11 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
             raise FaultError('"%s" is not "sensor:fault"; example: frontCamera:frozen;laser:nan'
                              % entry)
         sensor_text, fault_text = (p.strip() for p in entry.split(':', 1))
-        name = catalog.canonical(sensor_text)
-        if name not in SENSOR_KINDS:
+        name = ROBOT if sensor_text.lower() == ROBOT else catalog.canonical(sensor_text)
+        if name != ROBOT and name not in SENSOR_KINDS:
             raise FaultError('unknown sensor "%s" in faults; valid sensors: %s'
                              % (sensor_text, valid_sensors()))
-        kind = SENSOR_KINDS[name]
+        kind = ROBOT if name == ROBOT else SENSOR_KINDS[name]
         values = dict(found.get(name, {}))
         for item in (i.strip() for i in fault_text.split(',')):
             if not item:
@@ -196,7 +224,9 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                                                   'hot_joint': 'hot_joint=76', 'dim': 'dim=0.6',
                                                   'gyro_bias': 'gyro_bias=0.02',
                                                   'quiet_channel': 'quiet_channel=rearLeft',
-                                                  'scratched': 'scratched=front'}[fault]))
+                                                  'scratched': 'scratched=front',
+                                                  'stuck_joint': 'stuck_joint=HeadYaw',
+                                                  'clock_offset': 'clock_offset=0.5'}[fault]))
             if not takes_value and value:
                 raise FaultError('fault "%s" of %s takes no value (got "%s")' % (fault, name, value))
             if fault == 'rate':
@@ -214,6 +244,15 @@ def parse_faults(text: Optional[str]) -> Dict[str, Faults]:
                     if match[0] not in chosen:
                         chosen.append(match[0])
                 values[fault] = tuple(chosen)
+            elif fault == 'clock_offset':
+                offset = _number(name, fault, value.lstrip('+-'))
+                values[fault] = -offset if value.startswith('-') else offset
+            elif fault == 'stuck_joint':
+                match = [j for j in JOINT_NAMES if j.lower() == value.lower()]
+                if not match:
+                    raise FaultError('unknown joint "%s" in %s:stuck_joint; valid joints: %s'
+                                     % (value, name, ', '.join(JOINT_NAMES)))
+                values[fault] = match[0]
             elif fault in ('die_after', 'after'):
                 values[fault] = _number(name, fault, value, positive_only=False)
             elif fault in ('silent_channel', 'quiet_channel'):

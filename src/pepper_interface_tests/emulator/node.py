@@ -14,6 +14,9 @@ Private params (each also a command-line option, which wins):
                       cameras ~1.3 fps with jitter; still: the robot stands still; dark: a
                       dark room; resting: a robot in Rest mode, stiffness 0 on /diagnostics
                       and its laser frozen, as naoqi_driver publishes it)       (normal)
+                      Robot profiles take naoqi_driver's motion commands (/cmd_vel,
+                      /joint_angles, /move_base_simple/goal; commands.py, body.py): the
+                      idle drive stops as soon as a publisher connects to one of them.
   ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
   ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
@@ -54,6 +57,7 @@ from .speech import DirectSpeech, NaoqiSpeech
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource
+    from .commands import CommandSubscribers
 
 NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
@@ -112,7 +116,7 @@ class EmulatorConfig:
         self.faults = parse_faults(v['faults'])
         published = [s.name for s in self.profile_spec.sensors]
         for name in self.faults:
-            if name in published:
+            if name in published or name == faults_mod.ROBOT:
                 continue
             if name == 'microphone' and self.profile != 'simulator' and self.audio == 'bridge':
                 raise FaultError('microphone faults need ~audio direct (with the audio bridge the '
@@ -152,7 +156,8 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog=NODE_NAME, description='A Pepper robot (naoqi_driver) or Gazebo simulator that '
         'publishes every sensor topic as the real drivers do, optionally with injected faults. '
-        'Each option overrides the private '
+        'The robot profiles take naoqi_driver\'s motion commands (/cmd_vel, /joint_angles, '
+        '/move_base_simple/goal) and the world follows them. Each option overrides the private '
         'ROS param of the same name (~profile, ...); launch: pepperEmulator.launch.',
         epilog='examples:\n  rosrun pepper_interface_tests pepperEmulator --profile simulator\n'
                '  rosrun pepper_interface_tests pepperEmulator --head xtion --audio direct\n'
@@ -215,11 +220,25 @@ class Emulator:
         self.speech: Optional[Union[DirectSpeech, NaoqiSpeech]] = None
         self.speech_sub: Optional[rospy.Subscriber] = None
         self.operator: Optional[EmulatedOperator] = None
+        self.commands: Optional[CommandSubscribers] = None
+        robot = config.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
+        from .body import Body
+        # a glass pane ahead of the start pose (frontSonar:glass): the robot stands before it
+        glass = any(f.glass for f in config.faults.values())
+        # ~condition resting and robot:resting are one state: the robot in Rest mode
+        self.resting = robot.resting or config.condition == 'resting'
+        self.body = Body(idle=config.condition != 'still' and not glass, seed=config.seed, resting=self.resting,
+                         base_blocked=robot.base_blocked, obstacle=robot.obstacle)
 
     def start(self) -> None:
         cfg = self.config
-        from . import scene
-        scene.standing_still(cfg.condition == 'still')
+        self.body.log = lambda text: rospy.loginfo('pepperEmulator: %s', text)
+        if not self.clock.sim:
+            # naoqi_driver's subscribers (src/naoqi_driver.cpp:933-940); the simulator takes
+            # /pepper/cmd_vel and trajectory actions instead (docs/drivers.md), not emulated
+            from .commands import CommandSubscribers
+            robot = cfg.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
+            self.commands = CommandSubscribers(self.body, self.clock.now, self.resting, robot.base_blocked)
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)
@@ -241,6 +260,7 @@ class Emulator:
                           cfg.condition, source=self.source)
             else:
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed, cfg.condition)
+            pub.body = self.body
             self.threads.append(pub)
         topic = cfg.profile_spec.speech_topic
         if topic:
@@ -287,6 +307,8 @@ class Emulator:
                 pass
         if self.speech_sub is not None:
             self.speech_sub.unregister()
+        if self.commands is not None:
+            self.commands.close()
         if self.operator is not None:
             self.operator.close()
         if self.speech is not None:

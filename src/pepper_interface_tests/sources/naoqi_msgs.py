@@ -84,8 +84,27 @@ uint8 statePressed=1
 """,
 }
 
+# What naoqi_driver's /joint_angles subscriber takes (ros-naoqi/naoqi_driver
+# src/subscribers/teleop.cpp: setAngles, or changeAngles when relative is 1): msg/JointAnglesWithSpeed.msg
+# of ros-naoqi/naoqi_bridge_msgs (master), comments dropped. This package's own
+# msg/JointAnglesWithSpeed.msg has the same definition (same md5sum). A publisher made with this
+# class has naoqi_driver's type name, so it connects to the real driver and to the emulator alike.
+JOINT_ANGLES_TYPE = 'naoqi_bridge_msgs/JointAnglesWithSpeed'
+JOINT_ANGLES_DEFINITION = """Header header
+string[] joint_names
+float32[] joint_angles
+float32 speed
+uint8 relative
+================================================================================
+MSG: std_msgs/Header
+uint32 seq
+time stamp
+string frame_id
+"""
+
 # every naoqi_bridge_msgs type this package knows without the package installed
-DEFINITIONS = dict(TOUCH_DEFINITIONS, **{AUDIO_BUFFER_TYPE: AUDIO_BUFFER_DEFINITION})
+DEFINITIONS = dict(TOUCH_DEFINITIONS, **{AUDIO_BUFFER_TYPE: AUDIO_BUFFER_DEFINITION,
+                                         JOINT_ANGLES_TYPE: JOINT_ANGLES_DEFINITION})
 
 
 def message_class_from_definition(type_name: str, definition: str) -> Type[genpy.Message]:
@@ -106,3 +125,8 @@ def known_class(type_name: str) -> Type[genpy.Message]:
 def audio_buffer_class() -> Type[genpy.Message]:
     """The naoqi_bridge_msgs/AudioBuffer class (same md5sum as the real package's)."""
     return message_class_from_definition(AUDIO_BUFFER_TYPE, AUDIO_BUFFER_DEFINITION)
+
+
+def joint_angles_class() -> Type[genpy.Message]:
+    """The naoqi_bridge_msgs/JointAnglesWithSpeed class (same md5sum as the real package's)."""
+    return message_class_from_definition(JOINT_ANGLES_TYPE, JOINT_ANGLES_DEFINITION)
