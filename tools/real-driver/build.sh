@@ -31,7 +31,7 @@ step_start=0
 step() { step_start=$(date +%s); echo "[real-driver] $(date -u +%H:%M:%S) step: $*"; }
 done_step() { echo "[real-driver] $(date -u +%H:%M:%S) done in $(( $(date +%s) - step_start )) s"; }
 
-step "1/4 Debian packages (debian-packages.txt)"
+step "1/5 Debian packages (debian-packages.txt)"
 if [ "${SKIP_APT:-0}" != 1 ]; then
   mapfile -t pkgs < <(grep -v '^\s*#' "$HERE/debian-packages.txt" | grep -v '^\s*$')
   missing=()
@@ -45,7 +45,7 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
 fi
 done_step
 
-step "2/4 sources into $CACHE/ws/src (patched)"
+step "2/5 sources into $CACHE/ws/src (patched)"
 mkdir -p "$CACHE/ws/src"
 : > "$CACHE/sources.txt"
 for entry in "${SOURCES[@]}"; do
@@ -69,7 +69,7 @@ for entry in "${SOURCES[@]}"; do
 done
 done_step
 
-step "3/4 catkin_make_isolated (-j$JOBS, nice 19, Release): libqi alone takes ~30 min on 2 cores"
+step "3/5 catkin_make_isolated (-j$JOBS, nice 19, Release): libqi alone takes ~30 min on 2 cores"
 cd "$CACHE/ws"
 # Debian's catkin runs its helpers with the python that owns catkin_pkg: the
 # system one, whatever python3 comes first on PATH (pyenv, a venv).
@@ -81,9 +81,19 @@ nice -n 19 catkin_make_isolated --install \
   -j"$JOBS"
 done_step
 
-step "4/4 check the node runs"
+step "4/5 video relay (relay/video_relay.cpp: ALVideoDevice as NAOqi answers it)"
+mkdir -p "$CACHE/install/bin"
+nice -n 19 g++ -O1 -std=gnu++11 -DBOOST_BIND_GLOBAL_PLACEHOLDERS -include boost/bind.hpp \
+  -I"$CACHE/install/include" "$HERE/relay/video_relay.cpp" -o "$CACHE/install/bin/video_relay" \
+  -L"$CACHE/install/lib" -Wl,-rpath,"$CACHE/install/lib" -lqi -lboost_system -lboost_thread \
+  -lboost_chrono -lboost_filesystem -lboost_program_options -lboost_regex -lpthread
+done_step
+
+step "5/5 check the node runs"
+set +u      # ROS's setup scripts read unset variables
 # shellcheck disable=SC1091
 source "$CACHE/install/setup.bash"
+set -u
 ls -l "$CACHE/install/lib/naoqi_driver/naoqi_driver_node"
 done_step
 echo "[real-driver] ready: source $CACHE/install/setup.bash"

@@ -46,25 +46,36 @@ record_one() {   # name fake-args topics (run inside the namespace)
   local name="$1" fake="$2" topics="$3" log="$CACHE/golden-logs/$1"
   ip link set lo up
   export ROS_MASTER_URI=http://127.0.0.1:11311 ROS_IP=127.0.0.1 ROS_HOME="$(mktemp -d)"
+  set +u      # ROS's setup scripts read unset variables
   # shellcheck disable=SC1091
   source "$CACHE/install/setup.bash"
   roscore -p 11311 >"$log.roscore" 2>&1 &
   local core=$!
-  "$REPO/.venv/bin/python" "$REPO/scripts/pepperFakeNaoqi" --port 9559 $fake >"$log.fake" 2>&1 &
+  PYTHONPATH="$REPO/src${PYTHONPATH:+:$PYTHONPATH}" \
+    "$REPO/.venv/bin/python" "$REPO/scripts/pepperFakeNaoqi" --port 9559 --video-relay $fake >"$log.fake" 2>&1 &
   local fake_pid=$!
   for _ in $(seq 100); do grep -q 'fake NAOqi ready' "$log.fake" && break; sleep 0.1; done
+  "$CACHE/install/bin/video_relay" tcp://127.0.0.1:9559 >"$log.relay" 2>&1 &
+  local relay=$!
+  for _ in $(seq 100); do grep -q 'video relay ready' "$log.relay" && break; sleep 0.1; done
   for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
   "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" --nao_ip 127.0.0.1 --nao_port 9559 \
     --roscore_ip 127.0.0.1 --network_interface lo --namespace naoqi_driver \
     --password no_password >"$log.driver" 2>&1 &
   local driver=$!
   for _ in $(seq 150); do rostopic list 2>/dev/null | grep -q "^$NS/laser\$" && break; sleep 0.2; done
+  if ! kill -0 "$driver" 2>/dev/null; then
+    echo "[golden] the driver stopped: $log.driver" >&2; tail -5 "$log.driver" >&2
+    kill -INT "$fake_pid" "$relay" "$core" 2>/dev/null; wait 2>/dev/null; return 1
+  fi
   sleep 2     # the converters start once subscribed: let the cameras subscribe first
   # shellcheck disable=SC2086
   rosbag record --bz2 --duration="$SECONDS_PER_BAG" -O "$OUT/$name.bag" $topics >"$log.record" 2>&1 || true
-  kill -INT "$driver" "$fake_pid" 2>/dev/null || true
+  kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
+  for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
+  kill -INT "$relay" "$fake_pid" 2>/dev/null || true
   sleep 1
-  kill -KILL "$driver" "$fake_pid" 2>/dev/null || true
+  kill -KILL "$driver" "$relay" "$fake_pid" 2>/dev/null || true
   kill -INT "$core" 2>/dev/null || true
   wait 2>/dev/null || true
 }

@@ -139,7 +139,7 @@ class ALMotion:
 class ALVideoDevice:
     def __init__(self, clock: Clock, failing: Optional[int], seed: int = 0) -> None:
         self._clock, self._failing, self._seed = clock, failing, seed
-        self._handles: Dict[str, Tuple[int, int, int, Any]] = {}
+        self._handles: Dict[str, Tuple[int, int, int, int, Any]] = {}
         self._lock = threading.Lock()
 
     def subscribeCamera(self, name: str, camera: int, resolution: int, colorspace: int, fps: int) -> str:
@@ -154,7 +154,7 @@ class ALVideoDevice:
             renderer = scene.ColourCamera(w, h, 0.9826, view='bottom' if camera == K_BOTTOM else 'front')
         handle = '%s_%d' % (name, len(self._handles))
         with self._lock:
-            self._handles[handle] = (camera, w, h, renderer)
+            self._handles[handle] = (camera, w, h, colorspace, renderer)
         LOG.info('subscribeCamera %s: camera %d, %dx%d, colorspace %d', handle, camera, w, h, colorspace)
         return handle
 
@@ -164,13 +164,13 @@ class ALVideoDevice:
 
     def image(self, handle: str) -> Tuple[Any, ...]:
         with self._lock:
-            camera, w, h, renderer = self._handles[str(handle)]
+            camera, w, h, colorspace, renderer = self._handles[str(handle)]
         if camera == self._failing:
             raise RuntimeError('ALVideoDevice::getImageRemote: camera %d gives no image' % camera)
         t = self._clock.now()
         img = np.ascontiguousarray(renderer.render(t))
         now = time.time()
-        return (w, h, 3 if img.dtype == np.uint8 else 2, 0, int(now), int((now % 1) * 1e6),
+        return (w, h, 3 if img.dtype == np.uint8 else 2, colorspace, int(now), int((now % 1) * 1e6),
                 img.tobytes(), camera, 0.0, 0.0, 0.0, 0.0)
 
 
@@ -215,8 +215,13 @@ class ALRobotModel:
         return ''
 
 
-def register(session: Any, settings: WorldSettings, seed: int = 0) -> Tuple[List[int], ALMemory]:
-    """Register every service on `session`; returns their ids and the ALMemory service."""
+def register(session: Any, settings: WorldSettings, seed: int = 0,
+             video_relay: bool = False) -> Tuple[List[int], ALMemory]:
+    """Register every service on `session`; returns their ids and the ALMemory service.
+    The typed video service is FakeVideoFrames; it is ALVideoDevice too unless `video_relay`
+    (then tools/real-driver/relay/video_relay.cpp registers ALVideoDevice: naoqi_driver reads
+    every field of getImageRemote's answer as a dynamic value, from_any_value.cpp:39-181, and a
+    Python service cannot put Raw inside a dynamic value)."""
     import qi
 
     from .audio_source import AudioSource
@@ -239,9 +244,11 @@ def register(session: Any, settings: WorldSettings, seed: int = 0) -> Tuple[List
 
     services: List[Tuple[str, Any]] = [
         ('ALMemory', mem), ('ALMotion', ALMotion(memory, clock, settings.head)),
-        ('ALVideoDevice', VideoService()), ('ALSonar', ALSonar()),
+        ('FakeVideoFrames', VideoService()), ('ALSonar', ALSonar()),
         ('ALBodyTemperature', ALBodyTemperature()), ('ALSystem', ALSystem(settings.naoqi)),
         ('ALRobotModel', ALRobotModel())]
+    if not video_relay:
+        services.append(('ALVideoDevice', VideoService()))
     source = AudioSource(pattern='tones', seed=seed)
     device = AudioDevice(session, source)
     services += [('ALAudioDevice', ALAudioDeviceService(device)),
@@ -271,6 +278,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p.add_argument('--naoqi', default='2.5.10.7', help='ALSystem.systemVersion() (default 2.5.10.7)')
     p.add_argument('--fault', action='append', default=[], choices=FAULTS)
     p.add_argument('--seed', type=int, default=0)
+    p.add_argument('--video-relay', action='store_true',
+                   help='leave ALVideoDevice to tools/real-driver video_relay (for the C++ driver)')
     return p.parse_args(argv)
 
 
@@ -288,7 +297,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         sys.stderr.write('fakeNaoqi: cannot listen on %s: %s\n' % (url, str(exc).splitlines()[0]))
         return 1
     settings = settings_from(args)
-    _, mem = register(session, settings, args.seed)
+    _, mem = register(session, settings, args.seed, args.video_relay)
     bound = [u for u in session.endpoints() if u.startswith('tcp://127.0.0.1:')]
     print('fake NAOqi ready on %s (%s)' % (bound[0] if bound else url, settings), flush=True)
     stop = threading.Event()
