@@ -105,12 +105,13 @@ for v in variants:
     name, fake, topics = v.split('|')
     bag = os.path.join(out, name + '.bag')
     if os.path.exists(bag):
-        bags[name] = {'fake_naoqi': 'pepperFakeNaoqi --port 9559 ' + fake, 'topics': topics.split(),
+        bags[name] = {'fake_naoqi': ('pepperFakeNaoqi --port 9559 --video-relay ' + fake).strip(), 'topics': topics.split(),
                       'seconds': float(seconds), 'size_bytes': os.path.getsize(bag),
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node --nao_ip 127.0.0.1 --nao_port 9559 --roscore_ip 127.0.0.1 '
                              '--network_interface lo --namespace naoqi_driver --password no_password',
+           'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
            'record_command': 'rosbag record --bz2 --duration=%s' % seconds,
            'remake': 'tools/real-driver/record-golden.sh [variant ...]',
            'bags': bags}, open(path, 'w'), indent=1, sort_keys=True)

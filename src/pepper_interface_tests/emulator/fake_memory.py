@@ -46,7 +46,11 @@ POSE = {'HeadYaw': 0.0, 'HeadPitch': -0.2, 'HipRoll': 0.0, 'HipPitch': -0.03, 'K
         'LWristYaw': -0.86, 'LHand': 0.6, 'RShoulderPitch': 1.56, 'RShoulderRoll': -0.14,
         'RElbowYaw': 1.22, 'RElbowRoll': 0.52, 'RWristYaw': 0.86, 'RHand': 0.6}
 HOT = 75.0          # degC: above diagnostics.cpp's error level 74 (:56-57)
-WARM = 38.0         # degC: a joint at work
+
+
+def joint_temperature(index: int, t: float) -> float:
+    """A joint at work, degC: the emulator's own /diagnostics uses the same (events.py)."""
+    return 30.0 + (index % 7) * 1.5 + 0.3 * ((int(t) + index) % 3)
 
 
 @dataclass(frozen=True)
@@ -113,9 +117,9 @@ class Memory:
                 return float(scene.sonar_range(t, back, 0.01, self.rng))
         if key.startswith('Device/SubDeviceList/InertialSensor'):
             return self._imu(key, t)
-        for joint in JOINT_NAMES:
+        for i, joint in enumerate(JOINT_NAMES):
             if key == TEMPERATURE_KEY % joint:
-                return HOT if joint == self.settings.hot_joint else WARM
+                return HOT if joint == self.settings.hot_joint else joint_temperature(i, t)
             if key == HARDNESS_KEY % joint:
                 return 1.0
             if key in ('Motion/Velocity/Sensor/' + joint, 'Motion/Torque/Sensor/' + joint):

@@ -26,6 +26,7 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..sensors import joint_limits
 from . import scene
 from .fake_memory import Memory, WorldSettings
 from .profiles import JOINT_NAMES
@@ -108,8 +109,11 @@ class ALMotion:
         return list(JOINT_NAMES)
 
     def getLimits(self, name: str) -> List[List[float]]:
-        # diagnostics.cpp:86-107: [[min, max, max velocity, max torque]]
-        return [[-2.0857, 2.0857, 8.0, 1.5]]
+        # diagnostics.cpp:86-107: [[min, max, max velocity, max torque]]; the robot
+        # description's limits (sensors/joint_limits.py), no torque (0, as the emulator's
+        # /diagnostics: the URDF gives none)
+        lo, hi, vel, _ = joint_limits.LIMITS.get(str(name), (0.0, 0.0, 0.0, 0))
+        return [[float(lo or 0.0), float(hi or 0.0), float(vel), 0.0]]
 
     def getAngles(self, names: Any, use_sensors: bool) -> List[float]:
         return self._m.joint_angles(self._clock.now())
