@@ -26,6 +26,7 @@ from rosmaster import NODES, kill_group, script, spawn, wait_until
 HERE = NODES   # the node scripts' folder (test/nodes/)
 LISTEN = [sys.executable, os.path.join(HERE, 'emu_listen.py')]
 NS = '/naoqi_driver'
+IR = NS + '/camera/ir/image_raw'
 
 # topic -> (type, nominal Hz, frame_id, extra expectations): the reference facts, written out
 # here independently of the emulator's own table (docs/drivers.md; robot = the CSSR4Africa fork
@@ -360,7 +361,7 @@ def test_robot_stock_profile_and_heads(master, tmp_path):
     audio = NS + '/audio'
     with Emulator(master, tmp_path, '_profile:=robot-stock', '_head:=xtion') as emu:
         got = listen(master, [audio, NS + '/camera/front/image_raw',
-                                     NS + '/camera/depth/image_raw', NS + '/laser'], 5.0,
+                                     NS + '/camera/depth/image_raw', NS + '/laser', IR], 5.0,
                      '--absent', NS + '/camera/stereo/image_raw')
         log = emu.output()
     assert 'robot-stock profile, head xtion, audio direct' in log
@@ -373,11 +374,34 @@ def test_robot_stock_profile_and_heads(master, tmp_path):
     front, depth = got[NS + '/camera/front/image_raw'], got[NS + '/camera/depth/image_raw']
     assert (front['width'], front['height'], depth['width'], depth['height']) == (320, 240, 320, 240)
     assert got[NS + '/camera/stereo/image_raw']['publishers'] == []
+    ir = got[IR]        # the Xtion's infrared camera: 16UC1 in the depth's frame (camera.cpp:215-224)
+    assert (ir['encoding'], ir['width'], ir['height'], ir['frames']) == \
+        ('16UC1', 320, 240, ['CameraDepth_optical_frame']), ir
     assert not check_stream(NS + '/laser', got[NS + '/laser'], ROBOT[NS + '/laser'])
     with Emulator(master, tmp_path, '_audio:=off'):
         got = listen(master, [NS + '/camera/front/image_raw'], 2.0)
     front = got[NS + '/camera/front/image_raw']
     assert (front['width'], front['height']) == (640, 480)
+
+
+def test_xtion_head_skips_the_stereo_camera_live(master, tmp_path):
+    """A healthy Pepper 1.7 (Xtion head) does not fail for having no stereo camera: the IR
+    topic the driver publishes on that head shows it, and stereoCamera is SKIPPED with that
+    reason (before: FAIL "no publisher")."""
+    with Emulator(master, tmp_path, '_profile:=robot-stock', '_head:=xtion', '_audio:=off'):
+        out = tmp_path / 'out'
+        p = subprocess.run(script('sensorTest') + [
+            '--platform', 'robot', '--sensors', 'stereoCamera,depthCamera', '--duration', '2',
+            '--wait', '3', '--mode', 'parallel', '--output-dir', str(out), '--no-show',
+            '--no-history', '--no-diagnostics', '--no-report'],
+            env=master.env(), capture_output=True, text=True, timeout=90)
+    with open(str(out / 'sensorTestResults.json')) as f:
+        got = {s['name']: s for s in json.load(f)['sensors']}
+    assert p.returncode == 0, p.stdout + p.stderr
+    stereo = got['stereoCamera']
+    assert stereo['verdict'] == 'SKIPPED', stereo
+    assert 'Xtion head' in stereo['reasons'][0] and IR in stereo['reasons'][0], stereo['reasons']
+    assert got['depthCamera']['verdict'] == 'PASS', got['depthCamera']['reasons']
 
 
 def test_healthy_but_unusual_conditions(module_master, tmp_path):
@@ -621,11 +645,13 @@ def test_record_test_bags(recorded_bags):
     assert not [n for n in names if n.endswith('.active')], names
     stock = dict(ROBOT)
     stock[NS + '/audio'] = ('naoqi_bridge_msgs/AudioBuffer', 48000 / 8192.0, None, {})
+    xtion = dict(ROBOT, **{IR: ('sensor_msgs/Image', 10, None, {})})
     sim = dict(SIMULATOR, **{'/clock': ('rosgraph_msgs/Clock', 100 / 0.5, None, {})})
     expected = {
         'robot_good.bag': (set(ROBOT), ROBOT),
         'robot_faulty.bag': (set(ROBOT) - {NS + '/sonar/back'}, ROBOT),   # silent: never published
-        'robot_xtion_good.bag': (set(ROBOT) - {NS + '/camera/stereo/image_raw'}, ROBOT),
+        # an Xtion head: no stereo topic, the infrared camera instead (naoqi_driver.cpp:733-762)
+        'robot_xtion_good.bag': (set(ROBOT) - {NS + '/camera/stereo/image_raw'} | {IR}, xtion),
         'robot_stock_good.bag': (set(stock), stock),
         'robot_stock_faulty.bag': (set(stock), stock),
         'simulator_good.bag': (set(sim), sim),

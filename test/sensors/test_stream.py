@@ -4,7 +4,7 @@ import pytest
 
 from check_runs import R0, T0, N, close, feed, judged, make_run, one_reason_with
 from fake_pepper import sonar
-from pepper_interface_tests.results import FAIL, PASS
+from pepper_interface_tests.results import FAIL, PASS, SKIPPED
 
 
 @pytest.mark.parametrize('lookup, words', [
@@ -25,6 +25,32 @@ def test_no_messages_names_the_cause(tmp_path, lookup, words):
     assert r.verdict == FAIL and r.messages == 0
     assert len(r.reasons) == 1 and r.reasons[0].startswith(words), r.reasons
     assert r.stopped_because == reason and r.rate_hz is None
+
+
+STEREO = '/naoqi_driver/camera/stereo/image_raw'
+IR = '/naoqi_driver/camera/ir/image_raw'
+
+
+@pytest.mark.parametrize('topics, verdict, words', [
+    # live: the Xtion head's IR camera has a publisher, the stereo topic none
+    ({IR: ('sensor_msgs/Image', ['/naoqi_driver'])}, SKIPPED,
+     'this robot has an Xtion head (Pepper 1.7): naoqi_driver publishes its infrared camera on ' + IR),
+    # a bag: the IR topic is in it, the stereo topic is not
+    ({IR: ('sensor_msgs/Image', ['the bag'])}, SKIPPED, 'this robot has an Xtion head'),
+    # no sign of an Xtion head: still a failure, with the hint
+    ({}, FAIL, 'no publisher on ' + STEREO),
+    ({IR: (None, [])}, FAIL, 'no publisher on ' + STEREO),
+    # the stereo topic has a publisher that sent nothing: judged, whatever the IR says
+    ({STEREO: ('sensor_msgs/Image', ['/naoqi_driver']), IR: ('sensor_msgs/Image', ['/naoqi_driver'])},
+     FAIL, 'no message on ' + STEREO),
+])
+def test_a_missing_stereo_camera_on_an_xtion_head_is_skipped(tmp_path, topics, verdict, words):
+    """naoqi_driver publishes camera/ir and no camera/stereo without "CameraStereo" in ALMotion's
+    sensor names (src/naoqi_driver.cpp:607-613, 733-762): a healthy Pepper 1.7 is not failed."""
+    run = make_run('stereoCamera', tmp_path, topic=STEREO)
+    r = close(run, at=2.0, reason=run.due(T0 + 2.0), lookup=lambda t: topics.get(t, (None, [])))
+    assert r.verdict == verdict, r.reasons
+    assert r.reasons[0].startswith(words), r.reasons
 
 
 def test_too_few_messages(tmp_path):

@@ -27,6 +27,8 @@ from std_msgs.msg import String
 
 from ..sensors import guide, joint_limits, touch
 from ..sources import naoqi_msgs
+from .fake_memory import joint_temperature
+from .profiles import JOINT_NAMES
 from .publishers import StreamPublisher
 
 if TYPE_CHECKING:
@@ -39,7 +41,10 @@ JAM_AFTER_S = 1.0       # a jammed zone is pressed this long after the first sub
 HOT_JOINT = 'HipPitch'  # the joint heated by hot_joint=C
 HEALTHY_BATTERY, EMPTY_BATTERY = 85, 12
 # getBodyNames("JointActuators") on Pepper (diagnostics.cpp:76), in the URDF's order
-JOINTS = tuple(joint_limits.LIMITS)
+# diagnostics.cpp:76 lists the joints as ALMotion.getBodyNames("JointActuators") answers: the
+# order of the joint_states names (profiles.JOINT_NAMES), as the real driver showed against the
+# fake NAOqi (test/fixtures/real-driver/)
+JOINTS = JOINT_NAMES
 
 
 class TouchPublisher(StreamPublisher):
@@ -112,7 +117,7 @@ class HealthPublisher(StreamPublisher):
         return DiagnosticArray
 
     def temperatures(self, t: float) -> Dict[str, float]:
-        temps = {j: 30.0 + (i % 7) * 1.5 + 0.3 * ((int(t) + i) % 3) for i, j in enumerate(JOINTS)}
+        temps = {j: joint_temperature(i, t) for i, j in enumerate(JOINTS)}
         if self.faults.hot_joint is not None:
             temps[HOT_JOINT] = self.faults.hot_joint
         return temps

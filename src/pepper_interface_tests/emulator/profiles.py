@@ -175,9 +175,15 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
                    w, h, 'rgb8', view='front', hfov=0.9826),
         SensorSpec('bottomCamera', 'camera', t('bottomCamera'), 10.0,
                    'CameraBottom_optical_frame', w, h, 'rgb8', view='bottom', hfov=0.9826),
-        # camera.cpp:194, 207-213: 16UC1 (mm), CameraDepth_optical_frame
+        # camera.cpp:194, 207-213: 16UC1 (mm), CameraDepth_optical_frame. An Xtion head also
+        # has the infrared camera (naoqi_driver.cpp:607-613, 753-762; camera.cpp:215-224:
+        # 16UC1, CameraDepth_optical_frame, 10 fps): published here alike, as the depth's
+        # companion (same size; stock's ir_camera resolution 1 = QVGA is the Xtion depth's too)
         SensorSpec('depthCamera', 'depth', t('depthCamera'), 10.0, 'CameraDepth_optical_frame',
-                   dw, dh, '16UC1', view='depth', hfov=1.0123),
+                   dw, dh, '16UC1', view='depth', hfov=1.0123,
+                   extra=() if head == 'stereo' else
+                   ((catalog.head_sign_topic('stereoCamera', topics.get('stereoCamera')) or '',
+                     'CameraDepth_optical_frame'),)),
     ]
     if head == 'stereo':
         # naoqi_driver.cpp:733-750: only on a stereo head; kQQ720px2 = 640x180 rgb8, two views

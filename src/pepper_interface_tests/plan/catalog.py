@@ -99,6 +99,41 @@ NO_PUBLISHER_HINTS = {
               'the driver, or set bumper false in the input file',
 }
 
+# A sensor the robot's head variant does not have: SKIPPED (not FAILED) when its topic is
+# absent and the robot shows the other head. naoqi_driver asks ALMotion.getSensorNames() for
+# "CameraStereo" (ros-naoqi/naoqi_driver src/helpers/driver_helpers.cpp:373-394, isDepthStereo,
+# read at src/naoqi_driver.cpp:128); without it (Pepper 1.7, ASUS Xtion head) it registers
+# no stereo camera (naoqi_driver.cpp:733-747: `has_stereo && camera_stereo_enabled`) and
+# publishes the Xtion's infrared image on camera/ir/image_raw instead (naoqi_driver.cpp:
+# 607-613 and 753-762; "ir_camera" enabled in share/boot_config.json). A topic on camera/ir
+# is the driver's own sign of an Xtion head.
+# sensor -> (its topic's part, the sign topic's part replacing it, the driver's default sign
+# topic, the reason)
+HEAD_VARIANT_SKIPS = {
+    'stereoCamera': ('/camera/stereo/', '/camera/ir/', '/naoqi_driver/camera/ir/image_raw',
+                     'this robot has an Xtion head (Pepper 1.7): naoqi_driver publishes its '
+                     'infrared camera on %s and, without "CameraStereo" in ALMotion\'s sensor '
+                     'names, no stereo camera; the IR camera is the one to look at on this head'),
+}
+
+
+def head_sign_topic(name: str, topic: Optional[str]) -> Optional[str]:
+    """The topic whose presence shows that the robot's head has no `name` sensor (the IR
+    camera of an Xtion head for stereoCamera), next to `topic` when it follows the driver's
+    layout; None for a sensor every head has."""
+    rule = HEAD_VARIANT_SKIPS.get(name)
+    if rule is None:
+        return None
+    part, sign, default, _ = rule
+    if topic and part in topic:
+        return topic.replace(part, sign, 1)
+    return default
+
+
+def head_skip_reason(name: str, sign_topic: str) -> str:
+    return HEAD_VARIANT_SKIPS[name][3] % sign_topic
+
+
 # Why a sensor is SKIPPED in the simulator, where it has a known reason (default: "not
 # available in the simulator"). awesomebytes/pepper_virtual (simulation_that_works) has no
 # touch, bumper or diagnostics publisher (the words appear only as frame names in

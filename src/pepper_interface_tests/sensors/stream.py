@@ -149,12 +149,31 @@ class StreamCheck:
         reasons: List[str] = []
         warnings: List[str] = []
         if not drives_itself:
+            skip = self._head_variant_skip(lookup)
+            if skip:
+                return Judgement([], [], skip)
             reasons += self._arrival_reasons(elapsed, lookup)
             if self.stats.count:
                 reasons += self._stream_reasons(elapsed, band, warnings)
         reasons += self.issues.reasons(self.stats.count)
         self._publisher_reasons(reasons, warnings)
         return Judgement(reasons, warnings)
+
+    def _head_variant_skip(self, lookup: Optional[Lookup]) -> Optional[str]:
+        """The SKIPPED reason of a silent topic absent from the robot because of its head
+        variant (catalog.HEAD_VARIANT_SKIPS), when the robot shows that head; else None."""
+        if self.stats.count or self.wrong_types or lookup is None:
+            return None
+        sign = catalog.head_sign_topic(self.sensor.name, self.topic)
+        if sign is None:
+            return None
+        info = lookup(self.topic or '')
+        if info is not None and info[1]:        # the topic itself has a publisher: judge it
+            return None
+        shown = lookup(sign)
+        if shown is None or not shown[1]:       # no publisher (live) / not in the bag
+            return None
+        return catalog.head_skip_reason(self.sensor.name, sign)
 
     def _publisher_reasons(self, reasons: List[str], warnings: List[str]) -> None:
         if len(self.publishers) < 2 or self.traits.shared_topic:
