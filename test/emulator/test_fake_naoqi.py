@@ -18,7 +18,7 @@ from rosmaster import NODES, kill_group, script, spawn
 PROBE = os.path.join(NODES, 'fake_naoqi_probe.py')
 
 
-def ask(*args, seconds=0.0):
+def ask(*args, seconds=0.0, probe=()):
     """Start pepperFakeNaoqi with `args`, probe it, stop it: the probe's answers."""
     proc = spawn(script('pepperFakeNaoqi') + ['--port', '0'] + list(args), os.environ.copy(),
                  stdout=subprocess.PIPE)
@@ -32,7 +32,7 @@ def ask(*args, seconds=0.0):
                 url = line.split()[4]
                 break
         assert url, 'the fake NAOqi did not start'
-        done = subprocess.run([sys.executable, PROBE, '--url', url, '--seconds', str(seconds)],
+        done = subprocess.run([sys.executable, PROBE, '--url', url, '--seconds', str(seconds)] + list(probe),
                               capture_output=True, text=True, timeout=60)
         assert done.returncode == 0, done.stderr[-3000:]
         return json.loads(done.stdout.strip().splitlines()[-1])
@@ -112,3 +112,17 @@ def test_faults_change_what_the_driver_reads():
     assert [1.0, 0.0] == [v for _, v in got['touch'][:2]] or [0.0, 1.0] == [v for _, v in got['touch'][:2]], \
         got['touch']
     assert all(k == 'FrontTactilTouched' for k, _ in got['touch'])
+
+
+def test_almotion_commands_move_the_world_the_driver_reads():
+    """The driver's subscribers call ALMotion.moveTo and setAngles (moveto.cpp, teleop.cpp): the
+    fake's body (emulator/body.py) turns and the head yaws, so getPosition and getAngles, which
+    the driver's odometry and joint_states read, follow the commands."""
+    out = ask(probe=['--move'])
+    (pos0, angles0), (pos1, angles1) = out['before'], out['after']
+    turned = math.atan2(math.sin(pos1[5] - pos0[5]), math.cos(pos1[5] - pos0[5]))
+    # a turn to the right; the idle drive (0.15 rad/s to the left) stops at the command
+    assert turned == pytest.approx(-0.5, abs=0.08)
+    yaw = JOINT_NAMES.index('HeadYaw')
+    assert angles1[yaw] == pytest.approx(0.4, abs=0.02)
+    assert abs(angles0[yaw] - 0.4) > 0.2

@@ -27,6 +27,8 @@ def main():
     p = argparse.ArgumentParser()
     p.add_argument('--url', required=True)
     p.add_argument('--seconds', type=float, default=0.0)
+    p.add_argument('--move', action='store_true',
+                   help='also command a turn and a head yaw, as the driver\'s subscribers do')
     a = p.parse_args()
     s = qi.Session()
     s.connect(a.url)
@@ -70,6 +72,12 @@ def main():
         except RuntimeError as e:
             out['images'][name] = 'raised: ' + str(e).splitlines()[0]
         video.unsubscribe(h)
+    if a.move:      # moveto.cpp:49-129 and teleop.cpp:55-65 call these
+        out['before'] = [motion.getPosition('Torso', 1, True), motion.getAngles('Body', True)]
+        motion.moveTo(0.0, 0.0, -0.5)     # right: the idle circle turns left
+        motion.setAngles(['HeadYaw'], [0.4], 0.2)
+        time.sleep(3.0)
+        out['after'] = [motion.getPosition('Torso', 1, True), motion.getAngles('Body', True)]
     out['version'] = s.service('ALSystem').systemVersion()
     out['mic'] = s.service('ALRobotModel')._getMicrophoneConfig()
     touch = Touch()

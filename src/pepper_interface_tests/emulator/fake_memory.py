@@ -23,13 +23,13 @@ A key this module does not know is missing: getData raises (a FutureUserExceptio
 driver: joint_state.cpp:128-132 writes NaN) and getListData answers None in its slot, which the
 driver's fromAnyValueToFloatVector turns into -1 (src/tools/from_any_value.cpp:186-199).
 """
-import math
 from dataclasses import dataclass, field
 from typing import Any, Dict, FrozenSet, List, Optional
 
 import numpy as np
 
 from . import scene
+from .body import Body, Snapshot
 from .profiles import JOINT_NAMES, JOINTS_WITHOUT_VELOCITY
 
 SONAR_KEY = 'Device/SubDeviceList/Platform/%s/Sonar/Sensor/Value'
@@ -72,6 +72,9 @@ class Memory:
     def __init__(self, settings: WorldSettings, seed: int = 0) -> None:
         self.settings = settings
         self.rng = np.random.default_rng(seed)
+        # the robot's state, as the emulator's own streams have it (body.py): the idle drive
+        # until ALMotion is told to move (fake_naoqi.ALMotion passes the commands on)
+        self.body = Body(idle=True, seed=seed)
         self.stuck: Dict[str, float] = {}
         self._laser_t = -1.0
         self._laser: Dict[str, float] = {}
@@ -114,14 +117,16 @@ class Memory:
             return self._laser_value(key, t)
         for side, back in (('Front', False), ('Back', True)):
             if key == SONAR_KEY % side:
-                return float(scene.sonar_range(t, back, 0.01, self.rng))
+                snap = self.body.snapshot(t)
+                return float(scene.sonar_range(t, back, 0.01, self.rng, (snap.x, snap.y, snap.yaw),
+                                               self.body.circles()))
         if key.startswith('Device/SubDeviceList/InertialSensor'):
             return self._imu(key, t)
         for i, joint in enumerate(JOINT_NAMES):
             if key == TEMPERATURE_KEY % joint:
                 return HOT if joint == self.settings.hot_joint else joint_temperature(i, t)
             if key == HARDNESS_KEY % joint:
-                return 1.0
+                return float(self.body.snapshot(t).stiffness)
             if key in ('Motion/Velocity/Sensor/' + joint, 'Motion/Torque/Sensor/' + joint):
                 if joint in JOINTS_WITHOUT_VELOCITY:
                     return None
@@ -130,7 +135,9 @@ class Memory:
 
     def _laser_value(self, key: str, t: float) -> Optional[float]:
         if self._laser_t != t:
-            lx, ly = scene.laser_device_points(t, 0.0, 0.01, self.rng)
+            snap = self.body.snapshot(t)
+            lx, ly = scene.laser_device_points(t, 0.0, 0.01, self.rng, (snap.x, snap.y, snap.yaw),
+                                               self.body.circles())
             self._laser = {}
             for row, board in enumerate(LASER_BOARDS):
                 seg_x, seg_y = lx[row, ::-1], ly[row, ::-1]     # ALMemory: Seg01..15 left to right
@@ -144,12 +151,11 @@ class Memory:
         return v
 
     def _imu(self, key: str, t: float) -> Optional[float]:
-        _, _, yaw = scene.robot_pose(t)
-        v, w = scene.speeds()
+        snap = self.body.snapshot(t)
         n = float(self.rng.normal(0.0, 1.0))
-        values = {'AngleX': 0.0, 'AngleY': 0.0, 'AngleZ': yaw,
-                  'GyroscopeX': 0.002 * n, 'GyroscopeY': 0.002 * n, 'GyroscopeZ': w + 0.002 * n,
-                  'AccelerometerX': 0.02 * n, 'AccelerometerY': v * w + 0.02 * n,
+        values = {'AngleX': 0.0, 'AngleY': 0.0, 'AngleZ': float(snap.yaw),
+                  'GyroscopeX': 0.002 * n, 'GyroscopeY': 0.002 * n, 'GyroscopeZ': float(snap.wz) + 0.002 * n,
+                  'AccelerometerX': float(snap.ax) + 0.02 * n, 'AccelerometerY': float(snap.ay) + 0.02 * n,
                   'AccelerometerZ': scene.GRAVITY + 0.02 * n}
         for board in ('InertialSensor', 'InertialSensorBase'):
             for name, value in values.items():
@@ -158,13 +164,10 @@ class Memory:
         return None
 
     def joint_angles(self, t: float) -> List[float]:
-        """ALMotion.getAngles("Body", true): the standing pose, swaying a little, and the wheels
-        turning with the robot's speed (as the emulator's joint_states)."""
-        out = []
-        v, w = scene.speeds()
-        for i, joint in enumerate(JOINT_NAMES):
-            if joint in POSE:
-                out.append(POSE[joint] + 0.03 * math.sin(0.5 * t + i))
-            else:
-                out.append(math.fmod(v * t / 0.07, 2 * math.pi) - math.pi)
-        return out
+        """ALMotion.getAngles("Body", true): the body's joints and wheels (body.py), as the
+        emulator's joint_states have them."""
+        snap = self.body.snapshot(t)
+        return [float(snap.joints[j] if j in snap.joints else snap.wheels[j]) for j in JOINT_NAMES]
+
+    def snapshot(self, t: float) -> Snapshot:
+        return self.body.snapshot(t)

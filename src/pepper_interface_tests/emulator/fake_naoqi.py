@@ -89,6 +89,15 @@ class ALMemory:
         return done
 
 
+def _names(names: Any) -> List[str]:
+    """ALMotion takes one name or a list of names."""
+    return [str(names)] if isinstance(names, str) else [str(n) for n in names]
+
+
+def _floats(values: Any) -> List[float]:
+    return [float(values)] if isinstance(values, (int, float)) else [float(v) for v in values]
+
+
 class ALMotion:
     def __init__(self, memory: Memory, clock: Clock, head: str) -> None:
         self._m, self._clock, self._head = memory, clock, head
@@ -120,29 +129,34 @@ class ALMotion:
 
     def getPosition(self, name: str, frame: int, use_sensors: bool) -> List[float]:
         # odom.cpp:56-66: x, y, z, wx, wy, wz of the torso in FRAME_WORLD
-        x, y, yaw = scene.robot_pose(self._clock.now())
-        return [x, y, 0.82, 0.0, 0.0, yaw]
+        snap = self._m.snapshot(self._clock.now())
+        return [float(snap.x), float(snap.y), 0.82, 0.0, 0.0, float(snap.yaw)]
 
     def getRobotVelocity(self) -> List[float]:
-        v, w = scene.speeds()
-        return [v, 0.0, w]
+        snap = self._m.snapshot(self._clock.now())
+        return [float(snap.vx), float(snap.vy), float(snap.wz)]
 
+    # the driver's subscribers call these (teleop.cpp:44-65, moveto.cpp:49-129); the body
+    # follows them as the emulator's own command topics do (body.py, commands.py)
     def move(self, x: float, y: float, theta: float) -> None:
-        LOG.info('move(%g, %g, %g): the fake robot keeps its circle', x, y, theta)
+        self._m.body.move(self._clock.now(), float(x), float(y), float(theta))
 
     def moveTo(self, x: float, y: float, theta: float) -> None:
-        LOG.info('moveTo(%g, %g, %g): the fake robot keeps its circle', x, y, theta)
+        self._m.body.move_to(self._clock.now(), float(x), float(y), float(theta))
 
     def setAngles(self, names: Any, angles: Any, speed: float) -> None:
-        pass
+        self._m.body.set_angles(self._clock.now(), _names(names), _floats(angles), float(speed))
 
     def changeAngles(self, names: Any, changes: Any, speed: float) -> None:
-        pass
+        self._m.body.set_angles(self._clock.now(), _names(names), _floats(changes), float(speed),
+                                relative=True)
 
 
 class ALVideoDevice:
-    def __init__(self, clock: Clock, failing: Optional[int], seed: int = 0) -> None:
+    def __init__(self, clock: Clock, failing: Optional[int], seed: int = 0,
+                 memory: Optional[Memory] = None) -> None:
         self._clock, self._failing, self._seed = clock, failing, seed
+        self._m = memory       # the body the pictures are seen from (base + head yaw)
         self._handles: Dict[str, Tuple[int, int, int, int, Any]] = {}
         self._lock = threading.Lock()
 
@@ -172,7 +186,11 @@ class ALVideoDevice:
         if camera == self._failing:
             raise RuntimeError('ALVideoDevice::getImageRemote: camera %d gives no image' % camera)
         t = self._clock.now()
-        img = np.ascontiguousarray(renderer.render(t))
+        if self._m is None:
+            img = np.ascontiguousarray(renderer.render(t))
+        else:
+            snap = self._m.snapshot(t)
+            img = np.ascontiguousarray(renderer.render(t, view=(snap.x, snap.y, snap.view_yaw)))
         now = time.time()
         return (w, h, 3 if img.dtype == np.uint8 else 2, colorspace, int(now), int((now % 1) * 1e6),
                 img.tobytes(), camera, 0.0, 0.0, 0.0, 0.0)
@@ -233,7 +251,7 @@ def register(session: Any, settings: WorldSettings, seed: int = 0,
     clock = Clock()
     memory = Memory(settings, seed)
     mem = ALMemory(memory, clock, session)
-    video = ALVideoDevice(clock, settings.failing_camera, seed)
+    video = ALVideoDevice(clock, settings.failing_camera, seed, memory)
 
     class VideoService:
         def subscribeCamera(self, name: str, camera: int, resolution: int, colorspace: int, fps: int) -> str:
