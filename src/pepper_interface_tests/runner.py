@@ -78,6 +78,8 @@ class Runner:
         self.current[i] = None
         while lane:
             plan = lane[0]
+            if plan.skip_reason is None and not traits(plan.sensor).leads and self._leading():
+                return     # started by the main loop once the leading windows are done
             if plan.skip_reason is not None:
                 self._done(skipped_result(plan, self.start, now))
                 lane.pop(0)
@@ -91,6 +93,16 @@ class Runner:
             self.source.attach(run)
             self.observers.sensor_started(run.progress(now))
             return
+
+    def _leading(self) -> bool:
+        """A leading window (Traits.leads: the motion check) is still to run, running or
+        closing: the other windows wait, so they neither watch the robot move nor are judged
+        before its findings about them (RunContext.findings) exist."""
+        if any(r is not None and traits(r.sensor).leads for r in self.current):
+            return True
+        if any(traits(r.sensor).leads for r, _ in self.closing):
+            return True
+        return any(traits(p.sensor).leads and p.skip_reason is None for ln in self.lanes for p in ln)
 
     def _done(self, result):
         self.results[result.name] = result
@@ -141,8 +153,11 @@ class Runner:
             self._nothing_published()
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
-            while any(self.current) or self.closing:
+            while any(self.current) or self.closing or any(self.lanes):
                 now = self.clock()
+                for i, run in enumerate(self.current):
+                    if run is None and self.lanes[i]:   # held while a leading window ran
+                        self._start_next(i, now)
                 due = []
                 for i, run in enumerate(self.current):
                     if run is None:

@@ -1,0 +1,147 @@
+"""What a witness measured over a step, from the recorded series (pure functions, numpy only).
+
+- yaw_of: the yaw of a quaternion (rad, about z, counter-clockwise positive: REP 103).
+- change: a series' change between two times, angles unwrapped.
+- integrated_gyro: the gyro's rates integrated over a step, per axis (trapezoids).
+- scan_turn: how far the robot turned between two scans, from how far the picture of the room
+  slid along the beams. A robot turning counter-clockwise by a sees a point at angle p at p - a,
+  so the later scan b holds at beam j what the earlier a held at j + a / angle_increment; the
+  shift with the least mean difference (refined between beams by a parabola) times the
+  increment is the turn. naoqi_driver stores the beams right to left, angle_min -2.0944 first,
+  with a positive increment (src/converters/laser.cpp:158-161, 216-218): a scan stored in the
+  other order gives the opposite turn. Blind slots (-1.0, laser.cpp:221), NaN and readings
+  outside [range_min, range_max] take no part.
+- picture_shift: the sideways shift (pixels, positive: the picture moved right) between two
+  small grey frames by phase correlation (the peak of the normalised cross-power spectrum).
+  A head yawing left (positive yaw) moves the scene right in a forward-looking camera.
+"""
+import math
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+
+def yaw_of(x: float, y: float, z: float, w: float) -> float:
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def wrap(a: float) -> float:
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+def value_at(series: Sequence[Tuple[float, float]], t: float) -> Optional[float]:
+    """The last value at or before t (the first one when none is that early); None: empty."""
+    if not series:
+        return None
+    best = series[0][1]
+    for ts, v in series:
+        if ts > t:
+            break
+        best = v
+    return best
+
+
+def change(series: Sequence[Tuple[float, float]], t0: float, t1: float, angle: bool = True) -> Optional[float]:
+    """How much the series changed from t0 to t1, summed step by step (angles unwrapped); None
+    when it has no value at or before t1."""
+    pts = [(t, v) for t, v in series if t <= t1]
+    if not pts:
+        return None
+    start = value_at(pts, t0)
+    inside = [v for t, v in pts if t > t0]
+    if start is None:
+        return None
+    total, last = 0.0, start
+    for v in inside:
+        d = v - last
+        total += wrap(d) if angle else d
+        last = v
+    return total
+
+
+def integrated_gyro(gyro: Sequence[Tuple[float, float, float, float]], t0: float,
+                    t1: float) -> Optional[Tuple[float, float, float]]:
+    pts = [g for g in gyro if t0 <= g[0] <= t1]
+    if len(pts) < 2:
+        return None
+    out = [0.0, 0.0, 0.0]
+    for a, b in zip(pts, pts[1:]):
+        dt = b[0] - a[0]
+        for k in range(3):
+            out[k] += 0.5 * (a[k + 1] + b[k + 1]) * dt
+    return out[0], out[1], out[2]
+
+
+def gyro_series(gyro: Sequence[Tuple[float, float, float, float]], t0: float) -> List[Tuple[float, float]]:
+    """The integrated gyro z from t0 on: [(t, rad)]."""
+    out: List[Tuple[float, float]] = []
+    total = 0.0
+    prev = None
+    for g in gyro:
+        if g[0] < t0:
+            continue
+        if prev is not None:
+            total += 0.5 * (prev[3] + g[3]) * (g[0] - prev[0])
+        out.append((g[0], total))
+        prev = g
+    return out
+
+
+def valid_ranges(ranges: Sequence[float], range_min: float, range_max: float) -> np.ndarray:
+    r = np.asarray(ranges, dtype=float)
+    bad = ~np.isfinite(r) | (r < max(range_min, 0.0)) | (r > range_max)
+    return np.where(bad, np.nan, r)
+
+
+def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 1.2) -> Optional[float]:
+    """The robot's turn (rad) from scan a to scan b (see the module's docstring); None when the
+    scans share too few valid beams to tell."""
+    n = min(len(a), len(b))
+    if n < 10 or increment == 0:
+        return None
+    kmax = min(n // 3, int(abs(max_turn / increment)) + 1)
+    errors = {}
+    for k in range(-kmax, kmax + 1):
+        if k >= 0:
+            x, y = a[k:n], b[:n - k]
+        else:
+            x, y = a[:n + k], b[-k:n]
+        ok = np.isfinite(x) & np.isfinite(y)
+        if ok.sum() < max(5, n // 6):
+            continue
+        errors[k] = float(np.mean(np.abs(x[ok] - y[ok])))
+    if not errors:
+        return None
+    k = min(errors, key=lambda j: (errors[j], abs(j)))
+    frac = 0.0
+    if k - 1 in errors and k + 1 in errors:
+        e0, e1, e2 = errors[k - 1], errors[k], errors[k + 1]
+        den = e0 - 2 * e1 + e2
+        if den > 1e-12:
+            frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
+    return (k + frac) * increment
+
+
+def small_grey(data: np.ndarray, width: int = 80) -> np.ndarray:
+    """A frame (h x w or h x w x c) as a small float grey picture about `width` wide."""
+    img = data.astype(np.float32)
+    if img.ndim == 3:
+        img = img.mean(axis=2)
+    step = max(1, img.shape[1] // width)
+    return img[::step, ::step]
+
+
+def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
+    """Sideways shift (pixels of a and b's scale) from frame a to frame b: positive when the
+    picture moved right; None when a frame is flat (nothing to follow)."""
+    if a.shape != b.shape or a.std() < 1e-3 or b.std() < 1e-3:
+        return None
+    win = np.hanning(a.shape[1])[None, :] * np.hanning(a.shape[0])[:, None]
+    fa = np.fft.fft2((a - a.mean()) * win)
+    fb = np.fft.fft2((b - b.mean()) * win)
+    cross = fb * np.conj(fa)
+    cross /= np.abs(cross) + 1e-9
+    corr = np.abs(np.fft.ifft2(cross))
+    _, dx = np.unravel_index(int(np.argmax(corr)), corr.shape)
+    w = a.shape[1]
+    return float(dx - w if dx > w // 2 else dx)
