@@ -12,11 +12,15 @@
   otherwise (teleop.cpp:44-53); used ONLY to stop: a zero twist, which also cancels a moveTo
   under way (ALMotion: a new move task replaces the running one).
 
-After `close()` nothing is ever sent again (every send checks it under the lock).
+Every publisher is synchronous (queue_size None): publish() returns once the message is written
+to each subscriber's connection, so a stop sent just before the end (Ctrl-C, SIGTERM) is on the
+wire before the publishers are unregistered; rospy's queued publishing would drop it. After
+`close()` nothing is ever sent again (every send checks it under the lock).
 """
 import math
 import threading
 import time
+import warnings
 from typing import Callable, List, Tuple
 
 import rospy
@@ -37,9 +41,11 @@ class Commands:
         self.lock = threading.Lock()
         self.closed = False
         self.sent: List[Tuple[float, str, str]] = []
-        self.goal = rospy.Publisher(GOAL_TOPIC, PoseStamped, queue_size=1)
-        self.joints = rospy.Publisher(JOINT_TOPIC, JointAnglesWithSpeed, queue_size=1)
-        self.twist = rospy.Publisher(STOP_TOPIC, Twist, queue_size=1)
+        with warnings.catch_warnings():   # rospy warns about queue_size None: chosen, see above
+            warnings.simplefilter('ignore', SyntaxWarning)
+            self.goal = rospy.Publisher(GOAL_TOPIC, PoseStamped, queue_size=None)
+            self.joints = rospy.Publisher(JOINT_TOPIC, JointAnglesWithSpeed, queue_size=None)
+            self.twist = rospy.Publisher(STOP_TOPIC, Twist, queue_size=None)
 
     def receivers(self) -> int:
         """How many of the three topics have a subscriber (naoqi_driver: all three)."""

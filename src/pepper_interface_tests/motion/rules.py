@@ -153,7 +153,8 @@ class Judge:
         wheels = None
         series = [self.rec.joint_series(w) for w in WHEELS]
         if any(series):
-            wheels = sum(abs(estimate.change(s, t0, t1, angle=False) or 0.0) for s in series if s) + 0.0
+            # wheel angles may wrap at +-pi (a continuous joint): changes are summed unwrapped
+            wheels = sum(abs(estimate.change(s, t0, t1) or 0.0) for s in series if s) + 0.0
         m = {'odometry': odom, 'gyro_z': g[2] if g else None, 'gyro_x': g[0] if g else None,
              'gyro_y': g[1] if g else None, 'laser': laser, 'wheels': wheels}
         self.measured[i] = m

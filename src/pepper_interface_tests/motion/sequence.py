@@ -21,7 +21,14 @@ from .commands import Commands
 from .record import WHEELS, Recording
 
 MIN_STEP = 1.5      # s before a step may count as settled (ALMotion takes a moment to start)
-STILL = 0.01        # rad: a witness changing less than this over settle_time has settled
+# HeadYaw's maximum speed (rad/s): pepper_description pepper.urdf line 15 (sensors/joint_limits.py)
+HEAD_YAW_SPEED = 7.33998
+# rad/s a turn in place is expected at, at least: ALMotion turns the base at up to ~1 rad/s by
+# default (its move config); 0.3 leaves room for its acceleration and a slow start
+BASE_SPEED = 0.3
+# rad: a witness changing less than this over settle_time has settled (encoder noise and a
+# head's last creep stay below it; a 0.5 rad step at 0.1 speed moves ~0.7 rad/s)
+STILL = 0.03
 
 
 @dataclass
@@ -104,22 +111,42 @@ class Sequence:
         else:
             self.commands.turn(step.target)
 
+    def expected(self, step: Step) -> float:
+        """Seconds the step should take: HeadYaw at head_speed x its maximum speed, the base at
+        BASE_SPEED (ALMotion's turns are slower than its maximum)."""
+        if step.part == 'head':
+            return abs(step.commanded) / (self.expect.head_speed * HEAD_YAW_SPEED)
+        return abs(step.commanded) / BASE_SPEED
+
     def _settled(self, step: Step, now: float) -> bool:
+        """The head reached its target; or the witnesses are quiet for settle_time after having
+        moved; or they never moved within the step's expected time (+ MIN_STEP + settle_time),
+        which is how a part that does not move ends its step before step_timeout."""
         e = self.expect
         assert step.sent is not None
-        if now - step.sent < MIN_STEP:
+        took = now - step.sent
+        if took < MIN_STEP:
             return False
         if step.part == 'head':
             h = self.rec.latest_joint('HeadYaw')
             if h is not None and abs(h - step.target) <= e.joint_tolerance / 2:
                 return True
+        if took >= self.expected(step) + MIN_STEP + e.settle_time and not self._moved(step, now):
+            return True
         since = now - e.settle_time
         if since < step.sent:
             return False
         for series in self._recent(step, since):
             if len(series) >= 2 and max(series) - min(series) > STILL:
                 return False
-        return True
+        return self._moved(step, now)
+
+    def _moved(self, step: Step, now: float) -> bool:
+        """A witness changed by still_share of the command since the step was sent."""
+        assert step.sent is not None
+        least = self.expect.still_share * abs(step.commanded)
+        return any(series and abs(series[-1] - series[0]) >= least
+                   for series in self._recent(step, step.sent - 0.3))
 
     def _recent(self, step: Step, since: float) -> List[List[float]]:
         if step.part == 'head':

@@ -232,8 +232,9 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
         if topic is None and skip is None and platform == 'robot' and sensor.driver_topic:
             # a topics file older than the sensor: the driver's own topic
             topic = sensor.driver_topic
-            notes.append('%s: no key in %s, listening on naoqi_driver\'s %s'
-                         % (name, os.path.basename(topics_path), topic))
+            if not sensor.opt_in:    # motion's topics are naoqi_driver's own, fixed ones
+                notes.append('%s: no key in %s, listening on naoqi_driver\'s %s'
+                             % (name, os.path.basename(topics_path), topic))
         if topic is None and skip is None:
             raise ConfigError('no topic for sensor "%s"' % name, topics_path,
                               fix='add a line "%s /topic/name" or disable the sensor in %s'

@@ -1,0 +1,149 @@
+"""Integration: sensorTest --move against the real emulator, with what the robot receives
+recorded by a real rospy node in a process of its own (test/nodes/motion_recorder.py).
+
+Safety, tested rather than assumed: Ctrl-C, SIGTERM and a lost master during a base turn stop
+the base at once (the last /cmd_vel the robot received is a zero twist, and no goal comes after
+it), the head is sent back to where it started, and the outputs are complete and say where the
+motion stopped and why.
+"""
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from rosmaster import NODES, Master, kill_group, script, spawn, wait_until
+
+PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+GOAL, TWIST, JOINTS = '/move_base_simple/goal', '/cmd_vel', '/joint_angles'
+
+
+def expectations(tmp_path, **motion):
+    """The shipped expectations file with the motion block's keys replaced (a quick plan)."""
+    text = open(os.path.join(PKG, 'config', 'sensorExpectations.yaml')).read()
+    keys = dict(dict(head_yaw=0.5, head_speed=0.1, base_turn=0.5, step_timeout=15.0), **motion)
+    block = '  motion:\n' + ''.join('    %s: %s\n' % kv for kv in keys.items())
+    start = text.index('  motion:\n')
+    end = text.index('\nsimulator:')
+    path = tmp_path / 'expect.yaml'
+    path.write_text(text[:start] + block + text[end:])
+    return str(path)
+
+
+class Robot:
+    """The emulator (a robot standing still) and the recorder of what it is sent."""
+
+    def __init__(self, master, tmp_path, emu_params=()):
+        self.master, self.tmp = master, tmp_path
+        self.emu_log = tmp_path / 'emulator.log'
+        self.rec_path = tmp_path / 'received.jsonl'
+        self.rec_log = tmp_path / 'recorder.log'
+        with open(str(self.emu_log), 'w') as log:
+            self.emu = spawn(script('pepperEmulator') + ['__name:=emu_%d' % time.time_ns(), '_audio:=off',
+                                                          '_condition:=still', '_camera_resolution:=QQVGA']
+                             + list(emu_params), master.env(), stdout=log, stderr=subprocess.STDOUT)
+        with open(str(self.rec_log), 'w') as log:
+            self.rec = spawn([sys.executable, os.path.join(NODES, 'motion_recorder.py'), str(self.rec_path)],
+                             master.env(), stdout=log, stderr=subprocess.STDOUT)
+        wait_until(lambda: 'publishers up' in self.emu_log.read_text(), 30, self.emu_log.read_text)
+        wait_until(lambda: 'recorder up' in self.rec_log.read_text(), 30, self.rec_log.read_text)
+
+    def received(self):
+        if not self.rec_path.exists():
+            return []
+        return [json.loads(line) for line in self.rec_path.read_text().splitlines() if line.strip()]
+
+    def stop(self):
+        kill_group(self.emu)
+        kill_group(self.rec)
+
+
+@pytest.fixture
+def robot(master, tmp_path):
+    r = Robot(master, tmp_path)
+    yield r
+    r.stop()
+
+
+def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser', expect=None):
+    out = tmp_path / 'out'
+    cmd = script('sensorTest') + [
+        '--move', '--sensors', sensors, '--mode', 'parallel', '--duration', '2', '--wait', '8',
+        '--expectations', expect or expectations(tmp_path, witness_wait=1.0, step_timeout=6.0),
+        '--output-dir', str(out), '--no-show', '--no-history', '--no-record'] + list(args)
+    log = open(str(tmp_path / 'sensorTest.log'), 'w')
+    return spawn(cmd, master.env(), stdout=log, stderr=subprocess.STDOUT), out
+
+
+def results(out):
+    data = json.loads((out / 'sensorTestResults.json').read_text())
+    return data, {s['name']: s for s in data['sensors']}
+
+
+def assert_stopped_safely(received, head_yaw=0.5):
+    """The last /cmd_vel is a zero twist, no goal after it, the head sent back to its start
+    (the first head command was start + head_yaw)."""
+    twists = [r for r in received if r['topic'] == TWIST]
+    goals = [r for r in received if r['topic'] == GOAL]
+    assert goals, 'no turn was ever commanded: %s' % received
+    assert twists, 'the base was never stopped: %s' % received
+    last = twists[-1]
+    assert (last['vx'], last['vy'], last['vth']) == (0.0, 0.0, 0.0), last
+    assert all(g['t'] <= last['t'] for g in goals), 'a goal after the stop: %s' % received
+    assert received.index(last) > received.index(goals[-1])
+    heads = [r for r in received if r['topic'] == JOINTS]
+    if not head_yaw:
+        assert not heads, heads
+        return
+    assert heads and heads[-1]['angles'] == [pytest.approx(heads[0]['angles'][0] - head_yaw, abs=1e-4)], heads
+    assert heads[-1]['t'] >= last['t'] - 0.5     # sent back as the motion stopped
+
+
+@pytest.mark.parametrize('sig, words, head_yaw', [(signal.SIGINT, 'Ctrl-C', 0.5), (signal.SIGTERM, 'SIGTERM', 0)],
+                         ids=['SIGINT', 'SIGTERM'])
+def test_a_signal_during_a_turn_stops_the_base_and_returns_the_head(master, robot, tmp_path, sig, words,
+                                                                    head_yaw):
+    # (the head part takes ~8 s: once is enough to see it sent back)
+    proc, out = sensor_test(master, tmp_path, expect=expectations(tmp_path, witness_wait=1.0, step_timeout=6.0,
+                                                                  head_yaw=head_yaw))
+    try:
+        wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                   lambda: 'no goal: %s' % (tmp_path / 'sensorTest.log').read_text()[-2000:])
+        proc.send_signal(sig)
+        assert proc.wait(30) == 130 if sig == signal.SIGINT else proc.wait(30) != 0
+    finally:
+        kill_group(proc)
+    time.sleep(0.5)     # anything still in flight reaches the recorder
+    assert_stopped_safely(robot.received(), head_yaw)
+    data, rows = results(out)
+    assert data['interrupted'] and words in data['interrupt_reason']
+    motion = rows['motion']
+    assert motion['verdict'] == 'INTERRUPTED'
+    assert any('stopped during "base turn +0.50 rad"' in w and 'zero /cmd_vel' in w
+               for w in motion['warnings']), motion
+    # every other selected sensor is in the results too (not run: the run ended)
+    assert set(rows) == {'motion', 'jointState', 'odometry', 'imu', 'laser'}
+
+
+def test_a_lost_master_during_a_turn_stops_the_base(tmp_path):
+    with Master() as master:
+        robot = Robot(master, tmp_path)
+        try:
+            proc, out = sensor_test(master, tmp_path, expect=expectations(tmp_path, witness_wait=1.0, head_yaw=0))
+            try:
+                wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                           lambda: (tmp_path / 'sensorTest.log').read_text()[-2000:])
+                master.stop()
+                proc.wait(40)
+            finally:
+                kill_group(proc)
+            time.sleep(0.5)
+            assert_stopped_safely(robot.received(), 0)
+        finally:
+            robot.stop()
+    data, rows = results(out)
+    assert data['interrupted'] and 'master' in data['interrupt_reason']
+    assert any('stopped during "base turn' in w for w in rows['motion']['warnings'])
