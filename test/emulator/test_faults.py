@@ -178,3 +178,30 @@ def test_board_faults_parse_and_are_listed():
     for name in ('dead_board=VALUE', 'nan_board=VALUE', 'spike'):
         assert name in table
     assert max(len(line) for line in table.splitlines()) <= 80
+
+
+def test_motion_faults_parse_and_are_listed():
+    """The faults of a commanded robot (issue 25): per sensor, and the robot's own conditions
+    on the pseudo-sensor `robot`."""
+    f = parse_faults('imu:gyro_inverted,clock_offset=-0.5;jointState:stuck_joint=headyaw;'
+                     'robot:resting,base_blocked,obstacle;frontSonar:glass;laser:reversed;'
+                     'frontCamera:not_following;odometry:frozen_pose')
+    assert f['imu'].gyro_inverted and f['imu'].clock_offset == -0.5
+    assert f['jointState'].stuck_joint == 'HeadYaw'
+    assert f['robot'].resting and f['robot'].base_blocked and f['robot'].obstacle
+    assert parse_faults(format_faults(f)) == f
+    with pytest.raises(FaultError, match='valid joints: HeadYaw'):
+        parse_faults('jointState:stuck_joint=Neck')
+    with pytest.raises(FaultError, match='does not apply to laser'):
+        parse_faults('laser:resting')
+    with pytest.raises(FaultError, match='does not apply to robot'):
+        parse_faults('robot:gyro_inverted')
+    with pytest.raises(FaultError, match='positive'):
+        parse_faults('laser:clock_offset=abc')
+    table = fault_table.table()
+    for name in ('gyro_inverted', 'dead_gyro', 'swapped_axes', 'frozen_pose', 'stuck_joint=VALUE',
+                 'reversed', 'not_following', 'glass', 'clock_offset=VALUE', 'resting',
+                 'base_blocked', 'obstacle'):
+        assert name in table
+    assert 'robot' in table.split('sensors:')[1]
+    assert max(len(line) for line in table.splitlines()) <= 80

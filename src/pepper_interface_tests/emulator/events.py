@@ -118,11 +118,14 @@ class HealthPublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         pct = EMPTY_BATTERY if self.faults.empty_battery else HEALTHY_BATTERY
-        return driver_array(self.temperatures(t), pct, charging=False)
+        # Device/SubDeviceList/<joint>/Hardness/Actuator/Value (diagnostics.cpp:79-80, 165-170):
+        # 1 awake, 0 resting (the body, robot:resting)
+        stiffness = self.snapshot(t).stiffness
+        return driver_array(self.temperatures(t), pct, charging=False, stiffness=stiffness)
 
 
 def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
-                 fully_charged: bool = False) -> DiagnosticArray:
+                 fully_charged: bool = False, stiffness: float = 1.0) -> DiagnosticArray:
     """The DiagnosticArray naoqi_driver builds (diagnostics.cpp:134-313) from joint temperatures
     (°C) and the battery's charge (%) and flags."""
     msg = DiagnosticArray()
@@ -131,14 +134,15 @@ def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
         level, words = (0, 'OK') if temp < 68 else (1, 'Hot') if temp < 74 else (2, 'Too hot')
         lo, hi, vel, _ = joint_limits.LIMITS.get(joint, (0.0, 0.0, 0.0, 0))
         msg.status.append(_status('naoqi_driver_joints:' + joint, joint, level, words, [
-            ('Temperature', _num(temp)), ('Stiffness', '1'), ('minAngle', _num(lo or 0.0)),
+            ('Temperature', _num(temp)), ('Stiffness', _num(stiffness)), ('minAngle', _num(lo or 0.0)),
             ('maxAngle', _num(hi or 0.0)), ('maxVelocity', _num(vel)), ('maxTorque', '0')]))
         worst, hottest = max(worst, level), max(hottest, temp)
         if level >= 1:
             hot += '\n%s: %s°C' % (joint, _num(temp))
     msg.status.append(_status('naoqi_driver_joints:Status', 'joints', worst, ('OK', 'WARN', 'ERROR')[worst], [
-        ('Highest Temperature', _num(hottest)), ('Highest Stiffness', '1'), ('Lowest Stiffness', '1'),
-        ('Lowest Stiffness without Hands', '1'), ('Hot Joints', hot)]))
+        ('Highest Temperature', _num(hottest)), ('Highest Stiffness', _num(stiffness)),
+        ('Lowest Stiffness', _num(stiffness)), ('Lowest Stiffness without Hands', _num(stiffness)),
+        ('Hot Joints', hot)]))
     if charging:
         level, text = 0, 'Charging (%4d%%)' % percent
     elif percent > 60:

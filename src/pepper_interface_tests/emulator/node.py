@@ -13,6 +13,9 @@ Private params (each also a command-line option, which wins):
   ~condition          normal | loaded | still | dark: healthy but unusual (loaded: cameras
                       ~1.3 fps with jitter; still: the robot stands still; dark: a dark room)
                                                                 (normal)
+                      Robot profiles take naoqi_driver's motion commands (/cmd_vel,
+                      /joint_angles, /move_base_simple/goal; commands.py, body.py): the
+                      idle drive stops as soon as a publisher connects to one of them.
   ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
   ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
@@ -53,6 +56,7 @@ from .speech import DirectSpeech, NaoqiSpeech
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource
+    from .commands import CommandSubscribers
 
 NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
@@ -111,7 +115,7 @@ class EmulatorConfig:
         self.faults = parse_faults(v['faults'])
         published = [s.name for s in self.profile_spec.sensors]
         for name in self.faults:
-            if name in published:
+            if name in published or name == faults_mod.ROBOT:
                 continue
             if name == 'microphone' and self.profile != 'simulator' and self.audio == 'bridge':
                 raise FaultError('microphone faults need ~audio direct (with the audio bridge the '
@@ -214,11 +218,21 @@ class Emulator:
         self.speech: Optional[Union[DirectSpeech, NaoqiSpeech]] = None
         self.speech_sub: Optional[rospy.Subscriber] = None
         self.operator: Optional[EmulatedOperator] = None
+        self.commands: Optional[CommandSubscribers] = None
+        robot = config.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
+        from .body import Body
+        self.body = Body(idle=config.condition != 'still', seed=config.seed, resting=robot.resting,
+                         base_blocked=robot.base_blocked, obstacle=robot.obstacle)
 
     def start(self) -> None:
         cfg = self.config
-        from . import scene
-        scene.standing_still(cfg.condition == 'still')
+        self.body.log = lambda text: rospy.loginfo('pepperEmulator: %s', text)
+        if not self.clock.sim:
+            # naoqi_driver's subscribers (src/naoqi_driver.cpp:933-940); the simulator takes
+            # /pepper/cmd_vel and trajectory actions instead (docs/drivers.md), not emulated
+            from .commands import CommandSubscribers
+            robot = cfg.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
+            self.commands = CommandSubscribers(self.body, self.clock.now, robot.resting, robot.base_blocked)
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)
@@ -240,6 +254,7 @@ class Emulator:
                           cfg.condition, source=self.source)
             else:
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed, cfg.condition)
+            pub.body = self.body
             self.threads.append(pub)
         topic = cfg.profile_spec.speech_topic
         if topic:
@@ -286,6 +301,8 @@ class Emulator:
                 pass
         if self.speech_sub is not None:
             self.speech_sub.unregister()
+        if self.commands is not None:
+            self.commands.close()
         if self.operator is not None:
             self.operator.close()
         if self.speech is not None:

@@ -1,7 +1,8 @@
 """One publisher thread per sensor stream, on an absolute schedule, with faults applied.
 
-Each `StreamPublisher` owns its rospy publisher(s), its renderer state and its counters; nothing
-is shared between threads except the read-only world model (scene.py) and the stop event.
+Each `StreamPublisher` owns its rospy publisher(s), its renderer state and its counters; the
+threads share the read-only world model (scene.py), the robot's body (body.py: one state under
+a lock, which the motion commands change) and the stop event.
 Ticks are scheduled at t0 + k / rate (monotonic clock), so rates do not drift; when a tick is
 late by more than one period the missed slots are skipped rather than sent in a burst.
 Like naoqi_driver, a stream is only rendered and published while it has a subscriber.
@@ -22,6 +23,7 @@ from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
 from std_msgs.msg import String
 
 from . import scene
+from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
 from .profiles import (
     AUDIO_RATE,
@@ -155,6 +157,17 @@ class StreamPublisher(threading.Thread):
         msg_class = String if self.faults.wrong_type else self.msg_class()
         self.outputs = [(rospy.Publisher(topic, msg_class, queue_size=self.queue_size), frame)
                         for topic, frame in topics]
+        self.body: Optional[Body] = None     # the robot's body, shared (node.py); own one if unset
+        self.first: Optional[Snapshot] = None    # the body at this stream's first message
+
+    def snapshot(self, t: float) -> Snapshot:
+        """The body at scene time t (and, once, kept as the stream's first: frozen faults)."""
+        if self.body is None:
+            self.body = Body(idle=self.condition != 'still')
+        snap = self.body.snapshot(t)
+        if self.first is None:
+            self.first = snap
+        return snap
 
     # -- to override
     def msg_class(self) -> type:
@@ -200,6 +213,8 @@ class StreamPublisher(threading.Thread):
                         self.stuck_msgs[index] = msg
                 if hasattr(msg, 'header'):      # the stamps keep moving, as naoqi_driver's
                     msg.header.stamp = self.clock.stamp()
+                    if self.faults.clock_offset:    # a sensor on another clock
+                        msg.header.stamp += rospy.Duration.from_sec(self.faults.clock_offset)
                     msg.header.frame_id = frame
             pub.publish(msg)
         self.published += 1
@@ -270,9 +285,9 @@ class ImagePublisher(StreamPublisher):
             return self.cached
         if f.frozen and self.partial_on(t):
             if self.cached is None:
-                self.cached = self.renderer.render(t).tobytes()
+                self.cached = self.render(t).tobytes()
             return self.cached
-        img = self.renderer.render(t)
+        img = self.render(t)
         if self.dark:
             img = (img * DARK_FACTOR).astype(img.dtype)
         if f.far_depth:         # every pixel ~20 m: beyond what the camera measures
@@ -280,6 +295,18 @@ class ImagePublisher(StreamPublisher):
         elif f.flat_depth:      # one value everywhere, no noise, no floor
             img = np.full_like(img, 1500)
         return img.tobytes()
+
+    def render(self, t: float) -> np.ndarray:
+        """The picture from the head: the base's position, looking along base yaw + HeadYaw
+        (every camera of the emulator sits in the head). not_following: the view of the first
+        frame for ever, the picture otherwise live (a feed that does not follow the head)."""
+        snap = self.snapshot(t)
+        if self.faults.not_following:
+            snap = self.first or snap
+        view = (snap.x, snap.y, snap.view_yaw)
+        if self.spec.family == 'depth':
+            return self.renderer.render(t, view, self.body.circles() if self.body else ())
+        return self.renderer.render(t, view=view)
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         s, f = self.spec, self.faults
@@ -313,7 +340,9 @@ class LaserPublisher(StreamPublisher):
         slots keep -1.0 (reset(), :221)."""
         f = self.faults
         dead = LASER_BOARDS.index(f.dead_board) if f.dead_board else None
-        ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, dead)
+        snap = self.snapshot(t)
+        ranges = scene.laser_ranges(t, self.blind, self.spec.noise, self.rng, dead,
+                                    (snap.x, snap.y, snap.yaw), self.body.circles() if self.body else ())
         if f.nan_board:       # yohatad/naoqi_driver2: kUnknownRange in a stopped board's slots
             board = LASER_BOARDS.index(f.nan_board)
             ranges[np.flatnonzero(~self.blind)[board * 15:(board + 1) * 15]] = np.nan
@@ -328,7 +357,9 @@ class LaserPublisher(StreamPublisher):
         increment = 2 * SIM_LASER_ANGLE / SIM_LASER_SLOTS
         ranges = np.full(SIM_LASER_SLOTS, np.nan, dtype=np.float32)
         if not self.faults.no_returns:
-            dist, angle = scene.gazebo_laser_points(t, s.noise, self.rng)
+            snap = self.snapshot(t)
+            dist, angle = scene.gazebo_laser_points(t, s.noise, self.rng, (snap.x, snap.y, snap.yaw),
+                                                    self.body.circles() if self.body else ())
             ok = ~np.isnan(angle)       # a ray with no hit: no point (laser_publisher.py:464-477)
             idx = np.clip(((angle[ok] + SIM_LASER_ANGLE) / increment).astype(int), 0,
                           SIM_LASER_SLOTS - 1)
@@ -351,6 +382,8 @@ class LaserPublisher(StreamPublisher):
             idx = np.flatnonzero(valid)
             ranges[idx[0::2]] = -5.0
             ranges[idx[1::2]] = 0.0
+        if f.reversed:          # the beams stored left first: the scan turns the wrong way
+            ranges = ranges[::-1].copy()
         msg = LaserScan()
         msg.angle_min, msg.angle_max = a_min, a_max
         msg.angle_increment = inc
@@ -371,10 +404,14 @@ class SonarPublisher(StreamPublisher):
         msg.field_of_view = s.field_of_view
         msg.min_range, msg.max_range = s.range_min, s.range_max
         back = s.name == 'backSonar'
+        snap = self.snapshot(t)
+        pose = (snap.x, snap.y, snap.yaw)
+        circles = self.body.circles() if self.body else ()
+        panes = (scene.GLASS_PANE,) if f.glass else ()
         if s.layout == 'gazebo':
-            msg.range = scene.gazebo_sonar_range(t, back, s.range_max, s.noise, self.rng)
+            msg.range = scene.gazebo_sonar_range(t, back, s.range_max, s.noise, self.rng, pose, circles, panes)
         else:
-            msg.range = scene.sonar_range(t, back, s.noise, self.rng)
+            msg.range = scene.sonar_range(t, back, s.noise, self.rng, pose, circles, panes)
         if f.nan:
             msg.range = float('nan')
         elif f.out_of_range:
@@ -396,7 +433,14 @@ class OdometryPublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
-        x, y, yaw = scene.robot_pose(t)
+        snap = self.snapshot(t)
+        if f.frozen_pose:       # the pose of the first message, standing still, whatever the wheels do
+            first = self.first or snap
+            snap = Snapshot(snap.t, first.x, first.y, first.yaw, 0.0, 0.0, 0.0, 0.0, 0.0,
+                            snap.joints, snap.joint_velocities, snap.wheels, snap.wheel_velocities,
+                            snap.stiffness)
+        # odom.cpp:56-93: getPosition("Torso", FRAME_WORLD) and getRobotVelocity (base frame)
+        x, y, yaw = snap.x, snap.y, snap.yaw
         if f.pose_jump:     # an odometry that jumps 1 m every 2 s
             x += float(int(t / 2.0))
         if f.spike and self.published % 8 == 7:     # one pose in eight 25 m away, then back
@@ -406,9 +450,9 @@ class OdometryPublisher(StreamPublisher):
         msg.pose.pose.position.x = float('nan') if f.nan else x
         msg.pose.pose.position.y = y
         msg.pose.pose.orientation = _quaternion(yaw, f.broken_quaternion)
-        v, w = scene.speeds()
-        msg.twist.twist.linear.x = float('nan') if f.nan else (0.4 if f.twist_mismatch else v)
-        msg.twist.twist.angular.z = w
+        msg.twist.twist.linear.x = float('nan') if f.nan else (0.4 if f.twist_mismatch else snap.vx)
+        msg.twist.twist.linear.y = snap.vy
+        msg.twist.twist.angular.z = snap.wz
         return msg
 
 
@@ -418,7 +462,8 @@ class ImuPublisher(StreamPublisher):
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
-        _, _, yaw = scene.robot_pose(t)
+        snap = self.snapshot(t)
+        yaw = snap.yaw
         n = self.rng.normal(0.0, 1.0, 6)
         msg = Imu()
         # imu.cpp:106-126: orientation from AngleX/Y/Z, gyroscope, accelerometer (gravity
@@ -431,14 +476,22 @@ class ImuPublisher(StreamPublisher):
             msg.orientation = Quaternion(float('nan'), float('nan'), float('nan'), float('nan'))
         msg.angular_velocity.x = 0.002 * n[0]
         msg.angular_velocity.y = 0.002 * n[1]
-        v, w = scene.speeds()
-        msg.angular_velocity.z = w + 0.002 * n[2]
-        # specific force: gravity up, centripetal acceleration towards the circle's centre (+y)
-        msg.linear_acceleration.x = 0.02 * n[3]
-        msg.linear_acceleration.y = v * w + 0.02 * n[4]
+        msg.angular_velocity.z = snap.wz + 0.002 * n[2]
+        # specific force in the base frame: gravity up, the base's acceleration and the
+        # centripetal term of a turning drive (body.py)
+        msg.linear_acceleration.x = snap.ax + 0.02 * n[3]
+        msg.linear_acceleration.y = snap.ay + 0.02 * n[4]
         msg.linear_acceleration.z = scene.GRAVITY + 0.02 * n[5]
         if f.dead_accelerometer:
             msg.linear_acceleration.x = msg.linear_acceleration.y = msg.linear_acceleration.z = 0.0
+        g, a = msg.angular_velocity, msg.linear_acceleration
+        if f.dead_gyro:         # a gyrometer that reads nothing
+            g.x = g.y = g.z = 0.0
+        if f.gyro_inverted:     # the rates of the opposite sign: a turn left reads as a turn right
+            g.x, g.y, g.z = -g.x, -g.y, -g.z
+        if f.swapped_axes:      # x and z exchanged: a turn about z seen on x, gravity on x
+            g.x, g.z = g.z, g.x
+            a.x, a.z = a.z, a.x
         if f.gyro_overrange:
             msg.angular_velocity.z = 12.0 + 0.002 * n[2]
         if f.nan:
@@ -447,40 +500,25 @@ class ImuPublisher(StreamPublisher):
         return msg
 
 
-# standing pose (rad; hands 0..1 open)
-_POSE = {'HeadYaw': 0.0, 'HeadPitch': -0.2, 'HipRoll': 0.0, 'HipPitch': -0.03, 'KneePitch': 0.0,
-         'LShoulderPitch': 1.56, 'LShoulderRoll': 0.14, 'LElbowYaw': -1.22, 'LElbowRoll': -0.52,
-         'LWristYaw': -0.86, 'LHand': 0.6, 'RShoulderPitch': 1.56, 'RShoulderRoll': -0.14,
-         'RElbowYaw': 1.22, 'RElbowRoll': 0.52, 'RWristYaw': 0.86, 'RHand': 0.6}
 _OUT_OF_RANGE = {'HeadYaw': 4.0, 'KneePitch': -3.0, 'LHand': 1.8}     # beyond Pepper's limits
-_WHEEL_RADIUS, _WHEEL_BASE = 0.07, 0.2
 
 
 class JointStatePublisher(StreamPublisher):
-    def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
-                 rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
-        super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
-        n = len(_POSE)
-        self.amp = 0.02 + 0.08 * self.rng.random(n)
-        self.freq = 0.1 + 0.3 * self.rng.random(n)
-        self.phase = 2 * math.pi * self.rng.random(n)
-        self.pose = np.array([_POSE[j] for j in JOINT_NAMES if j in _POSE])
+    """joint_state.cpp:87-137: getAngles("Body", useSensors=true), in getBodyNames("Body")'s
+    order; the body's 17 joints and its three wheels (body.py)."""
 
     def msg_class(self) -> type:
         return JointState
 
     def build(self, t: float, frame_id: str, index: int) -> 'genpy.Message':
         f = self.faults
-        omega = 2 * math.pi * self.freq
-        pos = self.pose + self.amp * np.sin(omega * t + self.phase)
-        vel = self.amp * omega * np.cos(omega * t + self.phase)
-        eff = 0.05 * np.sin(omega * t + self.phase + 1.0) + 0.01
-        v, w = scene.speeds()
-        wheel_v = np.array([(v - w * _WHEEL_BASE), -(v + w * _WHEEL_BASE),
-                            w * _WHEEL_BASE]) / _WHEEL_RADIUS
-        positions = np.concatenate([pos, np.mod(wheel_v * t + math.pi, 2 * math.pi) - math.pi])
-        velocities = np.concatenate([vel, wheel_v])
-        efforts = np.concatenate([eff, [0.3, 0.3, 0.2]])
+        snap = self.snapshot(t)
+        first = self.first or snap
+        positions = np.array([snap.joints[j] if j in snap.joints else snap.wheels[j] for j in JOINT_NAMES])
+        velocities = np.array([snap.joint_velocities[j] if j in snap.joint_velocities
+                               else snap.wheel_velocities[j] for j in JOINT_NAMES])
+        eff = 0.05 * np.sin(2 * math.pi * 0.2 * t + np.arange(len(JOINT_NAMES))) + 0.01
+        efforts = np.where([j in snap.joints for j in JOINT_NAMES], eff, 0.3)
         names = list(JOINT_NAMES)
         if f.nan:
             for j in ('HeadPitch', 'LElbowRoll'):
@@ -490,6 +528,11 @@ class JointStatePublisher(StreamPublisher):
                 positions[names.index(j)] = v
         if f.joint_jump:    # within HeadYaw's limits, but 4 rad in 0.25 s: an encoder jumping
             positions[names.index('HeadYaw')] = 2.0 if int(t / 0.25) % 2 else -2.0
+        if f.stuck_joint:   # an encoder that reads its first angle whatever the joint does
+            i = names.index(f.stuck_joint)
+            positions[i] = first.joints[f.stuck_joint] if f.stuck_joint in first.joints \
+                else first.wheels[f.stuck_joint]
+            velocities[i] = 0.0
         # joint_state.cpp:120-133: NaN velocity and effort where ALMemory has no value
         for j in (JOINTS_WITHOUT_VELOCITY if self.spec.layout != 'gazebo' else ()):
             velocities[names.index(j)] = np.nan

@@ -10,8 +10,11 @@ the far wall; a pillar stands in a corner. From the same state at time t come:
 - colour images (a room panorama panned with the robot's heading, the person drawn where the
   laser sees it, a bouncing ball, a frame counter), and the stereo pair (two shifted views).
 
-Everything is a pure function of t (plus a seeded noise generator per caller), cheap enough for
-all cameras at their nominal rates: see docs/emulator.md for the measured cost.
+The world is a pure function of t (plus a seeded noise generator per caller); the robot's pose
+comes from its body (emulator/body.py), which the motion commands change: each function takes
+the pose to look from (`pose`, x y yaw in the odom frame; default robot_pose(t), the idle
+circle) and the obstacles the body brings (`circles`). Cheap enough for all cameras at their
+nominal rates: see docs/emulator.md for the measured cost.
 """
 import math
 from typing import Optional, Sequence, Tuple, Union
@@ -30,26 +33,19 @@ PERSON_Y, PERSON_RADIUS = 1.8, 0.22
 PERSON_X = (-1.4, 1.8)
 PERSON_SPEED = 0.35                    # m/s
 GRAVITY = 9.80665
+# the `frontSonar:glass` fault: a glass pane across the start heading (x, y_min, y_max in the
+# odom frame), which the sonar's ultrasound meets and the laser's infrared passes through
+GLASS_PANE = (0.8, -0.6, 0.6)
+
+Pose = Tuple[float, float, float]
+Circles = Sequence[Tuple[float, float, float]]
+Panes = Sequence[Tuple[float, float, float]]
 
 
-_STILL = [False]        # set once by standing_still() before any publisher starts, then read-only
-
-
-def standing_still(still: bool = True) -> None:
-    """A robot that does not move (the ~condition still): pose fixed at the start, no twist.
-    Called once at start-up, before the publisher threads exist."""
-    _STILL[0] = bool(still)
-
-
-def speeds() -> Tuple[float, float]:
-    """(linear m/s, angular rad/s) of the robot."""
-    return (0.0, 0.0) if _STILL[0] else (LINEAR_SPEED, ANGULAR_SPEED)
-
-
-def robot_pose(t: float) -> Tuple[float, float, float]:
-    """(x, y, yaw) at time t: a circle of CIRCLE_RADIUS through the origin, starting along +x
-    (the start pose for ever when standing still)."""
-    a = 0.0 if _STILL[0] else ANGULAR_SPEED * t
+def robot_pose(t: float) -> Pose:
+    """(x, y, yaw) at time t of the idle drive (body.py): a circle of CIRCLE_RADIUS through
+    the origin, starting along +x."""
+    a = ANGULAR_SPEED * t
     return (CIRCLE_RADIUS * math.sin(a), CIRCLE_RADIUS * (1.0 - math.cos(a)),
             math.atan2(math.sin(a), math.cos(a)))
 
@@ -66,8 +62,10 @@ def yaw_quaternion(yaw: float) -> Tuple[float, float, float, float]:
     return (0.0, 0.0, math.sin(yaw / 2.0), math.cos(yaw / 2.0))
 
 
-def raycast(x: float, y: float, angles: Union[np.ndarray, Sequence[float]], t: float) -> np.ndarray:
-    """Distances from (x, y) along world angles to the first wall, person or pillar."""
+def raycast(x: float, y: float, angles: Union[np.ndarray, Sequence[float]], t: float,
+            circles: Circles = (), panes: Panes = ()) -> np.ndarray:
+    """Distances from (x, y) along world angles to the first wall, person or pillar, or one of
+    `circles` (x, y, radius) or `panes` (x, y_min, y_max: a pane across the x axis)."""
     angles = np.asarray(angles, dtype=np.float64)
     dx, dy = np.cos(angles), np.sin(angles)
     x0, x1, y0, y1 = ROOM
@@ -76,13 +74,18 @@ def raycast(x: float, y: float, angles: Union[np.ndarray, Sequence[float]], t: f
         ty = np.where(dy > 0, (y1 - y) / dy, np.where(dy < 0, (y0 - y) / dy, np.inf))
     dist = np.minimum(tx, ty)
     px, py = person_position(t)
-    for cx, cy, r in ((px, py, PERSON_RADIUS), PILLAR):
+    for cx, cy, r in ((px, py, PERSON_RADIUS), PILLAR) + tuple(circles):
         ox, oy = cx - x, cy - y
         along = ox * dx + oy * dy
         perp2 = ox * ox + oy * oy - along * along
         hit = (along > 0) & (perp2 < r * r)
         d = along - np.sqrt(np.maximum(r * r - perp2, 0.0))
         dist = np.where(hit & (d < dist), d, dist)
+    for gx, g0, g1 in panes:
+        with np.errstate(divide='ignore', invalid='ignore'):
+            d = np.where(dx != 0, (gx - x) / dx, np.inf)
+        cross = y + d * dy
+        dist = np.where((d > 0) & (cross >= g0) & (cross <= g1) & (d < dist), d, dist)
     return dist
 
 
@@ -152,9 +155,11 @@ class ColourCamera:
         self.frame = 0
         self.hue = {'front': 0, 'bottom': 45, 'realsense': 90, 'stereo': 130}.get(view, 0)
 
-    def render(self, t: float, shift: int = 0, disparity_scale: float = 0.0) -> np.ndarray:
+    def render(self, t: float, shift: int = 0, disparity_scale: float = 0.0,
+               view: Optional[Pose] = None) -> np.ndarray:
+        """The picture from `view` (x, y and the yaw the camera looks along: base + head)."""
         import cv2  # OpenCV takes half a second to import: only where the emulator draws
-        x, y, yaw = robot_pose(t)
+        x, y, yaw = view or robot_pose(t)
         img = self.pano.view(yaw, shift)
         w, h = self.width, self.height
         # the person, where the laser sees it
@@ -197,12 +202,12 @@ class StereoCamera:
         self.width, self.height = width, height
         self.left = ColourCamera(self.half, height, hfov, view='stereo')
 
-    def render(self, t: float) -> np.ndarray:
+    def render(self, t: float, view: Optional[Pose] = None) -> np.ndarray:
         out = np.empty((self.height, self.width, 3), np.uint8)
-        out[:, :self.half] = self.left.render(t, shift=0, disparity_scale=0.0)
+        out[:, :self.half] = self.left.render(t, shift=0, disparity_scale=0.0, view=view)
         self.left.frame -= 1
         out[:, self.half:] = self.left.render(t, shift=self.BASELINE_PX,
-                                              disparity_scale=-self.BASELINE_PX * 3.0)
+                                              disparity_scale=-self.BASELINE_PX * 3.0, view=view)
         return out
 
 
@@ -230,10 +235,10 @@ class DepthCamera:
         self.rng = np.random.default_rng(seed)
         self.n_invalid = max(1, width * height // 300)
 
-    def render(self, t: float) -> np.ndarray:
+    def render(self, t: float, view: Optional[Pose] = None, circles: Circles = ()) -> np.ndarray:
         import cv2  # OpenCV takes half a second to import: only where the emulator draws
-        x, y, yaw = robot_pose(t)
-        dist = raycast(x, y, yaw + self.col_angles, t)
+        x, y, yaw = view or robot_pose(t)
+        dist = raycast(x, y, yaw + self.col_angles, t, circles)
         wall_mm = (dist * self.cos_cols * 1000.0).astype(np.float32)[None, :]
         depth = np.minimum(self.floor_mm, wall_mm)
         img = np.clip(depth, 0, self.MAX_MM).astype(np.uint16)
@@ -262,17 +267,17 @@ LASER_RAYS = np.linspace(-0.5235987755982988, 0.5235987755982988, 15)
 GAZEBO_LASER_MIN, GAZEBO_LASER_MAX = 0.3, 7.0
 
 
-def laser_device_points(t: float, bias: float, noise: float,
-                        rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+def laser_device_points(t: float, bias: float, noise: float, rng: np.random.Generator,
+                        pose: Optional[Pose] = None, circles: Circles = ()) -> Tuple[np.ndarray, np.ndarray]:
     """Each device's 15 rays cast from its own position and heading: the points (x, y) in the
     device's own frame, arrays of shape (3, 15), devices as LASERS, rays as LASER_RAYS. The
     range along each ray carries `bias` plus Gaussian noise of sd `noise`."""
-    x, y, yaw = robot_pose(t)
+    x, y, yaw = pose or robot_pose(t)
     c, s_ = math.cos(yaw), math.sin(yaw)
     ranges = np.empty((len(LASERS), LASER_RAYS.size))
     for k, (sensor_yaw, ox, oy) in enumerate(LASERS):
         wx, wy = x + c * ox - s_ * oy, y + s_ * ox + c * oy
-        ranges[k] = raycast(wx, wy, yaw + sensor_yaw + LASER_RAYS, t)
+        ranges[k] = raycast(wx, wy, yaw + sensor_yaw + LASER_RAYS, t, circles)
     ranges += bias + rng.normal(0.0, noise, ranges.shape)
     return ranges * np.cos(LASER_RAYS), ranges * np.sin(LASER_RAYS)
 
@@ -286,7 +291,8 @@ def laser_to_base(lx: np.ndarray, ly: np.ndarray) -> Tuple[np.ndarray, np.ndarra
 
 
 def laser_ranges(t: float, blind_mask: Union[np.ndarray, Sequence[bool]], noise: float,
-                 rng: np.random.Generator, dead: Optional[int] = None) -> np.ndarray:
+                 rng: np.random.Generator, dead: Optional[int] = None,
+                 pose: Optional[Pose] = None, circles: Circles = ()) -> np.ndarray:
     """naoqi_driver's 61-slot scan, built as laser.cpp:165-205 builds it: ALMemory holds each
     device's Seg01..Seg15 as X/Y in the device's frame, ordered left to right (:158-161); the
     driver converts each point to base_footprint and writes its raw distance (no clipping),
@@ -294,7 +300,7 @@ def laser_ranges(t: float, blind_mask: Union[np.ndarray, Sequence[bool]], noise:
     [58-i], [88-i] at :168, :183, :197) into the device's 15 slots, 8 blind slots between
     (:178, :193) that keep -1.0 (reset(), :221). `dead` (a row of LASERS): that board stopped,
     its X and Y read 0 in ALMemory, so the driver writes the board's mounting offset."""
-    lx, ly = laser_device_points(t, 0.0, noise, rng)
+    lx, ly = laser_device_points(t, 0.0, noise, rng, pose, circles)
     if dead is not None:
         lx[dead], ly[dead] = 0.0, 0.0
     seg_x, seg_y = lx[:, ::-1], ly[:, ::-1]            # ALMemory's Seg01..Seg15: left to right
@@ -307,35 +313,38 @@ def laser_ranges(t: float, blind_mask: Union[np.ndarray, Sequence[bool]], noise:
     return d.astype(np.float32)
 
 
-def gazebo_laser_points(t: float, noise: float, rng: np.random.Generator) -> Tuple[np.ndarray, np.ndarray]:
+def gazebo_laser_points(t: float, noise: float, rng: np.random.Generator, pose: Optional[Pose] = None,
+                        circles: Circles = ()) -> Tuple[np.ndarray, np.ndarray]:
     """The simulator's 45 laser points as (distance, angle) from base_footprint: each ray's
     range with Gazebo's noise (mean 0.01, sd `noise`), moved into base_footprint as
     laser_publisher.py:308-362 does (do_transform_cloud with each laser's static transform).
     A ray that hits nothing within 7 m gives no point: NaN here, which pc_to_laser skips
     (laser_publisher.py:464-477, `if not isnan(angle)` ... "nan, not adding anything to
     scan"), so its slot stays NaN (an infinite point would give atan2 = +-pi/4, a real slot)."""
-    lx, ly = laser_device_points(t, 0.01, noise, rng)
+    lx, ly = laser_device_points(t, 0.01, noise, rng, pose, circles)
     miss = np.hypot(lx, ly) > GAZEBO_LASER_MAX
     lx, ly = np.where(miss, np.nan, lx), np.where(miss, np.nan, ly)
     bx, by = laser_to_base(lx, ly)
     return np.hypot(bx, by).reshape(-1), np.arctan2(by, bx).reshape(-1)
 
 
-def sonar_range(t: float, back: bool, noise: float, rng: np.random.Generator) -> float:
+def sonar_range(t: float, back: bool, noise: float, rng: np.random.Generator, pose: Optional[Pose] = None,
+                circles: Circles = (), panes: Panes = ()) -> float:
     """Pepper's raw sonar distance (ALMemory .../Sonar/Sensor/Value), not clipped to the 2.55 m
     naoqi_driver advertises: the nearest of a few rays in the cone."""
-    x, y, yaw = robot_pose(t)
+    x, y, yaw = pose or robot_pose(t)
     heading = yaw + (math.pi if back else 0.0)
-    d = float(np.min(raycast(x, y, heading + np.array([-0.2, 0.0, 0.2]), t)))
+    d = float(np.min(raycast(x, y, heading + np.array([-0.2, 0.0, 0.2]), t, circles, panes)))
     return d + float(rng.normal(0.0, noise))
 
 
-def gazebo_sonar_range(t: float, back: bool, range_max: float, noise: float, rng: np.random.Generator) -> float:
+def gazebo_sonar_range(t: float, back: bool, range_max: float, noise: float, rng: np.random.Generator,
+                       pose: Optional[Pose] = None, circles: Circles = (), panes: Panes = ()) -> float:
     """gazebo_ros_range: the nearest of 5x5 rays over +-0.52 rad, plus Gaussian noise, limited
     to range_max (ros-simulation/gazebo_ros_pkgs gazebo_plugins/src/gazebo_ros_range.cpp)."""
-    x, y, yaw = robot_pose(t)
+    x, y, yaw = pose or robot_pose(t)
     heading = yaw + (math.pi if back else 0.0)
-    d = float(np.min(raycast(x, y, heading + np.linspace(-0.52, 0.52, 5), t)))
+    d = float(np.min(raycast(x, y, heading + np.linspace(-0.52, 0.52, 5), t, circles, panes)))
     d = min(d, range_max)
     if d < range_max:
         d = min(d + float(rng.normal(0.0, noise)), range_max)
