@@ -10,15 +10,17 @@
   increment is the turn. naoqi_driver stores the beams right to left, angle_min -2.0944 first,
   with a positive increment (src/converters/laser.cpp:158-161, 216-218): a scan stored in the
   other order gives the opposite turn. Blind slots (-1.0, laser.cpp:221), NaN and readings
-  outside [range_min, range_max] take no part.
+  below range_min take no part.
 - picture_shift: the sideways shift (pixels, positive: the picture moved right) between two
-  small grey frames by phase correlation (the peak of the normalised cross-power spectrum).
+  small grey frames: the shift whose overlap differs least (see its docstring).
   A head yawing left (positive yaw) moves the scene right in a forward-looking camera.
 """
 import math
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
+
+BLUR = 0.04     # the sideways blur of picture_shift, a share of the picture's width
 
 
 def yaw_of(x: float, y: float, z: float, w: float) -> float:
@@ -87,9 +89,11 @@ def gyro_series(gyro: Sequence[Tuple[float, float, float, float]], t0: float) ->
     return out
 
 
-def valid_ranges(ranges: Sequence[float], range_min: float, range_max: float) -> np.ndarray:
+def valid_ranges(ranges: Sequence[float], range_min: float) -> np.ndarray:
+    """Ranges with blind slots (-1.0), NaN, +-inf and readings below range_min as NaN; raw
+    readings beyond range_max are real distances (naoqi_driver does not clip: laser.cpp:165-205)."""
     r = np.asarray(ranges, dtype=float)
-    bad = ~np.isfinite(r) | (r < max(range_min, 0.0)) | (r > range_max)
+    bad = ~np.isfinite(r) | (r < max(range_min, 0.0))
     return np.where(bad, np.nan, r)
 
 
@@ -123,25 +127,50 @@ def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 
 
 
 def small_grey(data: np.ndarray, width: int = 80) -> np.ndarray:
-    """A frame (h x w or h x w x c) as a small float grey picture about `width` wide."""
+    """A frame (h x w or h x w x c) as a small float grey picture about `width` wide, each pixel
+    the mean of a block of the frame (an average, not every n-th pixel: a fine periodic texture
+    such as floorboards would otherwise alias into a false shift)."""
     img = data.astype(np.float32)
     if img.ndim == 3:
         img = img.mean(axis=2)
     step = max(1, img.shape[1] // width)
-    return img[::step, ::step]
+    h, w = (img.shape[0] // step) * step, (img.shape[1] // step) * step
+    if step > 1:
+        img = img[:h, :w].reshape(h // step, step, w // step, step).mean(axis=(1, 3))
+    return img
+
+
+def _blur_x(img: np.ndarray, sigma: float) -> np.ndarray:
+    k = np.arange(-int(3 * sigma), int(3 * sigma) + 1)
+    kernel = np.exp(-0.5 * (k / sigma) ** 2)
+    kernel /= kernel.sum()
+    pad = np.pad(img, ((0, 0), (len(k) // 2, len(k) // 2)), mode='edge')
+    return np.apply_along_axis(lambda r: np.convolve(r, kernel, mode='valid'), 1, pad)
 
 
 def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
     """Sideways shift (pixels of a and b's scale) from frame a to frame b: positive when the
-    picture moved right; None when a frame is flat (nothing to follow)."""
+    picture moved right; None when a frame is flat (nothing to follow). Both are blurred
+    sideways (sigma BLUR of the width: a fine periodic texture, floorboards or tiles, would
+    otherwise match one period off), then the shift d (within a third of the width) whose
+    overlap differs least, b[:, x + d] against a[:, x], refined between pixels by a parabola."""
     if a.shape != b.shape or a.std() < 1e-3 or b.std() < 1e-3:
         return None
-    win = np.hanning(a.shape[1])[None, :] * np.hanning(a.shape[0])[:, None]
-    fa = np.fft.fft2((a - a.mean()) * win)
-    fb = np.fft.fft2((b - b.mean()) * win)
-    cross = fb * np.conj(fa)
-    cross /= np.abs(cross) + 1e-9
-    corr = np.abs(np.fft.ifft2(cross))
-    _, dx = np.unravel_index(int(np.argmax(corr)), corr.shape)
     w = a.shape[1]
-    return float(dx - w if dx > w // 2 else dx)
+    sigma = max(1.0, BLUR * w)
+    fa, fb = _blur_x(a - a.mean(), sigma), _blur_x(b - b.mean(), sigma)
+    errors = {}
+    for d in range(-(w // 3), w // 3 + 1):
+        if d >= 0:
+            x, y = fa[:, :w - d], fb[:, d:]
+        else:
+            x, y = fa[:, -d:], fb[:, :w + d]
+        errors[d] = float(np.mean(np.abs(x - y)))
+    d = min(errors, key=lambda j: (errors[j], abs(j)))
+    frac = 0.0
+    if d - 1 in errors and d + 1 in errors:
+        e0, e1, e2 = errors[d - 1], errors[d], errors[d + 1]
+        den = e0 - 2 * e1 + e2
+        if den > 1e-12:
+            frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
+    return d + frac

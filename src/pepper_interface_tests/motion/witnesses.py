@@ -77,7 +77,7 @@ class Witnesses:
         self.rec.gyro.append((t, w.x, w.y, w.z))
 
     def _laser(self, role: str, msg: Any, t: float) -> None:
-        r = estimate.valid_ranges(msg.ranges, msg.range_min, msg.range_max)
+        r = estimate.valid_ranges(msg.ranges, msg.range_min)
         self.rec.scans.append(Scan(t, r, msg.angle_increment))
         angles = msg.angle_min + msg.angle_increment * np.arange(len(r))
         ok = np.isfinite(r)
