@@ -158,14 +158,16 @@ def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
         return None
     w = a.shape[1]
     sigma = max(1.0, BLUR * w)
-    fa, fb = _blur_x(a - a.mean(), sigma), _blur_x(b - b.mean(), sigma)
+    m = int(3 * sigma)     # the blur's edges are padding, not picture: left out
+    fa, fb = _blur_x(a - a.mean(), sigma)[:, m:w - m], _blur_x(b - b.mean(), sigma)[:, m:w - m]
+    w = fa.shape[1]
     errors = {}
     for d in range(-(w // 3), w // 3 + 1):
         if d >= 0:
             x, y = fa[:, :w - d], fb[:, d:]
         else:
             x, y = fa[:, -d:], fb[:, :w + d]
-        errors[d] = float(np.mean(np.abs(x - y)))
+        errors[d] = float(np.mean(np.abs((x - x.mean()) - (y - y.mean()))))   # brightness aside
     d = min(errors, key=lambda j: (errors[j], abs(j)))
     frac = 0.0
     if d - 1 in errors and d + 1 in errors:
