@@ -71,7 +71,7 @@ def robot(master, tmp_path):
 def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser', expect=None):
     out = tmp_path / 'out'
     cmd = script('sensorTest') + [
-        '--move', '--sensors', sensors, '--mode', 'parallel', '--duration', '2', '--wait', '8',
+        '--move', '--sensors', sensors, '--mode', 'parallel', '--duration', '1', '--wait', '8',
         '--expectations', expect or expectations(tmp_path, witness_wait=1.0, step_timeout=6.0),
         '--output-dir', str(out), '--no-show', '--no-history', '--no-record'] + list(args)
     log = open(str(tmp_path / 'sensorTest.log'), 'w')
@@ -147,3 +147,83 @@ def test_a_lost_master_during_a_turn_stops_the_base(tmp_path):
     data, rows = results(out)
     assert data['interrupted'] and 'master' in data['interrupt_reason']
     assert any('stopped during "base turn' in w for w in rows['motion']['warnings'])
+
+
+# ------------------------------------------------------------------ the rules against the emulator
+
+QUICK = dict(witness_wait=1.0, step_timeout=6.0, head_speed=0.15, settle_time=0.5)
+BASE = 'jointState,odometry,imu,laser'
+HEAD_AND_BASE = BASE + ',frontCamera,bottomCamera'
+
+
+def move_run(master, tmp_path, faults, sensors, **motion):
+    """The emulator (standing still, `faults`), sensorTest --move on `sensors`: the rows by name."""
+    robot = Robot(master, tmp_path, ['_faults:=' + faults] if faults else [])
+    try:
+        proc, out = sensor_test(master, tmp_path, sensors=sensors,
+                                expect=expectations(tmp_path, **dict(QUICK, **motion)))
+        try:
+            proc.wait(90)
+        finally:
+            kill_group(proc)
+    finally:
+        robot.stop()
+    data, rows = results(out)
+    return rows, robot.received()
+
+
+def reason(row, words):
+    assert row['verdict'] == 'FAIL' and any(words in r for r in row['reasons']), (row['name'], row['reasons'])
+
+
+def test_a_healthy_robot_passes_every_motion_sensor_and_ends_where_it_started(module_master, tmp_path):
+    rows, received = move_run(module_master, tmp_path, '', HEAD_AND_BASE + ',depthCamera,frontSonar')
+    for name, row in rows.items():
+        assert row['verdict'] == 'PASS', (name, row['reasons'], row['warnings'])
+    v = rows['motion']['values']
+    assert (v['head'], v['base']) == ('moved', 'moved')
+    steps = v['steps']
+    assert abs(sum(s['measured']['odometry'] for s in steps if s['part'] == 'base')) < 0.05   # turned back
+    heads = [r['angles'][0] for r in received if r['topic'] == JOINTS]
+    assert heads[-1] == pytest.approx(heads[0] - 0.5, abs=1e-4)   # the head back at its start
+    assert [round(g['yaw'], 2) for g in received if g['topic'] == GOAL] == [0.5, -0.5]
+
+
+@pytest.mark.parametrize('faults, sensors, motion, failed', [
+    ('imu:gyro_inverted;laser:reversed;frontCamera:not_following;jointState:stuck_joint=HeadYaw',
+     HEAD_AND_BASE, {}, {'imu': 'opposite sign', 'laser': 'wrong way', 'frontCamera': 'not following',
+                         'jointState': 'HeadYaw did not move'}),
+    # the gyro on the wrong axis still saw a turn: with the wheels and the laser, three of four
+    ('odometry:frozen_pose;imu:swapped_axes', BASE, {'head_yaw': 0},
+     {'odometry': 'did not change', 'imu': "gyro's x axis"}),
+    ('imu:dead_gyro', BASE, {'head_yaw': 0}, {'imu': 'gyro reads about zero'}),
+], ids=['four-at-once', 'frozen_pose+swapped_axes', 'dead_gyro'])
+def test_each_motion_fault_fails_its_own_sensor_and_no_other(module_master, tmp_path, faults, sensors,
+                                                             motion, failed):
+    rows, _ = move_run(module_master, tmp_path, faults, sensors, **motion)
+    for name, words in failed.items():
+        reason(rows[name], words)
+    for name, row in rows.items():
+        if name not in failed:
+            assert row['verdict'] in ('PASS', 'SKIPPED'), (name, row['reasons'])
+    assert rows['motion']['verdict'] != 'FAIL'
+
+
+def test_a_base_that_refuses_to_move_fails_the_motion_row_not_the_sensors(module_master, tmp_path):
+    rows, received = move_run(module_master, tmp_path, 'robot:base_blocked', BASE, head_yaw=0)
+    reason(rows['motion'], 'the base did not move when commanded')
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
+
+
+@pytest.mark.parametrize('fault, words', [
+    ('robot:resting', 'wake it up'),
+    ('robot:obstacle', 'not enough free space'),
+])
+def test_a_robot_that_may_not_move_is_not_moved_and_says_why(module_master, tmp_path, fault, words):
+    rows, received = move_run(module_master, tmp_path, fault, BASE + ',frontSonar,robotHealth')
+    motion = rows['motion']
+    assert motion['verdict'] == 'SKIPPED' and words in motion['reasons'][0], motion['reasons']
+    assert not [r for r in received if r['topic'] == GOAL]
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] != 'FAIL', (name, rows[name]['reasons'])

@@ -26,11 +26,17 @@ from typing import Callable, Dict, List, Optional, Sequence, Tuple
 from ..plan.expectations import MotionExpect
 from . import estimate
 from .record import WHEELS, Recording
+from .sequence import HEAD_YAW_SPEED, Step
 from .sequence import Sequence as Run
-from .sequence import Step
 from .witnesses import HEAD_CAMERAS
 
 MIN_SHIFT = 2.0       # pixels of the ~80-pixel-wide copy: a 0.5 rad yaw moves it ~30-40
+# rad the head may turn between two frames for their shift to be measured: picture_shift looks
+# a third of the width either way, and Pepper's head cameras see about 1 rad across (front and
+# bottom 56 deg, depth 58 deg: doc.aldebaran.com/2-5/family/pepper_technical/video_pep.html), so
+# 0.3 rad (24 of 80 pixels) is the most; a loaded robot's 1.3 fps at head_speed 0.1 (0.73 rad/s)
+# turns 0.56 rad between frames: its cameras are then not judged (a warning says why)
+MAX_TURN_PER_FRAME = 0.3
 WHEEL_STILL = 0.3     # rad of wheel rotation (summed over the three): a 0.5 rad turn is ~3 rad
 
 HEAD_CAUSES = ('the robot is resting (stiffness off), Autonomous Life holds the head, a joint '
@@ -60,6 +66,7 @@ class Judge:
         self.base_state: Optional[str] = None
         self.found: Dict[str, List[str]] = {}      # sensor -> reasons (first per sensor kept)
         self.warned: Dict[str, List[str]] = {}
+        self.slow: Dict[str, float] = {}           # camera -> the longest gap between frames (s)
 
     def _fail(self, sensor: str, text: str) -> None:
         self.found.setdefault(sensor, [])
@@ -74,16 +81,23 @@ class Judge:
 
     # ---------------------------------------------------------------- head
     def _camera_shift(self, cam: str, t0: float, t1: float) -> Optional[float]:
+        """The picture's shift over a head step, summed frame to frame; None when it cannot be
+        told: fewer than two frames, flat frames, or frames too far apart for the head's speed
+        (see MAX_TURN_PER_FRAME)."""
         with self.rec.lock:
             frames = list(self.rec.frames.get(cam, []))
-        before = [f for t, f in frames if t <= t0]
-        inside = [f for t, f in frames if t0 < t <= t1]
+        before = [(t, f) for t, f in frames if t <= t0]
+        inside = [(t, f) for t, f in frames if t0 < t <= t1]
         seq = before[-1:] + inside
         if len(seq) < 2:
             return None
+        rate = self.e.head_speed * HEAD_YAW_SPEED
+        if any((b[0] - a[0]) * rate > MAX_TURN_PER_FRAME for a, b in zip(seq, seq[1:])):
+            self.slow[cam] = max(b[0] - a[0] for a, b in zip(seq, seq[1:]))
+            return None
         total, seen = 0.0, False
         for a, b in zip(seq, seq[1:]):
-            s = estimate.picture_shift(a, b)
+            s = estimate.picture_shift(a[1], b[1])
             if s is not None:
                 total += s
                 seen = True
@@ -121,7 +135,11 @@ class Judge:
             if cam not in m:
                 continue
             v = m[cam]
-            if v is None:
+            if v is None and cam in self.slow:
+                self._warn(cam, 'not judged on the head\'s motion: %.1f s between two frames while '
+                           'the head turned up to %.2f rad/s (more than %.1f rad between frames)'
+                           % (self.slow[cam], self.e.head_speed * HEAD_YAW_SPEED, MAX_TURN_PER_FRAME))
+            elif v is None:
                 self._warn(cam, 'could not tell whether the picture follows the head (a flat '
                            'picture or too few frames while it yawed)')
             elif abs(v) < MIN_SHIFT:

@@ -125,12 +125,12 @@ class Sequence:
         e = self.expect
         assert step.sent is not None
         took = now - step.sent
-        if took < MIN_STEP:
-            return False
-        if step.part == 'head':
+        if step.part == 'head' and took >= 0.2:     # a joint state read after the command
             h = self.rec.latest_joint('HeadYaw')
             if h is not None and abs(h - step.target) <= e.joint_tolerance / 2:
                 return True
+        if took < MIN_STEP:
+            return False
         if took >= self.expected(step) + MIN_STEP + e.settle_time and not self._moved(step, now):
             return True
         since = now - e.settle_time
