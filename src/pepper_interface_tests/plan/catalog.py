@@ -116,8 +116,11 @@ SIMULATOR_SKIP = {
     'handTouch': _NOT_SIMULATED % 'hand touch events',
     'bumper': _NOT_SIMULATED % 'bumper events' + ' (the model\'s Gazebo bumper sensors are commented out)',
     'robotHealth': _NOT_SIMULATED % 'naoqi_driver diagnostics (joint temperatures, battery) on /diagnostics',
-    'motion': 'the Gazebo simulator (pepper_virtual) takes /cmd_vel only: no /move_base_simple/goal '
-              '(moveTo) and no /joint_angles subscriber, so --move has nothing bounded to command',
+    # awesomebytes/pepper_virtual simulation_that_works README.md:52 (/pepper/cmd_vel); the goal
+    # topic appears only as an rviz tool (pepper_gazebo_plugin/config/pepper_sensors.rviz:713)
+    'motion': 'the Gazebo simulator (pepper_virtual) takes only /pepper/cmd_vel: no '
+              '/move_base_simple/goal (bounded moveTo) and no /joint_angles subscriber, so --move has '
+              'nothing bounded to command',
 }
 
 

@@ -117,6 +117,8 @@ class MotionCheck(Check):
             seq.state = 'move'
         if seq.state == 'move':
             seq.poll(now)
+            assert self.commands is not None
+            self.count = len(self.commands.sent)      # the progress line's "N sent"
         if seq.state in ('done', 'stopped'):
             self._done = True
 
@@ -183,6 +185,9 @@ class MotionCheck(Check):
         for w in warns:
             self.warn(w)
         self.skip_text = skip
+        self.notes += ['head: %s' % judge.head_state, 'base: %s' % judge.base_state]
+        self.notes += ['%s %.2f s: %s' % (topic, t - seq.started, text)
+                       for t, topic, text in (self.commands.sent if self.commands else [])]
         self.found = self._values(seq, judge)
 
     def skip_reason(self) -> Optional[str]:
