@@ -20,6 +20,7 @@ from . import interrupts
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
+from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
 from .sensors.stream import no_publisher_note
@@ -238,6 +239,7 @@ class Runner:
                                           ['not run: the run was interrupted before it started']))
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
+        cross.apply(self.run.sensors)     # warnings that need two rows (sensors/cross.py)
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)
