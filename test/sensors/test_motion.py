@@ -227,3 +227,83 @@ def test_a_robot_that_may_not_move_is_not_moved_and_says_why(module_master, tmp_
     assert not [r for r in received if r['topic'] == GOAL]
     for name in BASE.split(','):
         assert rows[name]['verdict'] != 'FAIL', (name, rows[name]['reasons'])
+
+
+@pytest.mark.parametrize('kind, key, words', [
+    ('sonar', 'FrontSonar', 'obstacle closer than 0.30 m: the front sonar sees something 0.20 m away'),
+    ('bumper', 'Bumper', 'the back bumper is pressed'),
+], ids=['obstacle', 'bumper'])
+def test_a_hazard_during_a_turn_stops_the_base_at_once(master, robot, tmp_path, kind, key, words):
+    """A bumper pressed, or something closer than stop_distance, while the base turns: a zero
+    /cmd_vel, no further goal, and the motion row says where and why it stopped."""
+    topic = '/hazard/' + kind
+    lines = [ln for ln in open(os.path.join(PKG, 'data', 'pepperTopics.dat')).read().splitlines()
+             if not ln.startswith(key + ' ')]
+    (tmp_path / 'topics.dat').write_text('\n'.join(lines + ['%s %s' % (key, topic)]) + '\n')
+    trigger = tmp_path / 'near'
+    log = tmp_path / 'hazard.log'
+    with open(str(log), 'w') as out:
+        hazard = spawn([sys.executable, os.path.join(NODES, 'motion_hazard.py'), kind, topic, str(trigger)],
+                       master.env(), stdout=out, stderr=subprocess.STDOUT)
+    try:
+        wait_until(lambda: 'hazard up' in log.read_text(), 30, log.read_text)
+        proc, out_dir = sensor_test(master, tmp_path, '--topics', str(tmp_path / 'topics.dat'),
+                                    expect=expectations(tmp_path, witness_wait=1.5, head_yaw=0))
+        try:
+            wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                       lambda: (tmp_path / 'sensorTest.log').read_text()[-2000:])
+            trigger.write_text('now')
+            proc.wait(60)
+        finally:
+            kill_group(proc)
+    finally:
+        kill_group(hazard)
+    time.sleep(0.3)
+    received = robot.received()
+    assert_stopped_safely(received, 0)
+    assert len([r for r in received if r['topic'] == GOAL]) == 1     # the turn back never sent
+    data, rows = results(out_dir)
+    motion = rows['motion']
+    assert not data['interrupted']
+    assert any('stopped during "base turn +0.50 rad"' in w and words in w for w in motion['warnings']), motion
+    assert motion['verdict'] == 'SKIPPED' and 'base part not finished' in motion['reasons'][0]
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
+
+
+def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
+    """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
+    Enter skips the motion: nothing is sent."""
+    import pty
+    import select
+    primary, secondary = pty.openpty()
+    out = tmp_path / 'out'
+    cmd = script('sensorTest') + [
+        '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
+        '--expectations', expectations(tmp_path, witness_wait=1.0), '--output-dir', str(out),
+        '--no-show', '--no-history', '--no-record', '--no-report']
+    proc = subprocess.Popen(cmd, env=master.env(), stdin=secondary, stdout=secondary, stderr=secondary,
+                            start_new_session=True)
+    os.close(secondary)
+    seen = b''
+    try:
+        deadline = time.monotonic() + 40
+        while b'Press Enter' not in seen and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                seen += os.read(primary, 4096)
+        assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
+        os.write(primary, b's\n')
+        while proc.poll() is None and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                try:
+                    seen += os.read(primary, 4096)
+                except OSError:
+                    break
+        proc.wait(20)
+    finally:
+        kill_group(proc)
+        os.close(primary)
+    _, rows = results(out)
+    assert rows['motion']['verdict'] == 'SKIPPED', rows['motion']
+    assert 'skipped by the operator' in rows['motion']['reasons'][0]
+    assert [r for r in robot.received() if r['topic'] in (GOAL, JOINTS, TWIST)] == []
