@@ -194,13 +194,15 @@ class Sequence:
         """Stop at once: a zero twist, no further goal, the head back to its start."""
         step = self.current()
         self.commands.stop()
+        done = 'the base was stopped (zero /cmd_vel)'
         if self.head_moved and self.head_start is not None:
             self.commands.head(self.head_start, self.expect.head_speed)
+            done += ' and the head sent back to its start'
         if step is not None:
             step.ended = now
-            self.stopped = ('stopped during "%s" (%.1f s into the step): %s; the base was stopped '
-                            '(zero /cmd_vel) and the head sent back to its start'
-                            % (step.label(), now - (step.sent or now), why))
+            took = now - step.sent if step.sent is not None else 0.0
+            self.stopped = ('stopped during "%s" (%.1f s into the step): %s; %s'
+                            % (step.label(), took, why, done))
         elif self.state in ('listen', 'confirm'):
             self.stopped = 'stopped before moving: %s' % why
         else:
