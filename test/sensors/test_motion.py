@@ -41,6 +41,7 @@ class Robot:
         self.emu_log = tmp_path / 'emulator.log'
         self.rec_path = tmp_path / 'received.jsonl'
         self.rec_log = tmp_path / 'recorder.log'
+        self.marked = 0
         with open(str(self.emu_log), 'w') as log:
             self.emu = spawn(script('pepperEmulator') + ['__name:=emu_%d' % time.time_ns(), '_audio:=off',
                                                           '_condition:=still', '_camera_resolution:=QQVGA']
@@ -52,20 +53,43 @@ class Robot:
         wait_until(lambda: 'recorder up' in self.rec_log.read_text(), 30, self.rec_log.read_text)
 
     def received(self):
+        """What the robot received since the last mark()."""
         if not self.rec_path.exists():
             return []
-        return [json.loads(line) for line in self.rec_path.read_text().splitlines() if line.strip()]
+        rows = [json.loads(line) for line in self.rec_path.read_text().splitlines() if line.strip()]
+        return rows[self.marked:]
+
+    def mark(self):
+        """From now on received() starts here (one emulator shared by several tests)."""
+        self.marked = 0
+        self.marked = len(self.received())
+        return self
 
     def stop(self):
         kill_group(self.emu)
         kill_group(self.rec)
 
 
+@pytest.fixture(scope='module')
+def still(tmp_path_factory):
+    """One emulator standing still, with its recorder, on a master of its own, shared by the
+    tests that do not fault it (the fault tests start their own on module_master)."""
+    with Master() as m:
+        r = Robot(m, tmp_path_factory.mktemp('still'))
+        r.master = m
+        yield r
+        r.stop()
+
+
 @pytest.fixture
-def robot(master, tmp_path):
-    r = Robot(master, tmp_path)
-    yield r
-    r.stop()
+def robot(still):
+    return still.mark()
+
+
+@pytest.fixture
+def master(still):
+    """The shared still robot's master (a fresh one per test would need a robot per test)."""
+    return still.master
 
 
 def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser', expect=None):
@@ -73,7 +97,8 @@ def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser'
     cmd = script('sensorTest') + [
         '--move', '--sensors', sensors, '--mode', 'parallel', '--duration', '1', '--wait', '8',
         '--expectations', expect or expectations(tmp_path, witness_wait=1.0, step_timeout=6.0),
-        '--output-dir', str(out), '--no-show', '--no-history', '--no-record'] + list(args)
+        '--output-dir', str(out), '--no-show', '--no-history', '--no-record', '--no-report',
+        '--no-diagnostics'] + list(args)
     log = open(str(tmp_path / 'sensorTest.log'), 'w')
     return spawn(cmd, master.env(), stdout=log, stderr=subprocess.STDOUT), out
 
@@ -176,8 +201,15 @@ def reason(row, words):
     assert row['verdict'] == 'FAIL' and any(words in r for r in row['reasons']), (row['name'], row['reasons'])
 
 
-def test_a_healthy_robot_passes_every_motion_sensor_and_ends_where_it_started(module_master, tmp_path):
-    rows, received = move_run(module_master, tmp_path, '', HEAD_AND_BASE + ',depthCamera,frontSonar')
+def test_a_healthy_robot_passes_every_motion_sensor_and_ends_where_it_started(master, robot, tmp_path):
+    proc, out = sensor_test(master, tmp_path, sensors=HEAD_AND_BASE + ',depthCamera,frontSonar',
+                            expect=expectations(tmp_path, **QUICK))
+    try:
+        proc.wait(90)
+    finally:
+        kill_group(proc)
+    _, rows = results(out)
+    received = robot.received()
     for name, row in rows.items():
         assert row['verdict'] == 'PASS', (name, row['reasons'], row['warnings'])
     v = rows['motion']['values']

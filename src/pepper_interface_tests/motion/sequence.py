@@ -7,7 +7,8 @@
    (`s` skips the motion check): `confirm` is given by the check (sensors/motion.py);
 4. the steps, each sent once and waited for until it settles (the witnesses unchanged for
    `settle_time` s) or `step_timeout` s: HeadYaw to start + head_yaw, start - head_yaw, start;
-   the base turns by +base_turn, then -base_turn (it ends where it started);
+   the base turns by +base_turn, then -base_turn (it ends where it started); a base that did
+   not take the first turn (no witness moved) is not sent the turn back;
 5. `abort(why)` at any moment (Ctrl-C, SIGTERM, a lost master, a bumper, an obstacle, an
    error): a zero /cmd_vel at once, no further goal, the head sent back to its start; then the
    commands are closed and nothing is ever sent again.
@@ -180,6 +181,11 @@ class Sequence:
             step.ended = now
             step.settled = now - step.sent < self.expect.step_timeout
             self.index += 1
+            if step.part == 'base' and not self._moved(step, now):
+                # a base that did not take the turn is not sent the turn back: were the block
+                # to lift (a hatch closed, an obstacle gone), the robot would end away from
+                # where it started
+                self.steps = self.steps[:self.index]
             if self.index >= len(self.steps):
                 self.state = 'done'
             else:
