@@ -351,6 +351,12 @@ def plot_series(run: Run, rec: Recording) -> Dict[str, List[Tuple[float, Optiona
         d = estimate.picture_shift(a[1], b[1])
         acc += d or 0.0
         shift.append((b[0], acc))
+    ends = [pts[-1][0] for pts in (odom, gyro, rec.joints) if pts]
+    if ends:       # the commands hold until the end of the window
+        end = round(max(ends) - t0, 3)
+        commanded.append((end, commanded[-1][1]))
+        if head_cmd:
+            head_cmd.append((end, head_cmd[-1][1]))
     return {'commanded_yaw': commanded, 'odometry_yaw': rel_series(odom_rel, t0),
             'gyro_yaw': rel_series(estimate.gyro_series(gyro, gyro[0][0] if gyro else 0.0), t0),
             'laser_turn': rel_series(laser, t0), 'head_commanded': head_cmd,
