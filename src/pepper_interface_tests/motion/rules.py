@@ -67,6 +67,7 @@ class Judge:
         self.found: Dict[str, List[str]] = {}      # sensor -> reasons (first per sensor kept)
         self.warned: Dict[str, List[str]] = {}
         self.slow: Dict[str, float] = {}           # camera -> the longest gap between frames (s)
+        self.told: Dict[str, set] = {'head': set(), 'base': set()}   # part -> witnesses that could tell
 
     def _fail(self, sensor: str, text: str) -> None:
         self.found.setdefault(sensor, [])
@@ -116,6 +117,7 @@ class Judge:
         still = e.still_share * abs(step.commanded)
         enc_moved = enc is not None and abs(enc) >= still
         cams = {c: v for c, v in m.items() if c != 'HeadYaw' and v is not None}
+        self.told['head'] |= ({'HeadYaw encoder'} if enc is not None else set()) | set(cams)
         cam_moved = [c for c, v in cams.items() if abs(v) >= MIN_SHIFT]
         moved = enc_moved or len(cam_moved) > len(cams) / 2 if cams else enc_moved
         if not moved:
@@ -188,6 +190,7 @@ class Judge:
             saw['wheel encoders'] = wheels >= WHEEL_STILL
         if not saw:
             return None
+        self.told['base'] |= set(saw)
         yes = [w for w, s in saw.items() if s]
         if len(yes) <= len(saw) / 2:
             for w in yes:
@@ -269,10 +272,8 @@ class Judge:
         skips: List[str] = []
         fails: List[str] = []
         warns: List[str] = []
-        self.head_state = self._part('head', heads, run.head_skip, skips, fails, HEAD_CAUSES,
-                                     'HeadYaw encoder, head cameras')
-        self.base_state = self._part('base', bases, run.base_skip, skips, fails, BASE_CAUSES,
-                                     'wheel encoders, gyro, odometry, laser')
+        self.head_state = self._part('head', heads, run.head_skip, skips, fails, HEAD_CAUSES)
+        self.base_state = self._part('base', bases, run.base_skip, skips, fails, BASE_CAUSES)
         for sensor in set(self.found) | set(self.warned):
             self.add(sensor, self.found.get(sensor, []), self.warned.get(sensor, []))
         if run.stopped:
@@ -281,7 +282,7 @@ class Judge:
         return fails, warns, skip
 
     def _part(self, part: str, moved: Sequence[Optional[bool]], skipped: Optional[str],
-              skips: List[str], fails: List[str], causes: str, witnesses: str) -> str:
+              skips: List[str], fails: List[str], causes: str) -> str:
         if skipped is not None:
             skips.append('%s part skipped: %s' % (part, skipped))
             return 'skipped: %s' % skipped
@@ -289,8 +290,15 @@ class Judge:
             skips.append('%s part not finished: %s' % (part, self.run.stopped))
             return 'not finished'
         if any(m is False for m in moved):
-            fails.append('the %s did not move when commanded, and its witnesses (%s) agree: the '
-                         'actuator, not a sensor. Usual causes: %s' % (part, witnesses, causes))
+            told = sorted(self.told[part])
+            if len(told) == 1:
+                who = 'its only witness that could tell (%s) saw no motion' % told[0]
+                if part == 'head' and self.slow:
+                    who += ' (the head cameras\' frames came too far apart to follow it)'
+            else:
+                who = 'its witnesses (%s) agree' % ', '.join(told)
+            fails.append('the %s did not move when commanded, and %s: the actuator, not a sensor. '
+                         'Usual causes: %s' % (part, who, causes))
             return 'did not move'
         if not moved or all(m is None for m in moved):
             skips.append('%s part: no witness to tell whether it moved' % part)
