@@ -151,9 +151,11 @@ def test_the_idle_drive_is_the_circle_and_stops_when_commands_are_expected():
     assert b.snapshot(23.0).wz == 0.0 and b.snapshot(23.0).vx == 0.0
 
 
-def test_the_obstacle_is_near_the_start_heading():
-    x, y, r = Body(obstacle=True).circles()[0]
+def test_the_obstacle_is_near_the_start_heading_and_the_robot_stands_before_it():
+    b = Body(obstacle=True)
+    x, y, r = b.circles()[0]
     assert x - r == pytest.approx(0.35) and y == 0.0
+    assert b.snapshot(10.0).x == 0.0 and b.snapshot(10.0).yaw == 0.0      # no idle drive
     assert Body().circles() == ()
 
 

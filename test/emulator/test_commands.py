@@ -49,7 +49,7 @@ def run_motion(master, tmp_path, faults=''):
 
 
 # when each command went out (emu_move.py SCHEDULE), s after the start of the recording
-HEAD_AT, GOAL_AT, SPIN_AT, STOP_AT, END = 0.6, 1.2, 3.3, 4.0, 4.8
+HEAD_AT, GOAL_AT, SPIN_AT, STOP_AT, END = 0.8, 1.4, 3.8, 4.5, 5.3
 BEFORE_HEAD, BEFORE_TURN, AFTER_TURN = HEAD_AT - 0.05, GOAL_AT - 0.05, SPIN_AT - 0.05
 
 
@@ -66,7 +66,7 @@ def odom_yaw_change(d):
 
 
 # columns of a record: odom t, stamp, x, y, yaw, vx, wz; imu t, stamp, gx, gy, gz, ax, ay, az, yaw
-ODOM_YAW, ODOM_WZ, GX, GY, GZ, AX, AZ = 4, 6, 2, 3, 4, 5, 7
+ODOM_YAW, ODOM_WZ, GX, GY, GZ, AX, AZ, IMU_YAW = 4, 6, 2, 3, 4, 5, 7, 8
 
 
 def gyro_turn(d, axis=GZ):
@@ -138,6 +138,8 @@ def test_each_command_moves_the_robot_and_every_stream_agrees(master, tmp_path):
     assert odom_yaw_change(d) == pytest.approx(TURN, abs=0.02)
     assert gyro_turn(d) == pytest.approx(TURN, rel=0.15)
     assert abs(gyro_turn(d, GX)) < 0.05 and abs(gyro_turn(d, GY)) < 0.05
+    imu_yaw = last(d, 'imu', AFTER_TURN)[IMU_YAW] - last(d, 'imu', BEFORE_TURN)[IMU_YAW]
+    assert imu_yaw == pytest.approx(TURN, abs=0.02)                 # the IMU's orientation too
     for col, name in ((3, 'WheelFL'), (4, 'WheelFR'), (5, 'WheelB')):
         assert wheel_turn(d, col) == pytest.approx(-TURN * WHEEL_RATIO[name], rel=0.1), name
     # the scan turns with the base, the picture pans with the head (right, for a turn left)

@@ -31,7 +31,7 @@ from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
 
 from pepper_interface_tests.sources.naoqi_msgs import joint_angles_class
 
-SCHEDULE = dict(head=0.6, goal=1.2, spin=3.3, stop=4.0, end=4.8)
+SCHEDULE = dict(head=0.8, goal=1.4, spin=3.8, stop=4.5, end=5.3)
 T0 = [None]
 DATA = {k: [] for k in ('odom', 'imu', 'joints', 'laser', 'sonar', 'camera')}
 LAST = {}

@@ -29,7 +29,8 @@ doc.aldebaran.com/2-0/naoqi/motion/control-stiffness.html; the rest posture has 
 doc.aldebaran.com/2-0/family/juliette_technical/wake_rest_juliette.html), base_blocked (awake,
 the head obeys, locomotion refused: power hatch open, "ALMotion API are prohibited if power
 hatch is open", control-walk.html; or the Secure Move API that does not launch a move towards
-an obstacle, reflexes-external-collision.html), obstacle (a bin in front of the start pose).
+an obstacle, reflexes-external-collision.html), obstacle (a bin in front of the start pose;
+the robot then stands there, no idle drive).
 
 The idle drive: unless ~condition still, the robot starts driving slowly in a circle (someone
 else's move(): scene.robot_pose is its closed form). It stops, as a zero move() would stop it,
@@ -128,7 +129,8 @@ class Body:
         self.resting, self.base_blocked, self.obstacle = resting, base_blocked, obstacle
         self.t = 0.0
         self.x = self.y = self.yaw = 0.0
-        idle = idle and not resting and not base_blocked
+        # a robot that cannot drive, or that stands before an obstacle, does not drive around
+        idle = idle and not resting and not base_blocked and not obstacle
         self.cmd: Optional[Tuple[float, float, float]] = \
             (scene.LINEAR_SPEED, 0.0, scene.ANGULAR_SPEED) if idle else None
         self.idle = idle

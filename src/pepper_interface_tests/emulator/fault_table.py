@@ -47,7 +47,8 @@ EFFECTS = {
     'stuck_joint': 'joint VALUE (e.g. HeadYaw) reads its start angle whatever it does',
     'reversed': 'the beams in the opposite order (left first)',
     'not_following': 'a live picture that does not pan with the head',
-    'glass': 'a glass pane 0.8 m ahead: the sonar sees it, the laser sees through',
+    'glass': 'a glass pane 0.8 m away (ahead, behind for the back sonar): the sonar sees '
+             'it, the laser sees through',
     'clock_offset': 'header stamps VALUE s (signed) off the other sensors\'',
     'resting': 'stiffness 0 in /diagnostics, every motion command ignored',
     'base_blocked': 'awake, the head obeys, the base refuses to move',

@@ -155,7 +155,8 @@ def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog=NODE_NAME, description='A Pepper robot (naoqi_driver) or Gazebo simulator that '
         'publishes every sensor topic as the real drivers do, optionally with injected faults. '
-        'Each option overrides the private '
+        'The robot profiles take naoqi_driver\'s motion commands (/cmd_vel, /joint_angles, '
+        '/move_base_simple/goal) and the world follows them. Each option overrides the private '
         'ROS param of the same name (~profile, ...); launch: pepperEmulator.launch.',
         epilog='examples:\n  rosrun pepper_interface_tests pepperEmulator --profile simulator\n'
                '  rosrun pepper_interface_tests pepperEmulator --head xtion --audio direct\n'
@@ -221,7 +222,9 @@ class Emulator:
         self.commands: Optional[CommandSubscribers] = None
         robot = config.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
         from .body import Body
-        self.body = Body(idle=config.condition != 'still', seed=config.seed, resting=robot.resting,
+        # a glass pane ahead of the start pose (frontSonar:glass): the robot stands before it
+        glass = any(f.glass for f in config.faults.values())
+        self.body = Body(idle=config.condition != 'still' and not glass, seed=config.seed, resting=robot.resting,
                          base_blocked=robot.base_blocked, obstacle=robot.obstacle)
 
     def start(self) -> None:

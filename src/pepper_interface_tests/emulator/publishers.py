@@ -407,7 +407,8 @@ class SonarPublisher(StreamPublisher):
         snap = self.snapshot(t)
         pose = (snap.x, snap.y, snap.yaw)
         circles = self.body.circles() if self.body else ()
-        panes = (scene.GLASS_PANE,) if f.glass else ()
+        gx, g0, g1 = scene.GLASS_PANE        # behind the start pose for the back sonar
+        panes = (((-gx if back else gx), g0, g1),) if f.glass else ()
         if s.layout == 'gazebo':
             msg.range = scene.gazebo_sonar_range(t, back, s.range_max, s.noise, self.rng, pose, circles, panes)
         else:

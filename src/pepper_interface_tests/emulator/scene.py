@@ -1,13 +1,13 @@
 """A small synthetic world that every emulated sensor observes, so the streams agree.
 
-The robot drives slowly in a circle inside a rectangular room; a person walks to and fro along
-the far wall; a pillar stands in a corner. From the same state at time t come:
+The robot stands in a rectangular room (driving slowly in a circle unless commanded: body.py);
+a person walks to and fro along the far wall; a pillar stands in a corner. From the room at
+time t, seen from the body's pose, come:
 
-- the odometry pose and twist, the IMU orientation, rates and accelerations,
 - laser and sonar ranges (ray casting against the walls, the person and the pillar),
 - depth images (per image column the same ray cast, the floor plane below the horizon, a
   bouncing ball in front, a few invalid 0 pixels),
-- colour images (a room panorama panned with the robot's heading, the person drawn where the
+- colour images (a room panorama panned with the head's heading, the person drawn where the
   laser sees it, a bouncing ball, a frame counter), and the stereo pair (two shifted views).
 
 The world is a pure function of t (plus a seeded noise generator per caller); the robot's pose
