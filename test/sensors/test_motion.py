@@ -182,10 +182,15 @@ HEAD_AND_BASE = BASE + ',frontCamera,bottomCamera'
 
 
 def move_run(master, tmp_path, faults, sensors, **motion):
-    """The emulator (standing still, `faults`), sensorTest --move on `sensors`: the rows by name."""
+    """The emulator (standing still, `faults`), sensorTest --move on `sensors`: the rows by name.
+    The topics file leaves out the stereo and depth cameras: on a loaded test machine four camera
+    witnesses at 10 fps each left gaps of half a second between frames."""
     robot = Robot(master, tmp_path, ['_faults:=' + faults] if faults else [])
+    lines = [ln for ln in open(os.path.join(PKG, 'data', 'pepperTopics.dat')).read().splitlines()
+             if not ln.startswith(('StereoCamera ', 'DepthCamera '))]
+    (tmp_path / 'topics.dat').write_text('\n'.join(lines) + '\n')
     try:
-        proc, out = sensor_test(master, tmp_path, sensors=sensors,
+        proc, out = sensor_test(master, tmp_path, '--topics', str(tmp_path / 'topics.dat'), sensors=sensors,
                                 expect=expectations(tmp_path, **dict(QUICK, **motion)))
         try:
             proc.wait(90)
@@ -222,14 +227,16 @@ def test_a_healthy_robot_passes_every_motion_sensor_and_ends_where_it_started(ma
 
 
 @pytest.mark.parametrize('faults, sensors, motion, failed', [
-    ('imu:gyro_inverted;laser:reversed;frontCamera:not_following;jointState:stuck_joint=HeadYaw',
-     HEAD_AND_BASE, {}, {'imu': 'opposite sign', 'laser': 'wrong way', 'frontCamera': 'not following',
-                         'jointState': 'HeadYaw did not move'}),
+    ('imu:gyro_inverted;laser:reversed;frontCamera:not_following',
+     HEAD_AND_BASE, {}, {'imu': 'opposite sign', 'laser': 'wrong way', 'frontCamera': 'not following'}),
+    # the encoder stuck, both cameras follow: two witnesses of three saw the head turn
+    ('jointState:stuck_joint=HeadYaw', 'jointState,frontCamera,bottomCamera', {'base_turn': 0},
+     {'jointState': 'HeadYaw did not move'}),
     # the gyro on the wrong axis still saw a turn: with the wheels and the laser, three of four
     ('odometry:frozen_pose;imu:swapped_axes', BASE, {'head_yaw': 0},
      {'odometry': 'did not change', 'imu': "gyro's x axis"}),
     ('imu:dead_gyro', BASE, {'head_yaw': 0}, {'imu': 'gyro reads about zero'}),
-], ids=['four-at-once', 'frozen_pose+swapped_axes', 'dead_gyro'])
+], ids=['three-at-once', 'stuck_joint', 'frozen_pose+swapped_axes', 'dead_gyro'])
 def test_each_motion_fault_fails_its_own_sensor_and_no_other(module_master, tmp_path, faults, sensors,
                                                              motion, failed):
     rows, _ = move_run(module_master, tmp_path, faults, sensors, **motion)

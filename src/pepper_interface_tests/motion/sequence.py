@@ -22,6 +22,7 @@ from .commands import Commands
 from .record import WHEELS, Recording
 
 MIN_STEP = 1.5      # s before a step may count as settled (ALMotion takes a moment to start)
+HEAD_LATENCY = 0.3  # s before ALMotion's setAngles is under way (a joint state or two later)
 # HeadYaw's maximum speed (rad/s): pepper_description pepper.urdf line 15 (sensors/joint_limits.py)
 HEAD_YAW_SPEED = 7.33998
 # rad/s a turn in place is expected at, at least: ALMotion turns the base at up to ~1 rad/s by
@@ -126,7 +127,9 @@ class Sequence:
         e = self.expect
         assert step.sent is not None
         took = now - step.sent
-        if step.part == 'head' and took >= 0.2:     # a joint state read after the command
+        # at its target, and no sooner than the head can be there (a stuck encoder reading the
+        # start angle would otherwise end the step back to the start at once)
+        if step.part == 'head' and took >= self.expected(step) + HEAD_LATENCY:
             h = self.rec.latest_joint('HeadYaw')
             if h is not None and abs(h - step.target) <= e.joint_tolerance / 2:
                 return True
