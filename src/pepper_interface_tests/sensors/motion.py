@@ -91,6 +91,10 @@ class MotionCheck(Check):
             seq.prepare(bool(heard_of(self.rec, 'laser')),
                         bool(heard_of(self.rec, 'frontSonar') or heard_of(self.rec, 'backSonar')),
                         bool(heard_of(self.rec, 'jointState')))
+            if not self.rec.stiffness:
+                self.notes.append('stiffness not checked before moving: no naoqi_driver joint status '
+                                  '(Stiffness) arrived on /diagnostics within %.1f s'
+                                  % self.expect.witness_wait)
             if not seq.steps:
                 self._done = True
                 seq.state = 'done'
