@@ -96,3 +96,36 @@ def test_the_emulators_glass_pane_and_an_offset_clock_are_warned(master, tmp_pat
     assert any('header stamps 2.' in w and 'behind' in w for w in rows['imu']['warnings']), rows['imu']
     assert not any(w for n in ('odometry', 'jointState') for w in rows[n]['warnings'])
     assert os.path.exists(str(out / 'sensorTestOutput.dat'))
+
+
+def turning(odom_rate=0.2, gyro_rate=0.2, seconds=5.0):
+    """Odometry and IMU rows of one window in which the robot turned (rad/s)."""
+    from pepper_interface_tests.sensors.values.imu import ImuValues
+    from pepper_interface_tests.sensors.values.odometry import OdometryValues
+    ts = [i * 0.1 for i in range(int(seconds * 10) + 1)]
+    yaw = [(t, math.atan2(math.sin(odom_rate * t + 3.0), math.cos(odom_rate * t + 3.0))) for t in ts]  # wraps at pi
+    odom = SensorResult(name='odometry', title='ODOMETRY', topic='/o', msg_type='nav_msgs/Odometry', verdict='PASS',
+                        values=OdometryValues(yaw_series=yaw), started_at=2.0)
+    imu = SensorResult(name='imu', title='IMU', topic='/i', msg_type='sensor_msgs/Imu', verdict='PASS',
+                       values=ImuValues(angular_velocity_z_rad_s=[(t, gyro_rate) for t in ts]), started_at=2.0)
+    return [odom, imu]
+
+
+def test_a_recorded_turn_seen_alike_by_odometry_and_gyro_is_not_warned():
+    rows = turning()
+    cross.apply(rows)
+    assert not rows[0].warnings and not rows[1].warnings
+
+
+def test_a_recorded_turn_with_the_gyro_of_the_opposite_sign_warns_both():
+    rows = turning(gyro_rate=-0.2)
+    cross.apply(rows)
+    assert 'odometry\'s yaw changed +1.00 rad and the gyro\'s z integrates to -1.00 rad: opposite signs' \
+        in rows[1].warnings[0]
+    assert rows[0].warnings == rows[1].warnings
+
+
+def test_a_robot_standing_still_is_not_compared():
+    rows = turning(odom_rate=0.0, gyro_rate=0.01)
+    cross.apply(rows)
+    assert not rows[0].warnings

@@ -18,13 +18,21 @@ things), added once every window is judged (runner.py, before the outputs are wr
   src/converters/laser.cpp:154, while a bridge or a camera driver on the robot uses the
   robot's). The spread: a loaded robot's 1.3 fps VGA frames arrive up to ~0.7 s after their
   stamp; one second more is a clock, not a queue. Needs three sensors with stamps.
+- A recorded turn (a bag, or a live run where the robot turns on its own): odometry's yaw change
+  against the gyro's z integrated over the same stretch of time (both windows together, as in
+  a bag), when either saw a turn of at least RECORDED_TURN rad. The opposite sign, or apart by
+  more than RECORDED_TOLERANCE of the larger, is a warning on both rows with both numbers (two
+  witnesses cannot tell which one is wrong: --move adds the wheels and the laser and votes).
+  Integrating a gyro drifts: a few hundredths of a rad over a minute, far below the margin.
 """
 import math
 import statistics
-from typing import List, Optional, Sequence
+from typing import List, Optional, Sequence, Tuple
 
 from ..results import SensorResult
+from .values.imu import ImuValues
 from .values.laser import LaserValues
+from .values.odometry import OdometryValues
 from .values.range import RangeValues
 
 FRONT_SONAR = 'frontSonar'
@@ -32,6 +40,8 @@ FRONT_SECTOR = 0.26     # rad either side of straight ahead (15 degrees)
 SONAR_MARGIN = 0.5      # m
 SAME_TIME = 1.0         # s between the two windows' ends
 CLOCK_SPREAD = 1.0      # s
+RECORDED_TURN = 0.3     # rad: a turn, not a wobble
+RECORDED_TOLERANCE = 0.35   # share of the larger of the two (as MotionExpect.turn_tolerance)
 
 
 def _laser_front(values: LaserValues) -> Optional[float]:
@@ -82,7 +92,45 @@ def header_clocks(results: Sequence[SensorResult]) -> None:
                                                             d, middle))
 
 
+def _points(r: SensorResult, series: List[Tuple[float, Optional[float]]]) -> List[Tuple[float, float]]:
+    start = r.started_at or 0.0
+    return [(start + t, v) for t, v in series if v is not None and math.isfinite(v)]
+
+
+def recorded_turn(results: Sequence[SensorResult]) -> None:
+    odom = next((r for r in results if isinstance(r.values, OdometryValues)), None)
+    imu = next((r for r in results if isinstance(r.values, ImuValues)), None)
+    if odom is None or imu is None:
+        return
+    ov, iv = odom.values, imu.values
+    assert isinstance(ov, OdometryValues) and isinstance(iv, ImuValues)
+    yaw, wz = _points(odom, ov.yaw_series), _points(imu, iv.angular_velocity_z_rad_s)
+    if len(yaw) < 2 or len(wz) < 2:
+        return
+    t0, t1 = max(yaw[0][0], wz[0][0]), min(yaw[-1][0], wz[-1][0])
+    if t1 - t0 < 1.0:
+        return
+    turn, last = 0.0, None
+    for t, v in yaw:
+        if t0 <= t <= t1:
+            if last is not None:
+                turn += math.atan2(math.sin(v - last), math.cos(v - last))
+            last = v
+    inside = [(t, v) for t, v in wz if t0 <= t <= t1]
+    gyro = sum(0.5 * (a[1] + b[1]) * (b[0] - a[0]) for a, b in zip(inside, inside[1:]))
+    big = max(abs(turn), abs(gyro))
+    if big < RECORDED_TURN:
+        return
+    if turn * gyro < 0 or abs(turn - gyro) > RECORDED_TOLERANCE * big:
+        text = ('in the %.0f s both recorded, odometry\'s yaw changed %+.2f rad and the gyro\'s z '
+                'integrates to %+.2f rad: %s' % (t1 - t0, turn, gyro,
+                                                 'opposite signs' if turn * gyro < 0 else 'they disagree'))
+        odom.warnings.append(text)
+        imu.warnings.append(text)
+
+
 def apply(results: List[SensorResult]) -> None:
     """Every cross-check over the run's judged rows (warnings added in place)."""
     sonar_against_laser(results)
     header_clocks(results)
+    recorded_turn(results)

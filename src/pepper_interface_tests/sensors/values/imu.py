@@ -14,3 +14,5 @@ class ImuValues:
     angular_velocity_norm_rad_s: Optional[Spread] = optional()
     acceleration_m_s2: List[Point] = series()
     angular_velocity_rad_s: List[Point] = series()
+    # the gyro's z (rad/s): the recorded motion cross-check against odometry (sensors/cross.py)
+    angular_velocity_z_rad_s: List[Point] = series()
