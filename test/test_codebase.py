@@ -6,7 +6,7 @@
   annotated, as mypy does), or a signature type comment (`# type: (int) -> str`) in the Python
   2.7-compatible files. Each offender is named as file:line:function and what it lacks.
 - Layering: nothing imports "upward" along
-  plan -> sources -> media -> sensors -> runner -> outputs -> programs; results.py, stats.py,
+  plan -> sources -> media -> motion -> sensors -> runner -> outputs -> programs; results.py, stats.py,
   interrupts.py and progress.py are the base every layer may import; observer.py (the seam
   the runner calls the outputs through) is in the runner's layer. Every import counts:
   function-level ones (they run too) and those under `if TYPE_CHECKING:` (a type a lower
@@ -34,6 +34,7 @@ LAYERS = [
     {'plan'},
     {'sources'},
     {'media'},
+    {'motion'},     # the motion check's home (--move): below sensors/, whose motion Check drives it
     {'sensors'},
     {'runner', 'observer'},
     {'outputs'},
@@ -207,7 +208,7 @@ def upward_imports():
             for target in imported_tops(rel, node):
                 if target != top and layer_of(target) > own:
                     found.append('%s:%d `%s` imports %s, a later stage than %s (plan -> sources -> '
-                                 'media -> sensors -> runner -> outputs -> programs); move the shared '
+                                 'media -> motion -> sensors -> runner -> outputs -> programs); move the shared '
                                  'part down: a protocol or a value type in a leaf (TYPE_CHECKING '
                                  'imports count too)' % (rel, node.lineno, import_text(node), target, top))
     return found

@@ -57,6 +57,7 @@ def test_master_never_joins_a_foreign_master_on_its_port():
 
 def demo(env_extra, *args, timeout=240):
     env = dict(os.environ, **env_extra)
+    env.setdefault('DEMO_MOVE', '0')     # the motion check (--move) is tested in test/sensors/test_motion.py
     env.pop('ROS_MASTER_URI', None)
     t0 = time.monotonic()
     res = subprocess.run([os.path.join(ROOT, 'tools', 'demo.sh')] + list(args), env=env,

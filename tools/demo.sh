@@ -4,7 +4,9 @@
 # parallel mode over every robot sensor (the touch sensors and bumpers in a guided check that
 # the emulated operator answers), then stop everything. Exit code = sensorTest's
 # (2 when the emulator could not start, or broke during the run: a node of it ended, named on
-# the terminal with its last words). Extra arguments go to sensorTest, e.g.
+# the terminal with its last words). With --move (DEMO_MOVE=0 leaves it out) the emulator
+# stands still (condition:=still) and the motion check turns its head and base first, without
+# asking (--yes: nobody stands next to an emulator). Extra arguments go to sensorTest, e.g.
 #   tools/demo.sh --quick   or   --duration 5
 # Ports: three distinct free ports below the kernel's ephemeral range (rosmaster.free_ports);
 # if one is taken anyway before its server binds it (or roslaunch finds somebody else's master
@@ -37,6 +39,8 @@ stop() {  # Ctrl-C to the launch; after ${1:-10} s SIGKILL to it and to every pr
 trap 'stop; exit 130' INT TERM
 
 attempts=${DEMO_ATTEMPTS:-3}
+MOVE=(--move --yes); CONDITION=still
+if [ "${DEMO_MOVE:-1}" = 0 ]; then MOVE=(); CONDITION=normal; fi
 for attempt in $(seq "$attempts"); do
     if [ "$attempt" = 1 ] && [ -n "${DEMO_PORTS:-}" ]; then
         read -r MASTER_PORT NAOQI_PORT WS_PORT <<<"$DEMO_PORTS"
@@ -50,7 +54,7 @@ for attempt in $(seq "$attempts"); do
     echo "  ports: master $MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log:"
     echo "  $LOG"
     setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
-        realsense:=true touch:=true operator:=true naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
+        realsense:=true touch:=true operator:=true condition:="$CONDITION" naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
     LAUNCH=$!
     disown "$LAUNCH"  # stop() reaps it; no "Killed" line from bash
     # Prints the failure's lines and exits 3 when a port was taken (retry), 2 for anything else.
@@ -81,7 +85,7 @@ done
 python -m pepper_interface_tests.launch.watch "$LAUNCH" "$LOG" -- \
     python scripts/sensorTest --platform robot --mode parallel \
     --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,bumper,robotHealth \
-    --guided --no-show "$@"
+    --guided --no-show "${MOVE[@]}" "$@"
 rc=$?
 stop
 exit $rc

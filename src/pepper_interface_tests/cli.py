@@ -233,7 +233,7 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
         raise ConfigError('cannot create a run folder in %s: %s' % (plan.output_dir, e.strerror or e),
                           fix='choose a writable folder with --output-dir, or run with --no-history') from None
     plan = settings.replace(plan, output_dir=folder.path)
-    ctx = RunContext(plan.output_dir, plan.platform, plan.options)
+    ctx = RunContext(plan.output_dir, plan.platform, plan.options, topics=plan.topics)
     if plan.options.debug:
         ctx.services.debug = _debug_line
     watchers = observers.observers_for(plan, ctx, source_name, folder)

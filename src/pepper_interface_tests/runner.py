@@ -20,6 +20,7 @@ from . import interrupts
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
+from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
 from .sensors.stiffness import StiffnessWitness, witnesses
@@ -80,6 +81,8 @@ class Runner:
         self.current[i] = None
         while lane:
             plan = lane[0]
+            if plan.skip_reason is None and not traits(plan.sensor).leads and self._leading():
+                return     # started by the main loop once the leading windows are done
             if plan.skip_reason is not None:
                 self._done(skipped_result(plan, self.start, now))
                 lane.pop(0)
@@ -93,6 +96,16 @@ class Runner:
             self.source.attach(run)
             self.observers.sensor_started(run.progress(now))
             return
+
+    def _leading(self) -> bool:
+        """A leading window (Traits.leads: the motion check) is still to run, running or
+        closing: the other windows wait, so they neither watch the robot move nor are judged
+        before its findings about them (RunContext.findings) exist."""
+        if any(r is not None and traits(r.sensor).leads for r in self.current):
+            return True
+        if any(traits(r.sensor).leads for r, _ in self.closing):
+            return True
+        return any(traits(p.sensor).leads and p.skip_reason is None for ln in self.lanes for p in ln)
 
     def _done(self, result):
         self.results[result.name] = result
@@ -147,8 +160,11 @@ class Runner:
                 self.source.attach(witness)
             for i in range(len(self.lanes)):
                 self._start_next(i, self.clock())
-            while any(self.current) or self.closing:
+            while any(self.current) or self.closing or any(self.lanes):
                 now = self.clock()
+                for i, run in enumerate(self.current):
+                    if run is None and self.lanes[i]:   # held while a leading window ran
+                        self._start_next(i, now)
                 due = []
                 for i, run in enumerate(self.current):
                     if run is None:
@@ -234,6 +250,7 @@ class Runner:
                                           ['not run: the run was interrupted before it started']))
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
+        cross.apply(self.run.sensors)     # warnings that need two rows (sensors/cross.py)
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)

@@ -20,7 +20,7 @@ SHIPPED_EXPECT = os.path.join(PKG, 'config', 'sensorExpectations.yaml')
 PEPPER_TOPICS = os.path.join(PKG, 'data', 'pepperTopics.dat')
 SIM_TOPICS = os.path.join(PKG, 'data', 'simulatorTopics.dat')
 
-ALL = list(catalog.SENSORS)
+ALL = [n for n, s in catalog.SENSORS.items() if not s.opt_in]   # opt-in rows (motion: --move) aside
 
 
 @pytest.fixture
@@ -644,3 +644,29 @@ def test_package_dir_is_found_next_to_the_module_without_rospkg(monkeypatch):
     repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.realpath(__file__))))
     monkeypatch.setenv('ROS_PACKAGE_PATH', '/nonexistent')   # rospkg could find nothing
     assert os.path.realpath(package_dir()) == repo
+
+
+# ------------------------------------------------------------------ --move (the motion row)
+
+def test_move_adds_the_motion_row_first_without_naming_it(files):
+    write(files.input, 'laser true\nimu true\n')
+    plan = load_plan(files.options(move=True))
+    assert plan_names(plan) == ['motion', 'laser', 'imu']
+    assert plan.sensors[0].topic == '/move_base_simple/goal' and plan.sensors[0].expect.base_turn == 0.5
+    assert not any('motion' in n for n in plan.notes)            # no "not tested: motion" either way
+    assert not any('motion' in n for n in load_plan(files.options()).notes)
+    assert plan.topics['laser']                                  # the witnesses' topics
+
+
+def test_motion_in_sensors_needs_move_and_move_is_refused_from_a_bag(files):
+    e = error_of(files.options(sensors=('laser', 'motion')))
+    assert 'only with --move' in e.message and 'add --move' in e.fix
+    plan = load_plan(files.options(sensors=('laser', 'motion'), move=True))
+    assert plan_names(plan) == ['motion', 'laser']
+    e = error_of(files.options(move=True, bag='/tmp/x.bag'))
+    assert 'a recording has nothing to command' in e.message and 'leave out --move' in e.fix
+
+
+def test_the_motion_row_is_skipped_with_its_reason_on_the_simulator(files):
+    plan = load_plan(files.options(move=True, platform='simulator', sensors=('laser',)))
+    assert plan.sensors[0].name == 'motion' and '/pepper/cmd_vel' in plan.sensors[0].skip_reason

@@ -21,6 +21,8 @@ class Sensor(NamedTuple):
     also: Tuple[str, ...] = ()   # other message types accepted on the topic, besides msg_type
     # the robot's topic when the topics file has no key for it (a file older than the sensor)
     driver_topic: Optional[str] = None
+    # the option that adds this row to a run (never the input file): `--move` adds `motion`
+    opt_in: Optional[str] = None
 
 
 SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
@@ -67,6 +69,10 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp; naoqi_driver.cpp:652)
     Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
            'diagnostic_msgs/DiagnosticArray', 'health', None, False, None, (), '/diagnostics'),
+    # the motion check (--move, sensors/motion.py, motion/): its topic is the command it sends,
+    # naoqi_driver's bounded moveTo (src/subscribers/moveto.cpp; naoqi_driver.cpp:938)
+    Sensor('motion', 'MOTION', ('Motion', 'move'), 'geometry_msgs/PoseStamped', 'motion', None,
+           False, None, (), '/move_base_simple/goal', opt_in='--move'),
 ])
 
 # Keys of the topics files that belong to the actuator test; sensorTest ignores them.
@@ -145,6 +151,11 @@ SIMULATOR_SKIP = {
     'handTouch': _NOT_SIMULATED % 'hand touch events',
     'bumper': _NOT_SIMULATED % 'bumper events' + ' (the model\'s Gazebo bumper sensors are commented out)',
     'robotHealth': _NOT_SIMULATED % 'naoqi_driver diagnostics (joint temperatures, battery) on /diagnostics',
+    # awesomebytes/pepper_virtual simulation_that_works README.md:52 (/pepper/cmd_vel); the goal
+    # topic appears only as an rviz tool (pepper_gazebo_plugin/config/pepper_sensors.rviz:713)
+    'motion': 'the Gazebo simulator (pepper_virtual) takes only /pepper/cmd_vel: no '
+              '/move_base_simple/goal (bounded moveTo) and no /joint_angles subscriber, so --move has '
+              'nothing bounded to command',
 }
 
 

@@ -326,10 +326,40 @@ class HealthExpect(Expect):
     arrays: int = _field(whole(1, '2'), 2)
 
 
+@dataclass(frozen=True)
+class MotionExpect(Expect):
+    """The motion check's plan (--move; sensors/motion.py, motion/): small, slow, bounded
+    moves, each waited for (reasons in config/sensorExpectations.yaml)."""
+    # the head yaws to +head_yaw, -head_yaw and back to its start (rad); 0: no head part
+    head_yaw: float = _field(number(0, 1.0, example='0.5'), 0.5)
+    # /joint_angles speed, a fraction of the joint's maximum speed (teleop.cpp: setAngles)
+    head_speed: float = _field(number(0, 0.5, lo_open=True, example='0.1'), 0.1)
+    # the base turns in place by +base_turn and back (rad, /move_base_simple/goal); 0: no base part
+    base_turn: float = _field(number(0, 1.0, example='0.5'), 0.5)
+    # seconds one step may take to settle before it is judged as not reaching its target
+    step_timeout: float = _field(number(1, 60, example='15.0'), 15.0)
+    # a step has settled once the witnesses changed less than this (rad) for settle_time s
+    settle_time: float = _field(number(0.1, 5, example='1.0'), 1.0)
+    # a commanded joint within this of its target (rad) reached it
+    joint_tolerance: float = _field(number(0, 0.5, lo_open=True, example='0.08'), 0.08)
+    # a witness's turn within this share of the commanded turn (and the right sign) agrees
+    turn_tolerance: float = _field(number(0, 1, lo_open=True, example='0.35'), 0.35)
+    # below this share of the command, a witness saw no motion at all
+    still_share: float = _field(number(0, 1, lo_open=True, example='0.2'), 0.2)
+    # nothing may be closer than this (m) to the laser or sonars before the base turns
+    clearance: float = _field(number(0, 5, lo_open=True, example='0.5'), 0.5)
+    # during a turn, anything closer than this (m) stops the base at once
+    stop_distance: float = _field(number(0, 5, lo_open=True, example='0.3'), 0.3)
+    # a joint whose /diagnostics Stiffness is below this is not stiff (the robot is resting)
+    min_stiffness: float = _field(number(0, 1, example='0.5'), 0.5)
+    # seconds the witnesses are listened to before the first move (their first messages)
+    witness_wait: float = _field(number(0.5, 30, example='3.0'), 3.0)
+
+
 FAMILIES: Dict[str, Type[Expect]] = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
             'depth': DepthExpect, 'audio': AudioExpect, 'joints': JointsExpect,
             'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect,
-            'touch': TouchExpect, 'health': HealthExpect}
+            'touch': TouchExpect, 'health': HealthExpect, 'motion': MotionExpect}
 
 
 def family_of(name: str) -> Type[Expect]:

@@ -35,6 +35,8 @@ class TestPlan:
     files: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     options: Options = Options()
     selection_notes: Tuple[str, ...] = ()   # what is left out and why (selection.py)
+    # every sensor's topic from the topics file (selected or not): the motion check's witnesses
+    topics: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def active(self) -> Tuple[SensorPlan, ...]:

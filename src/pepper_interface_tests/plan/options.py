@@ -76,6 +76,11 @@ OPTIONS: Tuple[Opt, ...] = (
         'unattended: judge the touch events that arrive, nobody is asked (default without a terminal)'),
     Opt('touch_wait', '--touch-wait', SECONDS, 'run',
         'guided check: seconds to wait for each zone\'s press (default 15)', 'S'),
+    Opt('move', '--move', ON, 'run',
+        'motion check: turn the head and the base by small known amounts and judge every motion '
+        'sensor against the motion (adds the motion row; live robot only, never on by default)'),
+    Opt('yes', '--yes', ON, 'run',
+        'with --move: move without asking for Enter first (a run without a terminal never asks)'),
     Opt('bag', '--bag', TEXT, 'run', 'check a recorded bag instead of live topics (no master needed)',
         'FILE', param=False),
     Opt('debug', '--debug', ON, 'run', 'print one line per received message (stderr)'),
@@ -142,6 +147,8 @@ class Options:
     guided: Optional[bool] = None
     touch_wait: Optional[float] = None
     baseline: Optional[Union[str, bool]] = None     # a run; False: --no-baseline
+    move: Optional[bool] = None
+    yes: Optional[bool] = None
 
     def merged(self, other: 'Options') -> 'Options':
         """Values of `other` where given, else ours."""

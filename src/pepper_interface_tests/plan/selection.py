@@ -40,7 +40,7 @@ def select(file_order: Sequence[Tuple[str, bool]], cameras: Optional[str], input
     if cameras is None:
         order = [n for n, on in file_order if on]
         off = [n for n, on in file_order if not on]
-        missing = [n for n in catalog.SENSORS if n not in dict(file_order)]
+        missing = [n for n, s in catalog.SENSORS.items() if n not in dict(file_order) and not s.opt_in]
         off_rs = [n for n in off + missing if catalog.SENSORS[n].camera == 'realsense']
         if off:
             notes.append('not tested: %s (false in %s)' % (_names(off), input_name))

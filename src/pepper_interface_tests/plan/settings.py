@@ -141,6 +141,26 @@ def _resolve(path, base):
     return path if os.path.isabs(path) else os.path.join(base, path)
 
 
+def _motion(order: List[Tuple[str, bool]], options: Options) -> List[Tuple[str, bool]]:
+    """The rows only an option adds (catalog `opt_in`): `motion` with --move, first (it runs
+    before the other windows: sensors/families.py Traits.leads); refused from a bag."""
+    named = [n for n, _ in order if catalog.SENSORS[n].opt_in] if options.sensors else []
+    for name in named:      # an input file's line for it is ignored: only the option adds it
+        if name == 'motion' and not options.move:
+            raise ConfigError('"motion" in --sensors: the motion check runs only with --move',
+                              fix='add --move (it adds the motion row by itself), or leave motion '
+                                  'out of --sensors')
+    order = [(n, on) for n, on in order if not catalog.SENSORS[n].opt_in]
+    if not options.move:
+        return order
+    if options.bag:
+        raise ConfigError('--move cannot run from a bag: a recording has nothing to command',
+                          fix='leave out --move (a bag is judged as recorded; the sonar/laser and '
+                              'clock cross-checks run without it), or run --move against a live '
+                              'robot or the emulator')
+    return [('motion', True)] + order
+
+
 def load_plan(options: Optional[Options] = None) -> TestPlan:
     """Read every file named by `options` (or the package defaults) into a TestPlan."""
     options = Options() if options is None else options
@@ -199,6 +219,7 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
                               fix='set at least one sensor to true (e.g. "laser true"), or name '
                                   'sensors with --sensors')
 
+    order = _motion(order, options)
     plans = []
     for name, _ in order:
         sensor = catalog.SENSORS[name]
@@ -211,8 +232,9 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
         if topic is None and skip is None and platform == 'robot' and sensor.driver_topic:
             # a topics file older than the sensor: the driver's own topic
             topic = sensor.driver_topic
-            notes.append('%s: no key in %s, listening on naoqi_driver\'s %s'
-                         % (name, os.path.basename(topics_path), topic))
+            if not sensor.opt_in:    # motion's topics are naoqi_driver's own, fixed ones
+                notes.append('%s: no key in %s, listening on naoqi_driver\'s %s'
+                             % (name, os.path.basename(topics_path), topic))
         if topic is None and skip is None:
             raise ConfigError('no topic for sensor "%s"' % name, topics_path,
                               fix='add a line "%s /topic/name" or disable the sensor in %s'
@@ -224,4 +246,5 @@ def load_plan(options: Optional[Options] = None) -> TestPlan:
                               'topics': topics_path, 'expectations': expect_path})
     return TestPlan(platform=platform, mode=mode, duration=duration, wait=wait,
                     quick=bool(options.quick), cameras=cameras, output_dir=output_dir,
-                    sensors=tuple(plans), files=files, options=options, selection_notes=tuple(notes))
+                    sensors=tuple(plans), files=files, options=options, selection_notes=tuple(notes),
+                    topics=MappingProxyType(dict(topics)))

@@ -9,7 +9,7 @@ in `self.found`, which `result_values` hands over.
 import math
 from collections import OrderedDict
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Callable, Dict, Hashable, List, Optional, Protocol, Tuple
+from typing import TYPE_CHECKING, Any, Callable, Dict, Hashable, List, Mapping, Optional, Protocol, Sequence, Tuple
 
 from ..results import FAIL, PASS, SKIPPED, Verdict
 from .values import Spread
@@ -178,15 +178,40 @@ class Services:
     stiffness: Optional[RestWitness] = None            # the joints' stiffness: is the robot resting?
 
 
+class Findings:
+    """What a check found about OTHER sensors, put on their rows when their windows are judged
+    (the motion check: a gyro that did not see the turn fails on the imu row). Written by a
+    leading check (Traits.leads) before the other windows open; read by sensors/window.py."""
+
+    def __init__(self) -> None:
+        self._by: Dict[str, Judgement] = {}
+
+    def add(self, sensor: str, reasons: Sequence[str] = (), warnings: Sequence[str] = ()) -> None:
+        old = self._by.get(sensor, Judgement([], []))
+        self._by[sensor] = old.merged(Judgement(list(reasons), list(warnings)))
+
+    def of(self, sensor: str) -> Judgement:
+        """The findings on `sensor`'s row (none: an empty Judgement)."""
+        return self._by.get(sensor, Judgement([], []))
+
+    def sensors(self) -> List[str]:
+        return list(self._by)
+
+
 class RunContext:
-    """What checks may use from the run: output folder, options, shared services."""
+    """What checks may use from the run: output folder, options, shared services, every
+    sensor's topic (`topics`: a check that watches other sensors, the motion check) and the
+    findings checks put on other sensors' rows."""
 
     def __init__(self, output_dir: str, platform: str, options: 'Options',
-                 services: Optional[Services] = None) -> None:
+                 services: Optional[Services] = None,
+                 topics: Optional[Mapping[str, str]] = None) -> None:
         self.output_dir = output_dir
         self.platform = platform
         self.options = options
         self.services = services if services is not None else Services()
+        self.topics: Mapping[str, str] = dict(topics or {})
+        self.findings = Findings()
 
 
 class Check:

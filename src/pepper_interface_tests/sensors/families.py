@@ -54,6 +54,7 @@ from .values.health import HealthValues
 from .values.imu import ImuValues
 from .values.joints import JointsValues
 from .values.laser import LaserValues
+from .values.motion import MotionValues
 from .values.odometry import OdometryValues
 from .values.range import RangeValues
 from .values.speech import SpeechValues
@@ -91,6 +92,9 @@ class Traits:
     # its WARN or FAIL explains other sensors' failures (the robot's health): shown at the top
     # of the summary
     headline: bool = False
+    # runs before every other window (the motion check: the others' windows must not watch the
+    # robot move, and its findings go on their rows: RunContext.findings)
+    leads: bool = False
 
     @property
     def records_media(self) -> bool:
@@ -127,6 +131,8 @@ FAMILIES: Dict[str, Family] = {f.name: f for f in [
     Family('touch', 'touch:TouchCheck', 'touch', Traits(periodic=False, guided=True), TouchValues),
     Family('health', 'health:HealthCheck', 'health',
            Traits(periodic=False, shared_topic=True, headline=True), HealthValues),
+    Family('motion', 'motion:MotionCheck', 'motion',
+           Traits(periodic=False, drives_itself=True, live_only=True, leads=True), MotionValues),
 ]}
 
 

@@ -49,6 +49,7 @@ class ImuCheck(Check):
         self.acc_norm, self.gyro_norm = Acc(), Acc()
         self.acc_series: List[Point] = []
         self.gyro_series: List[Point] = []
+        self.gyro_z_series: List[Point] = []
         self.found: Optional[ImuValues] = None
         self.stuck = StuckRun(self.expect.stuck_messages)
         self.acc_values: List[float] = []
@@ -103,6 +104,8 @@ class ImuCheck(Check):
         if len(self.acc_series) < 2000:
             self.acc_series.append((round(t, 3), an))
             self.gyro_series.append((round(t, 3), wn))
+            wz = msg.angular_velocity.z
+            self.gyro_z_series.append((round(t, 3), wz if math.isfinite(wz) else None))
 
     def finish(self) -> None:
         stuck = self.stuck.finding('readings (angular velocity and linear acceleration)',
@@ -122,7 +125,8 @@ class ImuCheck(Check):
                              'values in g instead of m/s^2?' if median < 2 else
                              'not the gravity an upright robot measures'))
         self.found = ImuValues(self.stuck.longest, median_value, self.acc_norm.spread(), self.gyro_norm.spread(),
-                               self.gyro_noise.sd(), list(self.acc_series), list(self.gyro_series))
+                               self.gyro_noise.sd(), list(self.acc_series), list(self.gyro_series),
+                               list(self.gyro_z_series))
         if self.count:
             self.notes.append('|linear acceleration|: %s; |angular velocity|: %s'
                               % (self.acc_norm.text('m/s^2'), self.gyro_norm.text('rad/s')))

@@ -54,6 +54,7 @@ class OdometryCheck(Check):
         super().__init__(plan, ctx)
         self.x, self.y, self.speed = Acc(), Acc(), Acc()
         self.x_series: List[Point] = []
+        self.yaw_series: List[Point] = []
         self.y_series: List[Point] = []
         # (time, x, y, |twist|) the next pose pair starts from
         self.anchor: Optional[Tuple[float, float, float, float]] = None
@@ -101,6 +102,9 @@ class OdometryCheck(Check):
         if len(self.x_series) < 2000:
             self.x_series.append((round(t, 3), p.x if math.isfinite(p.x) else None))
             self.y_series.append((round(t, 3), p.y if math.isfinite(p.y) else None))
+            q = msg.pose.pose.orientation
+            yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+            self.yaw_series.append((round(t, 3), yaw if math.isfinite(yaw) else None))
 
     def _judge_motion(self, x, y, speed, t, stamp):
         when = stamp if stamp is not None else t
@@ -151,5 +155,5 @@ class OdometryCheck(Check):
             pose_jumps=jump.jumps if jump is not None else None,
             largest_pose_jump_m=round(jump.largest, 3) if jump is not None else None,
             x_m=self.x.spread(), y_m=self.y.spread(), speed_m_s=self.speed.spread(),
-            x_series=self.x_series, y_series=self.y_series)
+            x_series=self.x_series, y_series=self.y_series, yaw_series=self.yaw_series)
 

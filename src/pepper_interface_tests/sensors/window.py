@@ -240,6 +240,8 @@ class SensorRun:
         drives = self.traits.drives_itself
         judgement = self.stream.judge(elapsed, band, None if reason == 'interrupted' else lookup,
                                       drives).merged(check.judgement())
+        # what another check found about this sensor (the motion check: RunContext.findings)
+        judgement = judgement.merged(self.ctx.findings.of(self.sensor.name))
         reasons, warnings, verdict = judgement.reasons, judgement.warnings, judgement.verdict
         if verdict == SKIPPED:
             reasons = [judgement.skip or 'not judged']

@@ -61,3 +61,19 @@ def test_pose_jumps_counted_and_the_largest_shown():
 def test_no_jump_and_no_jump_rule():
     assert odometry.jump_rows(OdometryValues(pose_jumps=0, largest_pose_jump_m=0.0)) == [('pose jumps', 'none')]
     assert odometry.jump_rows(OdometryValues()) == []          # max_speed not set: not judged
+
+
+def test_the_motion_view_tables_each_step_and_plots_commanded_against_measured():
+    from pepper_interface_tests.outputs.report.blocks import Image, Table
+    from pepper_interface_tests.outputs.report.views import motion
+    from pepper_interface_tests.sensors.values.motion import MotionValues, StepValues
+    v = MotionValues(head='moved', base='did not move', steps=[
+        StepValues('base', 0.5, 1.0, 4.0, True, {'odometry': 0.0, 'gyro_z': 0.01, 'laser': None})],
+        commanded_yaw=[(0.0, 0.0), (1.0, 0.0), (1.0, 0.5), (4.0, 0.5)], odometry_yaw=[(0.5, 0.0), (3.5, 0.0)],
+        head_commanded=[(0.2, 0.5)], head_measured=[(0.3, 0.1), (0.9, 0.5)])
+    blocks = motion.render(result('motion'), v, None)
+    kv = next(b for b in blocks if isinstance(b, KV))
+    assert ('base', 'did not move') in kv.rows
+    table = next(b for b in blocks if isinstance(b, Table))
+    assert table.head[-3:] == ['odometry', 'gyro_z', 'laser'] and table.rows[0][-3:] == ['+0.00', '+0.01', '-']
+    assert any(isinstance(b, Image) for b in blocks)

@@ -10,7 +10,7 @@ second drawing pass of `bbox_inches='tight'`.
 import base64
 import io
 import math
-from typing import TYPE_CHECKING, Any, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Optional, Sequence, Tuple
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -301,4 +301,32 @@ def trend(label: str, unit: str, points: Sequence[Any], baseline: Optional[str])
     ax.set_title(label)
     ax.legend(loc='best')
     _grid(ax)
+    return uri(fig)
+
+
+def motion(base: Sequence[Tuple[str, 'Series']], head: Sequence[Tuple[str, 'Series']],
+           shift: 'Series') -> str:
+    """The motion check: the base's commanded yaw against each witness (odometry, integrated
+    gyro, laser turn), HeadYaw commanded against measured, and the picture's sideways shift."""
+    fig = figure(10, 5.4)
+    a1, a2 = fig.subplots(2, 1, sharex=True)
+    for label, s in base:
+        if s:
+            a1.plot(s.t, s.v, lw=2.2 if label == 'commanded' else 1.3, label=label,
+                    drawstyle='steps-post' if label == 'commanded' else 'default')
+    a1.set_ylabel('base yaw change (rad)')
+    a1.legend(fontsize=8)
+    for label, s in head:
+        if s:
+            a2.plot(s.t, s.v, lw=1.8 if label == 'HeadYaw commanded' else 1.3, label=label,
+                    drawstyle='steps-post' if label == 'HeadYaw commanded' else 'default')
+    a2.set_ylabel('HeadYaw (rad)')
+    if shift:
+        a3 = a2.twinx()
+        a3.plot(shift.t, shift.v, lw=1.0, color=PURPLE, ls='--', label='picture shift')
+        a3.set_ylabel('picture shift (px)')
+        a3.legend(loc='lower right', fontsize=8)
+    a2.legend(loc='upper right', fontsize=8)
+    a2.set_xlabel(T_LABEL)
+    _grid(a1, a2)
     return uri(fig)

@@ -15,3 +15,5 @@ class ImuValues:
     angular_velocity_noise_rad_s: Optional[float] = optional()   # sensors/wear.py Noise of |w|
     acceleration_m_s2: List[Point] = series()
     angular_velocity_rad_s: List[Point] = series()
+    # the gyro's z (rad/s): the recorded motion cross-check against odometry (sensors/cross.py)
+    angular_velocity_z_rad_s: List[Point] = series()

@@ -16,3 +16,5 @@ class OdometryValues:
     speed_m_s: Optional[Spread] = optional()
     x_series: List[Point] = series('x_m')
     y_series: List[Point] = series('y_m')
+    # the pose's yaw (rad): the recorded motion cross-check against the gyro (sensors/cross.py)
+    yaw_series: List[Point] = series('yaw_rad')

@@ -1,0 +1,178 @@
+"""What a witness measured over a step, from the recorded series (pure functions, numpy only).
+
+- yaw_of: the yaw of a quaternion (rad, about z, counter-clockwise positive: REP 103).
+- change: a series' change between two times, angles unwrapped.
+- integrated_gyro: the gyro's rates integrated over a step, per axis (trapezoids).
+- scan_turn: how far the robot turned between two scans, from how far the picture of the room
+  slid along the beams. A robot turning counter-clockwise by a sees a point at angle p at p - a,
+  so the later scan b holds at beam j what the earlier a held at j + a / angle_increment; the
+  shift with the least mean difference (refined between beams by a parabola) times the
+  increment is the turn. naoqi_driver stores the beams right to left, angle_min -2.0944 first,
+  with a positive increment (src/converters/laser.cpp:158-161, 216-218): a scan stored in the
+  other order gives the opposite turn. Blind slots (-1.0, laser.cpp:221), NaN and readings
+  below range_min take no part.
+- picture_shift: the sideways shift (pixels, positive: the picture moved right) between two
+  small grey frames: the shift whose overlap differs least (see its docstring).
+  A head yawing left (positive yaw) moves the scene right in a forward-looking camera.
+"""
+import math
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+
+BLUR = 0.04     # the sideways blur of picture_shift, a share of the picture's width
+
+
+def yaw_of(x: float, y: float, z: float, w: float) -> float:
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def wrap(a: float) -> float:
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+def value_at(series: Sequence[Tuple[float, float]], t: float) -> Optional[float]:
+    """The last value at or before t (the first one when none is that early); None: empty."""
+    if not series:
+        return None
+    best = series[0][1]
+    for ts, v in series:
+        if ts > t:
+            break
+        best = v
+    return best
+
+
+def change(series: Sequence[Tuple[float, float]], t0: float, t1: float, angle: bool = True) -> Optional[float]:
+    """How much the series changed from t0 to t1, summed step by step (angles unwrapped); None
+    when it has no value at or before t1."""
+    pts = [(t, v) for t, v in series if t <= t1]
+    if not pts:
+        return None
+    start = value_at(pts, t0)
+    inside = [v for t, v in pts if t > t0]
+    if start is None:
+        return None
+    total, last = 0.0, start
+    for v in inside:
+        d = v - last
+        total += wrap(d) if angle else d
+        last = v
+    return total
+
+
+def integrated_gyro(gyro: Sequence[Tuple[float, float, float, float]], t0: float,
+                    t1: float) -> Optional[Tuple[float, float, float]]:
+    pts = [g for g in gyro if t0 <= g[0] <= t1]
+    if len(pts) < 2:
+        return None
+    out = [0.0, 0.0, 0.0]
+    for a, b in zip(pts, pts[1:]):
+        dt = b[0] - a[0]
+        for k in range(3):
+            out[k] += 0.5 * (a[k + 1] + b[k + 1]) * dt
+    return out[0], out[1], out[2]
+
+
+def gyro_series(gyro: Sequence[Tuple[float, float, float, float]], t0: float) -> List[Tuple[float, float]]:
+    """The integrated gyro z from t0 on: [(t, rad)]."""
+    out: List[Tuple[float, float]] = []
+    total = 0.0
+    prev = None
+    for g in gyro:
+        if g[0] < t0:
+            continue
+        if prev is not None:
+            total += 0.5 * (prev[3] + g[3]) * (g[0] - prev[0])
+        out.append((g[0], total))
+        prev = g
+    return out
+
+
+def valid_ranges(ranges: Sequence[float], range_min: float) -> np.ndarray:
+    """Ranges with blind slots (-1.0), NaN, +-inf and readings below range_min as NaN; raw
+    readings beyond range_max are real distances (naoqi_driver does not clip: laser.cpp:165-205)."""
+    r = np.asarray(ranges, dtype=float)
+    bad = ~np.isfinite(r) | (r < max(range_min, 0.0))
+    return np.where(bad, np.nan, r)
+
+
+def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 1.2) -> Optional[float]:
+    """The robot's turn (rad) from scan a to scan b (see the module's docstring); None when the
+    scans share too few valid beams to tell."""
+    n = min(len(a), len(b))
+    if n < 10 or increment == 0:
+        return None
+    kmax = min(n // 3, int(abs(max_turn / increment)) + 1)
+    errors = {}
+    for k in range(-kmax, kmax + 1):
+        if k >= 0:
+            x, y = a[k:n], b[:n - k]
+        else:
+            x, y = a[:n + k], b[-k:n]
+        ok = np.isfinite(x) & np.isfinite(y)
+        if ok.sum() < max(5, n // 6):
+            continue
+        errors[k] = float(np.mean(np.abs(x[ok] - y[ok])))
+    if not errors:
+        return None
+    k = min(errors, key=lambda j: (errors[j], abs(j)))
+    frac = 0.0
+    if k - 1 in errors and k + 1 in errors:
+        e0, e1, e2 = errors[k - 1], errors[k], errors[k + 1]
+        den = e0 - 2 * e1 + e2
+        if den > 1e-12:
+            frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
+    return (k + frac) * increment
+
+
+def small_grey(data: np.ndarray, width: int = 80) -> np.ndarray:
+    """A frame (h x w or h x w x c) as a small float grey picture about `width` wide, each pixel
+    the mean of a block of the frame (an average, not every n-th pixel: a fine periodic texture
+    such as floorboards would otherwise alias into a false shift)."""
+    img = data.astype(np.float32)
+    if img.ndim == 3:
+        img = img.mean(axis=2)
+    step = max(1, img.shape[1] // width)
+    h, w = (img.shape[0] // step) * step, (img.shape[1] // step) * step
+    if step > 1:
+        img = img[:h, :w].reshape(h // step, step, w // step, step).mean(axis=(1, 3))
+    return img
+
+
+def _blur_x(img: np.ndarray, sigma: float) -> np.ndarray:
+    k = np.arange(-int(3 * sigma), int(3 * sigma) + 1)
+    kernel = np.exp(-0.5 * (k / sigma) ** 2)
+    kernel /= kernel.sum()
+    pad = np.pad(img, ((0, 0), (len(k) // 2, len(k) // 2)), mode='edge')
+    return np.apply_along_axis(lambda r: np.convolve(r, kernel, mode='valid'), 1, pad)
+
+
+def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
+    """Sideways shift (pixels of a and b's scale) from frame a to frame b: positive when the
+    picture moved right; None when a frame is flat (nothing to follow). Both are blurred
+    sideways (sigma BLUR of the width: a fine periodic texture, floorboards or tiles, would
+    otherwise match one period off), then the shift d (within a third of the width) whose
+    overlap differs least, b[:, x + d] against a[:, x], refined between pixels by a parabola."""
+    if a.shape != b.shape or a.std() < 1e-3 or b.std() < 1e-3:
+        return None
+    w = a.shape[1]
+    sigma = max(1.0, BLUR * w)
+    m = int(3 * sigma)     # the blur's edges are padding, not picture: left out
+    fa, fb = _blur_x(a - a.mean(), sigma)[:, m:w - m], _blur_x(b - b.mean(), sigma)[:, m:w - m]
+    w = fa.shape[1]
+    errors = {}
+    for d in range(-(w // 3), w // 3 + 1):
+        if d >= 0:
+            x, y = fa[:, :w - d], fb[:, d:]
+        else:
+            x, y = fa[:, -d:], fb[:, :w + d]
+        errors[d] = float(np.mean(np.abs((x - x.mean()) - (y - y.mean()))))   # brightness aside
+    d = min(errors, key=lambda j: (errors[j], abs(j)))
+    frac = 0.0
+    if d - 1 in errors and d + 1 in errors:
+        e0, e1, e2 = errors[d - 1], errors[d], errors[d + 1]
+        den = e0 - 2 * e1 + e2
+        if den > 1e-12:
+            frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
+    return d + frac

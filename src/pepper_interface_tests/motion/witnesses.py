@@ -1,0 +1,140 @@
+"""The motion check's witnesses: the sensors that see the robot move, subscribed for the check's
+window whether or not they are selected (their topics from the topics file: RunContext.topics),
+recorded into a record.Recording.
+
+Each subscription is rospy.AnyMsg, decoded here with the message class of its type (so a
+naoqi_bridge_msgs/Bumper from the robot and this package's copy, same md5sum, both decode).
+Camera frames are kept small (about 80 pixels wide, grey) and at most about 10 per second.
+"""
+import math
+import time
+from typing import Any, Callable, Dict, List, Optional
+
+import numpy as np
+import rospy
+from diagnostic_msgs.msg import DiagnosticArray
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
+
+from ..msg import Bumper
+from . import estimate
+from .record import Recording, Scan
+
+# witness role -> the sensor whose topic it listens to (plan/catalog.py names)
+HEAD_CAMERAS = ('frontCamera', 'bottomCamera', 'stereoCamera', 'depthCamera')
+ROLES = ('jointState', 'odometry', 'imu', 'laser', 'frontSonar', 'backSonar', 'bumper',
+         'robotHealth') + HEAD_CAMERAS
+FRAME_PERIOD = 0.09    # s between two kept frames of one camera (naoqi_driver's 10 fps: each)
+FRONT_SECTOR = 0.2     # rad either side of straight ahead: the laser's front sector
+
+
+class Witnesses:
+    def __init__(self, topics: Dict[str, str], recording: Recording,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        self.rec = recording
+        self.clock = clock
+        self.topics = {role: topics[role] for role in ROLES if topics.get(role)}
+        self.subs: List[Any] = []
+        self.closed = False
+        handlers = {'jointState': (JointState, self._joints), 'odometry': (Odometry, self._odom),
+                    'imu': (Imu, self._imu), 'laser': (LaserScan, self._laser),
+                    'frontSonar': (Range, self._sonar), 'backSonar': (Range, self._sonar),
+                    'bumper': (Bumper, self._bumper), 'robotHealth': (DiagnosticArray, self._health)}
+        for cam in HEAD_CAMERAS:
+            handlers[cam] = (Image, self._frame)
+        for role, topic in self.topics.items():
+            cls, fn = handlers[role]
+            self.subs.append(rospy.Subscriber(topic, rospy.AnyMsg, self._decode,
+                                              callback_args=(role, cls, fn), queue_size=5,
+                                              buff_size=1 << 22))
+
+    def _decode(self, raw: Any, args: Any) -> None:
+        role, cls, fn = args
+        if self.closed:
+            return
+        try:
+            msg = cls().deserialize(raw._buff)
+        except Exception:   # another type on the topic: that sensor's own row says so
+            return
+        t = self.clock()
+        with self.rec.lock:
+            self.rec.count(role)
+            header = getattr(msg, 'header', None)
+            if header is not None and header.stamp.to_sec() > 0:
+                self.rec.stamps[role] = (header.stamp.to_sec(), time.time())
+            fn(role, msg, t)
+
+    # each handler runs under the recording's lock
+    def _joints(self, role: str, msg: Any, t: float) -> None:
+        self.rec.joints.append((t, dict(zip(msg.name, msg.position))))
+
+    def _odom(self, role: str, msg: Any, t: float) -> None:
+        q = msg.pose.pose.orientation
+        self.rec.odom_yaw.append((t, estimate.yaw_of(q.x, q.y, q.z, q.w)))
+
+    def _imu(self, role: str, msg: Any, t: float) -> None:
+        w = msg.angular_velocity
+        self.rec.gyro.append((t, w.x, w.y, w.z))
+
+    def _laser(self, role: str, msg: Any, t: float) -> None:
+        r = estimate.valid_ranges(msg.ranges, msg.range_min)
+        self.rec.scans.append(Scan(t, r, msg.angle_increment))
+        angles = msg.angle_min + msg.angle_increment * np.arange(len(r))
+        ok = np.isfinite(r)
+        if ok.any():
+            i = int(np.nanargmin(r))
+            self.rec.laser_nearest = (t, float(r[i]), float(angles[i]))
+        front = ok & (np.abs(angles) <= FRONT_SECTOR)
+        self.rec.laser_front = (t, float(np.min(r[front]))) if front.any() else None
+
+    def _sonar(self, role: str, msg: Any, t: float) -> None:
+        if math.isfinite(msg.range):
+            self.rec.sonar[role] = (t, msg.range)
+
+    def _bumper(self, role: str, msg: Any, t: float) -> None:
+        self.rec.bumpers[msg.bumper] = msg.state == 1
+
+    def _health(self, role: str, msg: Any, t: float) -> None:
+        for s in msg.status:
+            # naoqi_driver's per-joint statuses: src/converters/diagnostics.cpp:159-193
+            if s.name.startswith('naoqi_driver_joints:') and s.hardware_id and s.name != 'naoqi_driver_joints:Status':
+                for kv in s.values:
+                    if kv.key == 'Stiffness':
+                        try:
+                            self.rec.stiffness[s.hardware_id] = float(kv.value)
+                        except ValueError:
+                            pass
+            if s.level >= 2 and s.name.startswith('naoqi_driver'):
+                self.rec.health_error = '%s: %s' % (s.name, s.message)
+
+    def _frame(self, role: str, msg: Any, t: float) -> None:
+        frames = self.rec.frames.setdefault(role, [])
+        if frames and t - frames[-1][0] < FRAME_PERIOD:
+            return
+        try:
+            img: np.ndarray
+            if msg.encoding in ('16UC1', 'mono16'):
+                img = np.frombuffer(msg.data, dtype=np.uint16)[:msg.height * msg.width]
+                img = img.reshape(msg.height, msg.width)
+            else:
+                img = np.frombuffer(msg.data, dtype=np.uint8)[:msg.height * msg.step]
+                img = img.reshape(msg.height, msg.step)
+                channels = msg.step // msg.width if msg.width else 0
+                if channels in (2, 3, 4):     # yuv422, rgb8/bgr8, rgba8: one grey value per pixel
+                    img = img[:, :msg.width * channels].reshape(msg.height, msg.width, channels)
+        except ValueError:
+            return
+        frames.append((t, estimate.small_grey(img)))
+
+    def close(self) -> None:
+        self.closed = True
+        for s in self.subs:
+            try:
+                s.unregister()
+            except Exception:  # the master may be gone
+                pass
+
+
+def heard_of(rec: Recording, role: str) -> Optional[int]:
+    with rec.lock:
+        return rec.heard.get(role)

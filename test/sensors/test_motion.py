@@ -1,0 +1,348 @@
+"""Integration: sensorTest --move against the real emulator, with what the robot receives
+recorded by a real rospy node in a process of its own (test/nodes/motion_recorder.py).
+
+Safety, tested rather than assumed: Ctrl-C, SIGTERM and a lost master during a base turn stop
+the base at once (the last /cmd_vel the robot received is a zero twist, and no goal comes after
+it), the head is sent back to where it started, and the outputs are complete and say where the
+motion stopped and why.
+"""
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from rosmaster import NODES, Master, kill_group, script, spawn, wait_until
+
+PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+GOAL, TWIST, JOINTS = '/move_base_simple/goal', '/cmd_vel', '/joint_angles'
+
+
+def expectations(tmp_path, **motion):
+    """The shipped expectations file with the motion block's keys replaced (a quick plan)."""
+    text = open(os.path.join(PKG, 'config', 'sensorExpectations.yaml')).read()
+    keys = dict(dict(head_yaw=0.5, head_speed=0.1, base_turn=0.5, step_timeout=15.0), **motion)
+    block = '  motion:\n' + ''.join('    %s: %s\n' % kv for kv in keys.items())
+    start = text.index('  motion:\n')
+    end = text.index('\nsimulator:')
+    path = tmp_path / 'expect.yaml'
+    path.write_text(text[:start] + block + text[end:])
+    return str(path)
+
+
+class Robot:
+    """The emulator (a robot standing still) and the recorder of what it is sent."""
+
+    def __init__(self, master, tmp_path, emu_params=()):
+        self.master, self.tmp = master, tmp_path
+        self.emu_log = tmp_path / 'emulator.log'
+        self.rec_path = tmp_path / 'received.jsonl'
+        self.rec_log = tmp_path / 'recorder.log'
+        self.marked = 0
+        with open(str(self.emu_log), 'w') as log:
+            self.emu = spawn(script('pepperEmulator') + ['__name:=emu_%d' % time.time_ns(), '_audio:=off',
+                                                          '_condition:=still', '_camera_resolution:=QQVGA']
+                             + list(emu_params), master.env(), stdout=log, stderr=subprocess.STDOUT)
+        with open(str(self.rec_log), 'w') as log:
+            self.rec = spawn([sys.executable, os.path.join(NODES, 'motion_recorder.py'), str(self.rec_path)],
+                             master.env(), stdout=log, stderr=subprocess.STDOUT)
+        wait_until(lambda: 'publishers up' in self.emu_log.read_text(), 30, self.emu_log.read_text)
+        wait_until(lambda: 'recorder up' in self.rec_log.read_text(), 30, self.rec_log.read_text)
+
+    def received(self):
+        """What the robot received since the last mark()."""
+        if not self.rec_path.exists():
+            return []
+        rows = [json.loads(line) for line in self.rec_path.read_text().splitlines() if line.strip()]
+        return rows[self.marked:]
+
+    def mark(self):
+        """From now on received() starts here (one emulator shared by several tests)."""
+        self.marked = 0
+        self.marked = len(self.received())
+        return self
+
+    def stop(self):
+        kill_group(self.emu)
+        kill_group(self.rec)
+
+
+@pytest.fixture(scope='module')
+def still(tmp_path_factory):
+    """One emulator standing still, with its recorder, on a master of its own, shared by the
+    tests that do not fault it (the fault tests start their own on module_master)."""
+    with Master() as m:
+        r = Robot(m, tmp_path_factory.mktemp('still'))
+        r.master = m
+        yield r
+        r.stop()
+
+
+@pytest.fixture
+def robot(still):
+    return still.mark()
+
+
+@pytest.fixture
+def master(still):
+    """The shared still robot's master (a fresh one per test would need a robot per test)."""
+    return still.master
+
+
+def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser', expect=None):
+    out = tmp_path / 'out'
+    cmd = script('sensorTest') + [
+        '--move', '--sensors', sensors, '--mode', 'parallel', '--duration', '1', '--wait', '8',
+        '--expectations', expect or expectations(tmp_path, witness_wait=1.0, step_timeout=6.0),
+        '--output-dir', str(out), '--no-show', '--no-history', '--no-record', '--no-report',
+        '--no-diagnostics'] + list(args)
+    log = open(str(tmp_path / 'sensorTest.log'), 'w')
+    return spawn(cmd, master.env(), stdout=log, stderr=subprocess.STDOUT), out
+
+
+def results(out):
+    data = json.loads((out / 'sensorTestResults.json').read_text())
+    return data, {s['name']: s for s in data['sensors']}
+
+
+def assert_stopped_safely(received, head_yaw=0.5):
+    """The last /cmd_vel is a zero twist, no goal after it, the head sent back to its start
+    (the first head command was start + head_yaw)."""
+    twists = [r for r in received if r['topic'] == TWIST]
+    goals = [r for r in received if r['topic'] == GOAL]
+    assert goals, 'no turn was ever commanded: %s' % received
+    assert twists, 'the base was never stopped: %s' % received
+    last = twists[-1]
+    assert (last['vx'], last['vy'], last['vth']) == (0.0, 0.0, 0.0), last
+    assert all(g['t'] <= last['t'] for g in goals), 'a goal after the stop: %s' % received
+    assert received.index(last) > received.index(goals[-1])
+    heads = [r for r in received if r['topic'] == JOINTS]
+    if not head_yaw:
+        assert not heads, heads
+        return
+    assert heads and heads[-1]['angles'] == [pytest.approx(heads[0]['angles'][0] - head_yaw, abs=1e-4)], heads
+    assert heads[-1]['t'] >= last['t'] - 0.5     # sent back as the motion stopped
+
+
+@pytest.mark.parametrize('sig, words, head_yaw', [(signal.SIGINT, 'Ctrl-C', 0.5), (signal.SIGTERM, 'SIGTERM', 0)],
+                         ids=['SIGINT', 'SIGTERM'])
+def test_a_signal_during_a_turn_stops_the_base_and_returns_the_head(master, robot, tmp_path, sig, words,
+                                                                    head_yaw):
+    # (the head part takes ~8 s: once is enough to see it sent back)
+    proc, out = sensor_test(master, tmp_path, expect=expectations(tmp_path, witness_wait=1.0, step_timeout=6.0,
+                                                                  head_yaw=head_yaw))
+    try:
+        wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                   lambda: 'no goal: %s' % (tmp_path / 'sensorTest.log').read_text()[-2000:])
+        proc.send_signal(sig)
+        assert proc.wait(30) == 130 if sig == signal.SIGINT else proc.wait(30) != 0
+    finally:
+        kill_group(proc)
+    time.sleep(0.5)     # anything still in flight reaches the recorder
+    assert_stopped_safely(robot.received(), head_yaw)
+    data, rows = results(out)
+    assert data['interrupted'] and words in data['interrupt_reason']
+    motion = rows['motion']
+    assert motion['verdict'] == 'INTERRUPTED'
+    assert any('stopped during "base turn +0.50 rad"' in w and 'zero /cmd_vel' in w
+               for w in motion['warnings']), motion
+    # every other selected sensor is in the results too (not run: the run ended)
+    assert set(rows) == {'motion', 'jointState', 'odometry', 'imu', 'laser'}
+
+
+def test_a_lost_master_during_a_turn_stops_the_base(tmp_path):
+    with Master() as master:
+        robot = Robot(master, tmp_path)
+        try:
+            proc, out = sensor_test(master, tmp_path, expect=expectations(tmp_path, witness_wait=1.0, head_yaw=0))
+            try:
+                wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                           lambda: (tmp_path / 'sensorTest.log').read_text()[-2000:])
+                master.stop()
+                proc.wait(40)
+            finally:
+                kill_group(proc)
+            time.sleep(0.5)
+            assert_stopped_safely(robot.received(), 0)
+        finally:
+            robot.stop()
+    data, rows = results(out)
+    assert data['interrupted'] and 'master' in data['interrupt_reason']
+    assert any('stopped during "base turn' in w for w in rows['motion']['warnings'])
+
+
+# ------------------------------------------------------------------ the rules against the emulator
+
+QUICK = dict(witness_wait=1.0, step_timeout=6.0, settle_time=0.5)   # head_speed: the default 0.1
+BASE = 'jointState,odometry,imu,laser'
+HEAD_AND_BASE = BASE + ',frontCamera,bottomCamera'
+
+
+def move_run(master, tmp_path, faults, sensors, **motion):
+    """The emulator (standing still, `faults`), sensorTest --move on `sensors`: the rows by name.
+    The topics file leaves out the stereo and depth cameras: on a loaded test machine four camera
+    witnesses at 10 fps each left gaps of half a second between frames."""
+    robot = Robot(master, tmp_path, ['_faults:=' + faults] if faults else [])
+    lines = [ln for ln in open(os.path.join(PKG, 'data', 'pepperTopics.dat')).read().splitlines()
+             if not ln.startswith(('StereoCamera ', 'DepthCamera '))]
+    (tmp_path / 'topics.dat').write_text('\n'.join(lines) + '\n')
+    try:
+        proc, out = sensor_test(master, tmp_path, '--topics', str(tmp_path / 'topics.dat'), sensors=sensors,
+                                expect=expectations(tmp_path, **dict(QUICK, **motion)))
+        try:
+            proc.wait(90)
+        finally:
+            kill_group(proc)
+    finally:
+        robot.stop()
+    data, rows = results(out)
+    return rows, robot.received()
+
+
+def reason(row, words):
+    assert row['verdict'] == 'FAIL' and any(words in r for r in row['reasons']), (row['name'], row['reasons'])
+
+
+def test_a_healthy_robot_passes_every_motion_sensor_and_ends_where_it_started(master, robot, tmp_path):
+    proc, out = sensor_test(master, tmp_path, sensors=HEAD_AND_BASE + ',depthCamera,frontSonar',
+                            expect=expectations(tmp_path, **QUICK))
+    try:
+        proc.wait(90)
+    finally:
+        kill_group(proc)
+    _, rows = results(out)
+    received = robot.received()
+    for name, row in rows.items():
+        assert row['verdict'] == 'PASS', (name, row['reasons'], row['warnings'])
+    v = rows['motion']['values']
+    assert (v['head'], v['base']) == ('moved', 'moved')
+    steps = v['steps']
+    assert abs(sum(s['measured']['odometry'] for s in steps if s['part'] == 'base')) < 0.05   # turned back
+    heads = [r['angles'][0] for r in received if r['topic'] == JOINTS]
+    assert heads[-1] == pytest.approx(heads[0] - 0.5, abs=1e-4)   # the head back at its start
+    assert [round(g['yaw'], 2) for g in received if g['topic'] == GOAL] == [0.5, -0.5]
+
+
+@pytest.mark.parametrize('faults, sensors, motion, failed', [
+    ('imu:gyro_inverted;laser:reversed;frontCamera:not_following',
+     HEAD_AND_BASE, {}, {'imu': 'opposite sign', 'laser': 'wrong way', 'frontCamera': 'not following'}),
+    # the encoder stuck, both cameras follow: two witnesses of three saw the head turn
+    ('jointState:stuck_joint=HeadYaw', 'jointState,frontCamera,bottomCamera', {'base_turn': 0},
+     {'jointState': 'HeadYaw did not move'}),
+    # the gyro on the wrong axis still saw a turn: with the wheels and the laser, three of four
+    ('odometry:frozen_pose;imu:swapped_axes', BASE, {'head_yaw': 0},
+     {'odometry': 'did not change', 'imu': "gyro's x axis"}),
+    ('imu:dead_gyro', BASE, {'head_yaw': 0}, {'imu': 'gyro reads about zero'}),
+], ids=['three-at-once', 'stuck_joint', 'frozen_pose+swapped_axes', 'dead_gyro'])
+def test_each_motion_fault_fails_its_own_sensor_and_no_other(module_master, tmp_path, faults, sensors,
+                                                             motion, failed):
+    rows, _ = move_run(module_master, tmp_path, faults, sensors, **motion)
+    for name, words in failed.items():
+        reason(rows[name], words)
+    for name, row in rows.items():
+        if name not in failed:
+            assert row['verdict'] in ('PASS', 'SKIPPED'), (name, row['reasons'])
+    assert rows['motion']['verdict'] != 'FAIL'
+
+
+def test_a_base_that_refuses_to_move_fails_the_motion_row_not_the_sensors(module_master, tmp_path):
+    rows, received = move_run(module_master, tmp_path, 'robot:base_blocked', BASE, head_yaw=0)
+    reason(rows['motion'], 'the base did not move when commanded')
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
+
+
+@pytest.mark.parametrize('fault, words', [
+    ('robot:resting', 'wake it up'),
+    ('robot:obstacle', 'not enough free space'),
+])
+def test_a_robot_that_may_not_move_is_not_moved_and_says_why(module_master, tmp_path, fault, words):
+    rows, received = move_run(module_master, tmp_path, fault, BASE + ',frontSonar,robotHealth')
+    motion = rows['motion']
+    assert motion['verdict'] == 'SKIPPED' and words in motion['reasons'][0], motion['reasons']
+    assert not [r for r in received if r['topic'] == GOAL]
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] != 'FAIL', (name, rows[name]['reasons'])
+
+
+@pytest.mark.parametrize('kind, key, words', [
+    ('sonar', 'FrontSonar', 'obstacle closer than 0.30 m: the front sonar sees something 0.20 m away'),
+    ('bumper', 'Bumper', 'the back bumper is pressed'),
+], ids=['obstacle', 'bumper'])
+def test_a_hazard_during_a_turn_stops_the_base_at_once(master, robot, tmp_path, kind, key, words):
+    """A bumper pressed, or something closer than stop_distance, while the base turns: a zero
+    /cmd_vel, no further goal, and the motion row says where and why it stopped."""
+    topic = '/hazard/' + kind
+    lines = [ln for ln in open(os.path.join(PKG, 'data', 'pepperTopics.dat')).read().splitlines()
+             if not ln.startswith(key + ' ')]
+    (tmp_path / 'topics.dat').write_text('\n'.join(lines + ['%s %s' % (key, topic)]) + '\n')
+    trigger = tmp_path / 'near'
+    log = tmp_path / 'hazard.log'
+    with open(str(log), 'w') as out:
+        hazard = spawn([sys.executable, os.path.join(NODES, 'motion_hazard.py'), kind, topic, str(trigger)],
+                       master.env(), stdout=out, stderr=subprocess.STDOUT)
+    try:
+        wait_until(lambda: 'hazard up' in log.read_text(), 30, log.read_text)
+        proc, out_dir = sensor_test(master, tmp_path, '--topics', str(tmp_path / 'topics.dat'),
+                                    expect=expectations(tmp_path, witness_wait=1.5, head_yaw=0))
+        try:
+            wait_until(lambda: any(r['topic'] == GOAL for r in robot.received()), 40,
+                       lambda: (tmp_path / 'sensorTest.log').read_text()[-2000:])
+            trigger.write_text('now')
+            proc.wait(60)
+        finally:
+            kill_group(proc)
+    finally:
+        kill_group(hazard)
+    time.sleep(0.3)
+    received = robot.received()
+    assert_stopped_safely(received, 0)
+    assert len([r for r in received if r['topic'] == GOAL]) == 1     # the turn back never sent
+    data, rows = results(out_dir)
+    motion = rows['motion']
+    assert not data['interrupted']
+    assert any('stopped during "base turn +0.50 rad"' in w and words in w for w in motion['warnings']), motion
+    assert motion['verdict'] == 'SKIPPED' and 'base part not finished' in motion['reasons'][0]
+    for name in BASE.split(','):
+        assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
+
+
+def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
+    """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
+    Enter skips the motion: nothing is sent."""
+    import pty
+    import select
+    primary, secondary = pty.openpty()
+    out = tmp_path / 'out'
+    cmd = script('sensorTest') + [
+        '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
+        '--expectations', expectations(tmp_path, witness_wait=1.0), '--output-dir', str(out),
+        '--no-show', '--no-history', '--no-record', '--no-report']
+    proc = subprocess.Popen(cmd, env=master.env(), stdin=secondary, stdout=secondary, stderr=secondary,
+                            start_new_session=True)
+    os.close(secondary)
+    seen = b''
+    try:
+        deadline = time.monotonic() + 40
+        while b'Press Enter' not in seen and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                seen += os.read(primary, 4096)
+        assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
+        os.write(primary, b's\n')
+        while proc.poll() is None and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                try:
+                    seen += os.read(primary, 4096)
+                except OSError:
+                    break
+        proc.wait(20)
+    finally:
+        kill_group(proc)
+        os.close(primary)
+    _, rows = results(out)
+    assert rows['motion']['verdict'] == 'SKIPPED', rows['motion']
+    assert 'skipped by the operator' in rows['motion']['reasons'][0]
+    assert [r for r in robot.received() if r['topic'] in (GOAL, JOINTS, TWIST)] == []
