@@ -19,6 +19,7 @@ import sys
 import numpy as np
 import pytest
 
+from driver_views import shift_right
 from rosmaster import NODES, kill_group, script, spawn
 
 MOVE = [sys.executable, os.path.join(NODES, 'emu_move.py')]
@@ -102,15 +103,7 @@ def camera_shift(d):
     """Columns the front picture moved right between before and after the head's turn."""
     before = np.array(last(d, 'camera', BEFORE_HEAD)[2])
     after = np.array(last(d, 'camera', BEFORE_TURN)[2])
-    n = len(before)
-    best = None
-    for s in range(-n // 2, n // 2 + 1):
-        a = after[max(0, s):n + min(0, s)]
-        b = before[max(0, -s):n - max(0, s)]
-        err = float(np.mean(np.abs(a - b)))
-        if best is None or err < best[0]:
-            best = (err, s)
-    return best[1]
+    return shift_right(before, after, reach=2)
 
 
 def head_yaw(d, t):

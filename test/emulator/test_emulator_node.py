@@ -19,6 +19,7 @@ import numpy as np
 import psutil
 import pytest
 
+from driver_views import driver_scan
 from fake_pepper import BLIND, JOINTS, WHEELS
 from pepper_interface_tests.emulator import scene
 from rosmaster import NODES, kill_group, script, spawn, wait_until
@@ -261,16 +262,7 @@ def test_robot_laser_is_built_as_laser_cpp_builds_it(t):
     each point rotated and shifted into base_footprint, 8 blind slots (-1.0) between."""
     rays_left_to_right = scene.LASER_RAYS[::-1]
     memory = [v for dev in range(3) for ray in rays_left_to_right for v in _device_point(t, dev, ray)]
-    expected, pos = [-1.0] * 61, 0
-    for base, (rot, sx, sy) in ((28, (-1.757, -0.018, -0.090)), (58, (0.0, 0.056, 0.0)),
-                                (88, (1.757, -0.018, 0.090))):
-        for i in range(0, 30, 2):
-            lx, ly = memory[base - i], memory[base - i + 1]
-            bx = lx * math.cos(rot) - ly * math.sin(rot) + sx
-            by = lx * math.sin(rot) + ly * math.cos(rot) + sy
-            expected[pos] = math.hypot(bx, by)
-            pos += 1
-        pos += 8
+    expected = driver_scan(memory)
     blind = [i in BLIND for i in range(61)]
     got = scene.laser_ranges(t, blind, 0.0, np.random.default_rng(0))
     assert np.allclose(got, expected, atol=1e-4), np.round(got - np.asarray(expected), 3)

@@ -11,8 +11,9 @@ import sys
 import numpy as np
 import pytest
 
+from driver_views import driver_scan
 from pepper_interface_tests.emulator import scene
-from pepper_interface_tests.emulator.profiles import JOINT_NAMES, LASER_BEAMS
+from pepper_interface_tests.emulator.profiles import JOINT_NAMES
 from rosmaster import NODES, kill_group, script, spawn
 
 PROBE = os.path.join(NODES, 'fake_naoqi_probe.py')
@@ -38,22 +39,6 @@ def ask(*args, seconds=0.0, probe=()):
         return json.loads(done.stdout.strip().splitlines()[-1])
     finally:
         kill_group(proc)
-
-
-def driver_scan(values):
-    """laser.cpp:165-205 on the 90 values: 61 slots, -1 in the blind ones."""
-    v = np.asarray(values, dtype=float)
-    ranges = np.full(LASER_BEAMS, -1.0)
-    pos = 0
-    for base, (yaw, ox, oy) in zip((28, 58, 88), scene.LASERS):
-        for i in range(0, 30, 2):
-            lx, ly = v[base - i], v[base - i + 1]
-            bx = lx * math.cos(yaw) - ly * math.sin(yaw) + ox
-            by = lx * math.sin(yaw) + ly * math.cos(yaw) + oy
-            ranges[pos] = math.hypot(bx, by)
-            pos += 1
-        pos += 8
-    return ranges
 
 
 @pytest.fixture(scope='module')

@@ -7,22 +7,10 @@ import math
 import numpy as np
 import pytest
 
+from driver_views import shift_right
 from pepper_interface_tests.emulator import scene
 
 TURN = 0.15                 # rad: the view turned left
-
-
-def shift_right(before, after):
-    """Columns the picture moved right between two column profiles (best mean difference)."""
-    n = len(before)
-    best = None
-    for s in range(-n // 3, n // 3 + 1):
-        a = after[max(0, s):n + min(0, s)]
-        b = before[max(0, -s):n - max(0, s)]
-        err = float(np.mean(np.abs(a - b)))
-        if best is None or err < best[0]:
-            best = (err, s)
-    return best[1]
 
 
 def profile(img):
