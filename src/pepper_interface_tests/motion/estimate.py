@@ -16,7 +16,7 @@
   A head yawing left (positive yaw) moves the scene right in a forward-looking camera.
 """
 import math
-from typing import List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -116,6 +116,12 @@ def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 
         errors[k] = float(np.mean(np.abs(x[ok] - y[ok])))
     if not errors:
         return None
+    return best_offset(errors) * increment
+
+
+def best_offset(errors: Dict[int, float]) -> float:
+    """The offset whose error is least (the smaller one on a tie), refined between whole
+    offsets by the parabola through it and its two neighbours."""
     k = min(errors, key=lambda j: (errors[j], abs(j)))
     frac = 0.0
     if k - 1 in errors and k + 1 in errors:
@@ -123,7 +129,7 @@ def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 
         den = e0 - 2 * e1 + e2
         if den > 1e-12:
             frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
-    return (k + frac) * increment
+    return k + frac
 
 
 def small_grey(data: np.ndarray, width: int = 80) -> np.ndarray:
@@ -168,11 +174,4 @@ def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
         else:
             x, y = fa[:, -d:], fb[:, :w + d]
         errors[d] = float(np.mean(np.abs((x - x.mean()) - (y - y.mean()))))   # brightness aside
-    d = min(errors, key=lambda j: (errors[j], abs(j)))
-    frac = 0.0
-    if d - 1 in errors and d + 1 in errors:
-        e0, e1, e2 = errors[d - 1], errors[d], errors[d + 1]
-        den = e0 - 2 * e1 + e2
-        if den > 1e-12:
-            frac = max(-0.5, min(0.5, 0.5 * (e0 - e2) / den))
-    return d + frac
+    return best_offset(errors)
