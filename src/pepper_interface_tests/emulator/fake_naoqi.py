@@ -8,6 +8,7 @@ read from the driver's calls (file:line below); ros-naoqi/naoqi_driver2's src/fa
 fake_naoqi) registers the same services, a second reading.
 
   pepperFakeNaoqi --port 9559 [--head xtion] [--naoqi 2.9.5.172] [--fault NAME ...]
+                  [--video-relay] [--audio-relay]
 
 Faults (the ones the driver itself turns into data): camera-fails (getImageRemote raises for
 the front camera: camera.cpp:273-281 publishes nothing), missing-key (the front sonar's key is
