@@ -30,7 +30,7 @@ void deliver(qi::SessionPtr session, qi::AnyObject frames, std::string module,
              boost::shared_ptr<bool> running)
 {
   qi::AnyObject target;
-  int failures = 0;
+  int failures = 0, delivered = 0;
   while (*running) {
     qi::AnyValue typed;
     try {
@@ -52,12 +52,15 @@ void deliver(qi::SessionPtr session, qi::AnyObject frames, std::string module,
       if (!target) target = session->service(module).value();
       target.call<void>("processRemote", nbOfChannels, samplesByChannel,
                         qi::AnyValue::from(timestamp), qi::AnyValue::from(buffer));
+      ++delivered;
     } catch (const std::exception& e) {
       target = qi::AnyObject();
       if (failures++ % 20 == 0)
-        std::cerr << "audio relay: processRemote on " << module << ": " << e.what() << std::endl;
+        std::cerr << "audio relay: processRemote on " << module << " (after " << delivered
+                  << " buffers delivered): " << e.what() << std::endl;
     }
   }
+  std::cout << "audio relay: " << module << " stopped after " << delivered << " buffers" << std::endl;
 }
 
 }  // namespace
