@@ -111,3 +111,19 @@ def test_almotion_commands_move_the_world_the_driver_reads():
     yaw = JOINT_NAMES.index('HeadYaw')
     assert angles1[yaw] == pytest.approx(0.4, abs=0.02)
     assert abs(angles0[yaw] - 0.4) > 0.2
+
+
+def test_audio_relay_takes_raw_buffers_at_real_time_pace():
+    """--audio-relay: ALAudioDevice is left to audio_relay.cpp, which takes each buffer from
+    FakeAudioFrames.next_buffer: 4 channels x 4096 samples for the driver's preferences
+    (48000, 0 = all channels, interleaved: src/event/audio.cpp:107-113), the samples as Raw
+    (bytearray here; a bytes argument would travel as its str() text), one per 85.3 ms."""
+    plain = ask(seconds=0.0)
+    assert plain['audio_services'] == ['ALAudioDevice']
+    got = ask('--audio-relay', seconds=0.0, probe=['--audio-relay'])
+    assert got['audio_services'] == ['FakeAudioFrames']
+    bufs = got['buffers']
+    assert all(b[:2] == [4, 4096] and b[3] == 'bytearray' and b[4] == 4 * 4096 * 2 for b in bufs), bufs
+    steps = np.diff([b[2] for b in bufs])       # NAOqi's timestamps: one buffer apart
+    assert np.allclose(steps, 4096 / 48000.0, atol=1e-3), steps
+    assert got['after_unsubscribe'].startswith('raised: ') and 'not subscribed' in got['after_unsubscribe']

@@ -39,6 +39,8 @@ EXPECTED = {
     'low_battery': {'robotHealth': ('FAIL', 'battery almost empty: 20% left')},
     # NAOqi 2.9: the driver registers no audio (naoqi_driver.cpp:823)
     'naoqi29': {'microphone': ('FAIL', 'topic /naoqi_driver/audio is not in the bag')},
+    # the driver's own microphone stream (tools/real-driver/relay/audio_relay.cpp feeds it)
+    'audio': {},
 }
 TOUCH = ('headTouch', 'handTouch', 'bumper')
 
@@ -83,6 +85,9 @@ def test_sensor_test_verdicts_on_the_real_driver(bag, tmp_path):
             assert s['verdict'] == 'SKIPPED' and 'not touched' in s['reasons'][0], (name, s['reasons'])
         else:
             assert s['verdict'] == 'PASS', (name, s['reasons'], p.stdout[-2000:])
+    if bag == 'audio':      # four microphones, not copies (sensors/channels.py): no warning
+        assert got['microphone']['warnings'] == [], got['microphone']['warnings']
+        assert got['microphone']['values']['buffer_sizes'] == {'4096': got['microphone']['messages']}
 
 
 # ------------------------------------------------------------------ the emulator against the real driver
@@ -98,8 +103,8 @@ KNOWN_DIFFERENCES = {
 }
 
 
-def emulator_profile(head):
-    return build_profile('robot-stock', realsense=False, audio='direct', head=head)
+def emulator_profile(head, audio_buffer=None):
+    return build_profile('robot-stock', realsense=False, audio='direct', head=head, audio_buffer=audio_buffer)
 
 
 def spec_topics(profile):
@@ -191,3 +196,64 @@ def test_the_emulator_diagnostics_match_the_real_driver(bag, percent, hot):
     real_values = {s.name: [(v.key, v.value) for v in s.values] for s in msg.status}
     emu_values = {s.name: [(v.key, v.value) for v in s.values] for s in emu.status}
     assert real_values == emu_values
+
+
+# ------------------------------------------------------------------ the microphone
+
+def _audio(path):
+    import rosbag
+    with rosbag.Bag(path) as b:
+        return [(m, t.to_sec()) for _, m, t in b.read_messages([NS + '/audio'])]
+
+
+def _tone_order(msg):
+    """The emulator world's tone (emulator/audio_source.py CHANNEL_TONES_HZ) found in each
+    column of an interleaved AudioBuffer, column by column."""
+    import numpy as np
+    x = np.asarray(msg.data, dtype=np.float64).reshape(-1, len(msg.channelMap))
+    freqs = np.fft.rfftfreq(len(x), 1.0 / msg.frequency)
+    return [float(freqs[np.abs(np.fft.rfft(x[:, c] - x[:, c].mean())).argmax()]) for c in range(x.shape[1])]
+
+
+def test_the_emulator_audio_matches_the_real_driver(recorded_bags):
+    """The emulator's robot-stock AudioBuffer stream (robot_stock_good) against the real
+    driver's (audio.bag, fed by the fake's ALAudioDevice through audio_relay): type, md5, frame
+    id, frequency, channelMap, interleaved data of channels x samples, stamps taken on arrival,
+    the rate 48000 / samples per buffer, and the four microphones in Pepper's order."""
+    from pepper_interface_tests.emulator.audio_source import CHANNEL_TONES_HZ
+    from pepper_interface_tests.emulator.naoqi_endpoint import BUFFER_SAMPLES
+    from pepper_interface_tests.emulator.profiles import AUDIO_RATE, STOCK_AUDIO_BUFFER
+    topic = NS + '/audio'
+    real = bag_facts(os.path.join(GOLDEN, 'audio.bag'))[topic]
+    emu = bag_facts(recorded_bags['robot_stock_good'])[topic]
+    for key in ('type', 'md5', 'frames'):
+        assert real[key] == emu[key], (key, real[key], emu[key])
+    assert real['type'] == 'naoqi_bridge_msgs/AudioBuffer' and real['frames'] == {''}
+    for key in ('frequency', 'channel_map'):
+        assert real['facts'][key] == emu['facts'][key], (key, real['facts'][key], emu['facts'][key])
+    assert real['facts']['frequency'] == 48000 and real['facts']['channel_map'] == (3, 5, 0, 2)
+    # data = nbOfChannels x samplesByChannel of the buffer NAOqi sent (src/event/audio.cpp:185):
+    # 4 x the fake's 4096; the emulator's robot-stock default is 4 x 8192 (the issue's ~170 ms
+    # buffers, unconfirmed): KNOWN difference, docs/drivers.md; with ~audio_buffer 4096 the same
+    assert real['facts']['data_len'] == 4 * BUFFER_SAMPLES
+    assert emu['facts']['data_len'] == 4 * STOCK_AUDIO_BUFFER
+    four_k = [s for s in emulator_profile('stereo', audio_buffer=BUFFER_SAMPLES).sensors if s.topic == topic][0]
+    assert 4 * four_k.width == real['facts']['data_len']
+    # one message per buffer: 48000 / samples per channel, within the other topics' +-20 %
+    for facts, samples in ((real, BUFFER_SAMPLES), (emu, STOCK_AUDIO_BUFFER)):
+        nominal = AUDIO_RATE / float(samples)
+        assert 0.8 * nominal <= facts['rate'] <= 1.2 * nominal, (facts['rate'], nominal)
+    assert 0.8 * four_k.rate <= real['rate'] <= 1.2 * four_k.rate
+    # stamps: ros::Time::now() on arrival (audio.cpp:178), NAOqi's own timestamp unused: within
+    # a second of the recording's time and strictly increasing, on both
+    tones = [CHANNEL_TONES_HZ[n] for n in ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')]
+    for name, path in (('driver', os.path.join(GOLDEN, 'audio.bag')), ('emulator', recorded_bags['robot_stock_good'])):
+        msgs = _audio(path)
+        stamps = [m.header.stamp.to_sec() for m, _ in msgs]
+        assert all(b > a for a, b in zip(stamps, stamps[1:])), name
+        assert all(abs(t - s) < 1.0 for s, (_, t) in zip(stamps, msgs)), name
+        # interleaved, columns in the world's order: rearLeft, rearRight, frontLeft, frontRight,
+        # which channelMap [3, 5, 0, 2] names (sensors/audio.py); the driver copies the buffer
+        # as it came, no reordering, no copy of one channel into the others
+        got = _tone_order(msgs[len(msgs) // 2][0])
+        assert all(abs(g - w) < 20 for g, w in zip(got, tones)), (name, got, tones)

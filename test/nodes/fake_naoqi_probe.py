@@ -29,6 +29,8 @@ def main():
     p.add_argument('--seconds', type=float, default=0.0)
     p.add_argument('--move', action='store_true',
                    help='also command a turn and a head yaw, as the driver\'s subscribers do')
+    p.add_argument('--audio-relay', action='store_true',
+                   help='take three buffers from FakeAudioFrames as audio_relay.cpp does')
     a = p.parse_args()
     s = qi.Session()
     s.connect(a.url)
@@ -85,6 +87,20 @@ def main():
     mem.subscribeToEvent('FrontTactilTouched', 'ROS-Driver-FrontTactilTouched', 'touchCallback')
     time.sleep(a.seconds)
     out['touch'] = touch.events
+    services = [i['name'] for i in s.services()]
+    out['audio_services'] = [n for n in ('ALAudioDevice', 'FakeAudioFrames') if n in services]
+    if a.audio_relay:     # what audio_relay.cpp asks, with the driver's preferences (audio.cpp:107-114)
+        frames = s.service('FakeAudioFrames')
+        frames.setClientPreferences('ROS-Driver-Audio', 48000, 0, False)
+        frames.subscribe('ROS-Driver-Audio')
+        got = [frames.next_buffer('ROS-Driver-Audio') for _ in range(4)]
+        out['buffers'] = [[b[0], b[1], b[2] + b[3] * 1e-6, type(b[4]).__name__, len(b[4])] for b in got]
+        frames.unsubscribe('ROS-Driver-Audio')
+        try:
+            frames.next_buffer('ROS-Driver-Audio')
+            out['after_unsubscribe'] = 'answered'
+        except RuntimeError as e:
+            out['after_unsubscribe'] = 'raised: ' + str(e).splitlines()[0]
     sys.stdout.write(json.dumps(out) + '\n')
     sys.stdout.flush()
     os._exit(0)

@@ -81,12 +81,14 @@ nice -n 19 catkin_make_isolated --install \
   -j"$JOBS"
 done_step
 
-step "4/5 video relay (relay/video_relay.cpp: ALVideoDevice as NAOqi answers it)"
+step "4/5 relays (relay/*.cpp: ALVideoDevice and ALAudioDevice as NAOqi answers them)"
 mkdir -p "$CACHE/install/bin"
-nice -n 19 g++ -O1 -std=gnu++11 -DBOOST_BIND_GLOBAL_PLACEHOLDERS -include boost/bind.hpp \
-  -I"$CACHE/install/include" "$HERE/relay/video_relay.cpp" -o "$CACHE/install/bin/video_relay" \
-  -L"$CACHE/install/lib" -Wl,-rpath,"$CACHE/install/lib" -lqi -lboost_system -lboost_thread \
-  -lboost_chrono -lboost_filesystem -lboost_program_options -lboost_regex -lpthread
+for relay in video_relay audio_relay; do
+  nice -n 19 g++ -O1 -std=gnu++11 -DBOOST_BIND_GLOBAL_PLACEHOLDERS -include boost/bind.hpp \
+    -I"$CACHE/install/include" "$HERE/relay/$relay.cpp" -o "$CACHE/install/bin/$relay" \
+    -L"$CACHE/install/lib" -Wl,-rpath,"$CACHE/install/lib" -lqi -lboost_system -lboost_thread \
+    -lboost_chrono -lboost_filesystem -lboost_program_options -lboost_regex -lpthread
+done
 done_step
 
 step "5/5 check the node runs"

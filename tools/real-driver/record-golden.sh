@@ -16,9 +16,10 @@ CACHE="${PEPPER_REAL_DRIVER_CACHE:-/var/cache/pepper-real-driver}"
 OUT="${GOLDEN_DIR:-$REPO/test/fixtures/real-driver}"
 SECONDS_PER_BAG="${GOLDEN_SECONDS:-4}"
 NS=/naoqi_driver
-# the driver's topics this package checks (data/pepperTopics.dat), less the microphone: the
-# driver's processRemote reads its buffer as Raw (src/event/audio.cpp:182), which a Python
-# NAOqi cannot send as an argument (qi 3.1.5 hands a bytes argument over as its str() text)
+# the driver's topics this package checks (data/pepperTopics.dat); the microphone only in the
+# audio variant, whose fake runs with --audio-relay: the driver's processRemote reads its buffer
+# as Raw (src/event/audio.cpp:182), which a Python NAOqi cannot send as an argument (qi 3.1.5
+# hands a bytes argument over as its str() text), so relay/audio_relay.cpp calls it
 CAMERAS="$NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw $NS/camera/stereo/image_raw $NS/camera/ir/image_raw"
 BODY="$NS/sonar/front $NS/sonar/back $NS/laser $NS/odom $NS/imu/base $NS/imu/torso /joint_states /diagnostics"
 TOUCH="$NS/head_touch $NS/hand_touch $NS/bumper"
@@ -34,6 +35,7 @@ VARIANTS=(
   "hot_joint|--fault hot-joint|/diagnostics"
   "low_battery|--fault low-battery|/diagnostics"
   "naoqi29|--naoqi 2.9.5.172|$BODY $NS/audio"
+  "audio|--audio-relay|$NS/audio"
 )
 
 [ -f "$CACHE/install/setup.bash" ] || { echo "record-golden: no driver in $CACHE (run build.sh first)" >&2; exit 2; }
@@ -58,6 +60,12 @@ record_one() {   # name fake-args topics (run inside the namespace)
   "$CACHE/install/bin/video_relay" tcp://127.0.0.1:9559 >"$log.relay" 2>&1 &
   local relay=$!
   for _ in $(seq 100); do grep -q 'video relay ready' "$log.relay" && break; sleep 0.1; done
+  local audio=""
+  if [[ " $fake " == *" --audio-relay "* ]]; then
+    "$CACHE/install/bin/audio_relay" tcp://127.0.0.1:9559 >"$log.audio-relay" 2>&1 &
+    audio=$!
+    for _ in $(seq 100); do grep -q 'audio relay ready' "$log.audio-relay" && break; sleep 0.1; done
+  fi
   for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
   "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" --nao_ip 127.0.0.1 --nao_port 9559 \
     --roscore_ip 127.0.0.1 --network_interface lo --namespace naoqi_driver \
@@ -66,16 +74,16 @@ record_one() {   # name fake-args topics (run inside the namespace)
   for _ in $(seq 150); do rostopic list 2>/dev/null | grep -q "^$NS/laser\$" && break; sleep 0.2; done
   if ! kill -0 "$driver" 2>/dev/null; then
     echo "[golden] the driver stopped: $log.driver" >&2; tail -5 "$log.driver" >&2
-    kill -INT "$fake_pid" "$relay" "$core" 2>/dev/null; wait 2>/dev/null; return 1
+    kill -INT "$fake_pid" "$relay" $audio "$core" 2>/dev/null; wait 2>/dev/null; return 1
   fi
   sleep 2     # the converters start once subscribed: let the cameras subscribe first
   # shellcheck disable=SC2086
   rosbag record --bz2 --duration="$SECONDS_PER_BAG" -O "$OUT/$name.bag" $topics >"$log.record" 2>&1 || true
   kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
   for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
-  kill -INT "$relay" "$fake_pid" 2>/dev/null || true
+  kill -INT "$relay" $audio "$fake_pid" 2>/dev/null || true
   sleep 1
-  kill -KILL "$driver" "$relay" "$fake_pid" 2>/dev/null || true
+  kill -KILL "$driver" "$relay" $audio "$fake_pid" 2>/dev/null || true
   kill -INT "$core" 2>/dev/null || true
   wait 2>/dev/null || true
 }
@@ -112,6 +120,8 @@ json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node --nao_ip 127.0.0.1 --nao_port 9559 --roscore_ip 127.0.0.1 '
                              '--network_interface lo --namespace naoqi_driver --password no_password',
            'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
+           'audio_relay': 'audio_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/audio_relay.cpp), '
+                          'with the fake\'s --audio-relay',
            'record_command': 'rosbag record --bz2 --duration=%s' % seconds,
            'remake': 'tools/real-driver/record-golden.sh [variant ...]',
            'bags': bags}, open(path, 'w'), indent=1, sort_keys=True)

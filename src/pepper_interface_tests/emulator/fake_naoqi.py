@@ -8,6 +8,7 @@ read from the driver's calls (file:line below); ros-naoqi/naoqi_driver2's src/fa
 fake_naoqi) registers the same services, a second reading.
 
   pepperFakeNaoqi --port 9559 [--head xtion] [--naoqi 2.9.5.172] [--fault NAME ...]
+                  [--video-relay] [--audio-relay]
 
 Faults (the ones the driver itself turns into data): camera-fails (getImageRemote raises for
 the front camera: camera.cpp:273-281 publishes nothing), missing-key (the front sonar's key is
@@ -238,16 +239,19 @@ class ALRobotModel:
 
 
 def register(session: Any, settings: WorldSettings, seed: int = 0,
-             video_relay: bool = False) -> Tuple[List[int], ALMemory]:
+             video_relay: bool = False, audio_relay: bool = False) -> Tuple[List[int], ALMemory]:
     """Register every service on `session`; returns their ids and the ALMemory service.
     The typed video service is FakeVideoFrames; it is ALVideoDevice too unless `video_relay`
     (then tools/real-driver/relay/video_relay.cpp registers ALVideoDevice: naoqi_driver reads
     every field of getImageRemote's answer as a dynamic value, from_any_value.cpp:39-181, and a
-    Python service cannot put Raw inside a dynamic value)."""
+    Python service cannot put Raw inside a dynamic value). With `audio_relay`, ALAudioDevice is
+    tools/real-driver/relay/audio_relay.cpp and the buffers come from FakeAudioFrames.next_buffer
+    (typed, Raw): naoqi_driver reads processRemote's buffer with asRaw() (src/event/audio.cpp:182),
+    and a Python caller cannot send a Raw argument (qi 3.1.5 sends bytes as their str() text)."""
     import qi
 
     from .audio_source import AudioSource
-    from .naoqi_endpoint import ALAudioDeviceService, ALTextToSpeechService, AudioDevice
+    from .naoqi_endpoint import ALAudioDeviceService, ALTextToSpeechService, AudioDevice, PolledAudioService
     clock = Clock()
     memory = Memory(settings, seed)
     mem = ALMemory(memory, clock, session)
@@ -273,8 +277,15 @@ def register(session: Any, settings: WorldSettings, seed: int = 0,
         services.append(('ALVideoDevice', VideoService()))
     source = AudioSource(pattern='tones', seed=seed)
     device = AudioDevice(session, source)
-    services += [('ALAudioDevice', ALAudioDeviceService(device)),
-                 ('ALTextToSpeech', ALTextToSpeechService(source))]
+
+    class AudioFrames(PolledAudioService):
+        @qi.bind(returnType=PolledAudioService.SIGNATURE, paramsType=['s'])
+        def next_buffer(self, module: str) -> Tuple[int, int, int, int, bytes]:
+            return PolledAudioService.next_buffer(self, module)
+
+    audio: Tuple[str, Any] = (('FakeAudioFrames', AudioFrames(device)) if audio_relay
+                              else ('ALAudioDevice', ALAudioDeviceService(device)))
+    services += [audio, ('ALTextToSpeech', ALTextToSpeechService(source))]
     ids = [session.registerService(name, obj) for name, obj in services]
     device.start()
     return ids, mem
@@ -302,6 +313,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p.add_argument('--seed', type=int, default=0)
     p.add_argument('--video-relay', action='store_true',
                    help='leave ALVideoDevice to tools/real-driver video_relay (for the C++ driver)')
+    p.add_argument('--audio-relay', action='store_true',
+                   help='leave ALAudioDevice to tools/real-driver audio_relay (for the C++ driver)')
     return p.parse_args(argv)
 
 
@@ -319,7 +332,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         sys.stderr.write('fakeNaoqi: cannot listen on %s: %s\n' % (url, str(exc).splitlines()[0]))
         return 1
     settings = settings_from(args)
-    _, mem = register(session, settings, args.seed, args.video_relay)
+    _, mem = register(session, settings, args.seed, args.video_relay, args.audio_relay)
     bound = [u for u in session.endpoints() if u.startswith('tcp://127.0.0.1:')]
     print('fake NAOqi ready on %s (%s)' % (bound[0] if bound else url, settings), flush=True)
     stop = threading.Event()

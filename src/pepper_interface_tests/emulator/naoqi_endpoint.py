@@ -47,7 +47,7 @@ SUBSCRIBER_QUEUE = 8
 class Subscriber:
     """One subscribed module: its preferences, decimation state and delivery thread."""
 
-    def __init__(self, session: Any, name: str, flag: int, planar: bool) -> None:
+    def __init__(self, session: Any, name: str, flag: int, planar: bool, polled: bool = False) -> None:
         self.session, self.name, self.flag, self.planar = session, name, flag, planar
         self._carry = np.zeros(0, dtype=np.float64)
         self._queue: collections.deque = collections.deque()
@@ -56,8 +56,8 @@ class Subscriber:
         self._proxy: Any = None      # the subscriber's service once found (a qi object)
         self._limiter = RateLimiter(5.0)
         self.delivered = 0
-        self._thread = threading.Thread(target=self._run, name='deliver-' + name, daemon=True)
-        self._thread.start()
+        if not polled:    # polled: a relay takes the buffers (take()) and calls processRemote
+            threading.Thread(target=self._run, name='deliver-' + name, daemon=True).start()
 
     def push(self, block: np.ndarray, ts: Tuple[int, int]) -> None:
         """Format one 4-channel 48 kHz block per this subscriber's preferences and queue it."""
@@ -84,6 +84,17 @@ class Subscriber:
         with self._cond:
             self._stopped = True
             self._cond.notify()
+
+    def take(self, timeout: float) -> Optional[Tuple[int, int, Tuple[int, int], bytes]]:
+        """The next queued buffer (nbOfChannels, samplesByChannel, (sec, usec), int16 bytes),
+        waiting up to `timeout` s; None when none came or the subscriber stopped."""
+        with self._cond:
+            if not self._queue and not self._stopped:
+                self._cond.wait(timeout)
+            if self._stopped or not self._queue:
+                return None
+            self.delivered += 1
+            return self._queue.popleft()
 
     def _run(self) -> None:
         while True:
@@ -140,13 +151,13 @@ class AudioDevice:
         with self._lock:
             self.prefs[module] = (flag, bool(deinterleaved))
 
-    def subscribe(self, module: str) -> None:
+    def subscribe(self, module: str, polled: bool = False) -> None:
         with self._lock:
             flag, planar = self.prefs.get(module, (0, False))
             old = self.subscribers.pop(module, None)
             if old:
                 old.stop()
-            self.subscribers[module] = Subscriber(self.session, module, flag, planar)
+            self.subscribers[module] = Subscriber(self.session, module, flag, planar, polled)
         LOG.info('%s subscribed: channels %s, %s', module, CHANNEL_FLAGS[flag],
                  'planar' if planar else 'interleaved')
 
@@ -199,6 +210,38 @@ class ALAudioDeviceService:
 
     def unsubscribe(self, module: str) -> None:
         self._device.unsubscribe(str(module))
+
+
+class PolledAudioService:
+    """ALAudioDevice for a relay (tools/real-driver/relay/audio_relay.cpp), registered as
+    FakeAudioFrames: a Python caller cannot send processRemote's buffer as Raw (qi 3.1.5 hands a
+    bytes argument over as its str() text), so the relay takes each buffer with next(), whose
+    return is typed with a Raw member, and calls the subscriber's processRemote itself."""
+
+    SIGNATURE = '(iiiir)'    # nbOfChannels, samplesByChannel, sec, usec, buffer
+
+    def __init__(self, device: AudioDevice) -> None:
+        self._device = device
+
+    def setClientPreferences(self, module: str, sampleRate: int, channelsFlag: int, deinterleaved: bool) -> None:
+        self._device.set_preferences(str(module), sampleRate, channelsFlag, deinterleaved)
+
+    def subscribe(self, module: str) -> None:
+        self._device.subscribe(str(module), polled=True)
+
+    def unsubscribe(self, module: str) -> None:
+        self._device.unsubscribe(str(module))
+
+    def next_buffer(self, module: str) -> Tuple[int, int, int, int, bytes]:
+        """The subscriber's next buffer, at real-time pace (waits up to 1 s); raises when the
+        module is not subscribed or no buffer came."""
+        with self._device._lock:
+            sub = self._device.subscribers.get(str(module))
+        item = sub.take(1.0) if sub is not None else None
+        if item is None:
+            raise RuntimeError('ALAudioDevice: no buffer for %r (not subscribed)' % module)
+        nch, nsamp, (sec, usec), payload = item
+        return (nch, nsamp, sec, usec, payload)
 
 
 class ALTextToSpeechService:
