@@ -227,6 +227,7 @@ class Runner:
         self.signals.phase = 'closing'
         self.run.interrupted = True
         self.run.interrupt_reason = why
+        self.ctx.interrupted_by = why
 
     def _close_everything(self):
         """Close running windows and mark sensors that never ran; always completes."""

@@ -147,8 +147,9 @@ def test_a_signal_during_a_turn_stops_the_base_and_returns_the_head(master, robo
     assert data['interrupted'] and words in data['interrupt_reason']
     motion = rows['motion']
     assert motion['verdict'] == 'INTERRUPTED'
-    assert any('stopped during "base turn +0.50 rad"' in w and 'zero /cmd_vel' in w
-               for w in motion['warnings']), motion
+    # where the motion stopped and why, on the row's own reasons (the terminal shows them)
+    assert any('stopped during "base turn +0.50 rad"' in r and 'zero /cmd_vel' in r and words in r
+               for r in motion['reasons']), motion
     # every other selected sensor is in the results too (not run: the run ended)
     assert set(rows) == {'motion', 'jointState', 'odometry', 'imu', 'laser'}
 
@@ -171,7 +172,7 @@ def test_a_lost_master_during_a_turn_stops_the_base(tmp_path):
             robot.stop()
     data, rows = results(out)
     assert data['interrupted'] and 'master' in data['interrupt_reason']
-    assert any('stopped during "base turn' in w for w in rows['motion']['warnings'])
+    assert any('stopped during "base turn' in r and 'master' in r for r in rows['motion']['reasons']), rows['motion']
 
 
 # ------------------------------------------------------------------ the rules against the emulator
@@ -313,9 +314,13 @@ def test_a_hazard_during_a_turn_stops_the_base_at_once(master, robot, tmp_path, 
 def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
     """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
     Enter skips the motion: nothing is sent."""
+    import fcntl
     import pty
     import select
+    import struct
+    import termios
     primary, secondary = pty.openpty()
+    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack('HHHH', 40, 80, 0, 0))   # 80 columns
     out = tmp_path / 'out'
     cmd = script('sensorTest') + [
         '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
@@ -331,6 +336,9 @@ def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
             if select.select([primary], [], [], 0.5)[0]:
                 seen += os.read(primary, 4096)
         assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
+        said = seen.decode(errors='replace')
+        said = said[said.index('sensorTest --move:'):said.index('Press Enter')]
+        assert all(len(line) <= 80 for line in said.splitlines()), said     # broken at spaces
         os.write(primary, b's\n')
         while proc.poll() is None and time.monotonic() < deadline:
             if select.select([primary], [], [], 0.5)[0]:

@@ -101,7 +101,7 @@ class Sequence:
                          % (e.head_yaw * 57.2958))
         if self.base_skip is None:
             parts.append('turn in place %.0f degrees to the left and back' % (e.base_turn * 57.2958))
-        return 'I will %s, slowly.' % ' and '.join(parts) if parts else ''
+        return 'I will %s, slowly.' % '; then '.join(parts) if parts else ''
 
     # ---------------------------------------------------------------- moving
     def _send(self, step: Step) -> None:
@@ -218,9 +218,9 @@ class Sequence:
             self.stopped = 'stopped: %s' % why
         self.state = 'stopped'
 
-    def finish(self) -> None:
-        """The end of the check's window: a motion still under way is stopped; then nothing is
-        ever sent again."""
+    def finish(self, interrupted_by: Optional[str] = None) -> None:
+        """The end of the check's window: a motion still under way is stopped (saying why: the
+        run's interrupt, or the window's end); then nothing is ever sent again."""
         if self.state == 'move':
-            self.abort('the check\'s window ended', self.clock())
+            self.abort(interrupted_by or 'the check\'s window ended', self.clock())
         self.commands.close()

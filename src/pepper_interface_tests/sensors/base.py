@@ -212,6 +212,9 @@ class RunContext:
         self.services = services if services is not None else Services()
         self.topics: Mapping[str, str] = dict(topics or {})
         self.findings = Findings()
+        # why the run was interrupted (Ctrl-C, SIGTERM, the master gone), once it is: a check
+        # that acts on the robot (the motion check) says why it stopped
+        self.interrupted_by: Optional[str] = None
 
 
 class Check:
@@ -285,6 +288,11 @@ class Check:
 
     def finish(self) -> None:
         pass
+
+    def said_on_interrupt(self) -> List[str]:
+        """What an interrupted window says beside "interrupted after ..." (the motion check:
+        where its motion stopped and what was sent to stop it)."""
+        return []
 
     def fail(self, text: str) -> None:
         """A failure found once, at the end (not counted per message)."""

@@ -12,9 +12,11 @@ lost master) goes through motion/sequence.py `finish`: a motion under way is sto
 /cmd_vel, no further goal, the head sent back) and nothing is sent afterwards.
 """
 import select
+import shutil
 import sys
+import textwrap
 import time
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, List, Optional
 
 from ..motion import rules
 from ..motion.commands import Commands
@@ -137,10 +139,15 @@ class MotionCheck(Check):
     def _ask(self, seq: Sequence) -> None:
         text = seq.plan_text()
         skipped = [p for p, s in (('head', seq.head_skip), ('base', seq.base_skip)) if s]
-        lines = ['', 'sensorTest --move: ' + text]
+        said = ['sensorTest --move: ' + text]
         for p in skipped:
-            lines.append('  (the %s stays still: %s)' % (p, seq.head_skip if p == 'head' else seq.base_skip))
-        lines.append('  Keep the space around the robot clear. Press Enter to start, s then Enter to skip.')
+            said.append('  (the %s stays still: %s)' % (p, seq.head_skip if p == 'head' else seq.base_skip))
+        said.append('  Keep the space around the robot clear. Press Enter to start, s then Enter to skip.')
+        # broken at spaces to the terminal's width ($COLUMNS first), as the guided check's prompts
+        width = max(40, shutil.get_terminal_size((80, 24)).columns)
+        lines = ['']
+        for text_line in said:
+            lines += textwrap.wrap(text_line, width, subsequent_indent='    ', break_on_hyphens=False)
         sys.stdout.write('\n'.join(lines) + '\n')
         sys.stdout.flush()
         self._say(text)
@@ -176,7 +183,8 @@ class MotionCheck(Check):
             seq.base_skip = seq.base_skip or 'the run ended before the motion began'
             seq.steps = []
         try:
-            seq.finish()          # a motion under way is stopped; nothing is sent afterwards
+            # a motion under way is stopped, saying why; nothing is sent afterwards
+            seq.finish(self.ctx.interrupted_by)
         finally:
             if self.witnesses is not None:
                 self.witnesses.close()
@@ -196,6 +204,9 @@ class MotionCheck(Check):
 
     def skip_reason(self) -> Optional[str]:
         return self.skip_text
+
+    def said_on_interrupt(self) -> List[str]:
+        return [self.seq.stopped] if self.seq is not None and self.seq.stopped else []
 
     def _values(self, seq: Sequence, judge: Any) -> MotionValues:
         t0 = seq.started

@@ -249,8 +249,10 @@ class SensorRun:
             # a window cut short is not judged: what it found so far is reported as warnings,
             # never as a failure of the robot ("no message within 0.0 s", "only 2 messages")
             warnings = ['before the interrupt: ' + r for r in judgement.reasons] + warnings
+            said = check.said_on_interrupt()
             reasons = ['interrupted after %.1f s of the %.1f s window (%d message%s)'
-                       % (elapsed, self.window, messages, '' if messages == 1 else 's')]
+                       % (elapsed, self.window, messages, '' if messages == 1 else 's')] + said
+            warnings = [w for w in warnings if w not in said]
             verdict = INTERRUPTED
         summary = stats.summary()
         values = check.result_values()
