@@ -82,7 +82,8 @@ def test_another_results_version_another_platform_and_another_robot_are_refused(
     assert baseline.why_not(run, 'robot') == 'it ran on the simulator, this run is on the robot'
     assert baseline.why_not(run, 'simulator') == ''
     run.data['robot'] = 'pepper-7'
-    assert 'another robot' in baseline.why_not(run, 'simulator', robot='pepper-3')
+    assert baseline.why_not(run, 'simulator', robot='pepper-3') == (
+        'baseline from robot pepper-7, this run is robot pepper-3: pin a baseline of this robot')
     run.data['schema_version'] = 99
     assert 'results version 99' in baseline.why_not(run, 'simulator')
     with open(os.path.join(folder, results.JSON_FILE), 'w') as f:
