@@ -27,11 +27,15 @@ INFO_KEYS: List[str] = [
 
 
 def check_body_id(value: object) -> str:
-    """A usable serial number: letters, digits, '-' or '_' (the message separates with ' ; ')."""
-    text = str(value or '').strip()
+    """A usable serial number: letters, digits, '-' or '_' (the message separates with ' ; ');
+    'none' ('' returned): no info topic, as a driver whose boot_config.json disables
+    converters.info (ros-naoqi/naoqi_driver share/boot_config.json:41-44, src/naoqi_driver.cpp:544)."""
+    text = str(value if value is not None else '').strip()
+    if text.lower() in ('none', 'off', 'false'):
+        return ''
     if not re.fullmatch(r'[A-Za-z0-9_-]{1,64}', text):
         raise ConfigError('~robot_id "%s" is not a robot serial number' % value,
-                          fix='give letters and digits, e.g. %s' % DEFAULT_BODY_ID)
+                          fix='give letters and digits, e.g. %s, or none (no info topic)' % DEFAULT_BODY_ID)
     return text
 
 

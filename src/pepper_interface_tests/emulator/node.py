@@ -35,7 +35,8 @@ Private params (each also a command-line option, which wins):
                       stock naoqi_driver; robot: false, as the CSSR fork's boot_config.json)
   ~robot_id           robot profiles: the serial number (Device/DeviceList/ChestBoard/BodyId)
                       on the latched /naoqi_driver/info, as naoqi_driver publishes it (info.py)
-                      (AP990370B0000000)
+                      (AP990370B0000000; none: no info topic, as a driver whose
+                      boot_config.json disables converters.info)
   ~operator           an emulated operator follows /sensorTest/prompt and touches each zone
                       the guided check asks for                (false)
 Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no master).
@@ -203,7 +204,7 @@ def _parser() -> argparse.ArgumentParser:
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
     p.add_argument('--robot-id', dest='robot_id', help='robot profiles: the serial number on the latched '
-                   '/naoqi_driver/info (default %s)' % DEFAULT_BODY_ID)
+                   '/naoqi_driver/info (default %s; none: no info topic)' % DEFAULT_BODY_ID)
     p.add_argument('--touch', choices=('true', 'false'), help='robot profiles: publish the touch '
                    'events (head, hands, bumpers) as a driver whose boot_config.json enables them '
                    '(default: robot-stock true as stock naoqi_driver, robot false as the CSSR fork)')
@@ -247,7 +248,8 @@ class Emulator:
             from .commands import CommandSubscribers
             robot = cfg.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
             self.commands = CommandSubscribers(self.body, self.clock.now, self.resting, robot.base_blocked)
-            self.info = InfoPublisher(cfg.head, cfg.robot_id)   # the driver's latched identity
+            if cfg.robot_id:
+                self.info = InfoPublisher(cfg.head, cfg.robot_id)   # the driver's latched identity
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)
@@ -296,7 +298,7 @@ class Emulator:
         extra = ''
         if cfg.profile != 'simulator':
             extra = ', robot %s, head %s, audio %s, realsense %s, cameras %s' % (
-                cfg.robot_id, cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
+                cfg.robot_id or 'unnamed', cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
         else:
             extra = ', sim time at real-time factor %g' % cfg.real_time_factor
         if cfg.condition != 'normal':
