@@ -56,8 +56,8 @@ def runs(module_master, tmp_path_factory):
     emu = Emulator(module_master, tmp, A)
     try:
         got['a1'] = sensor_test(module_master, out)
-        got['pin'] = subprocess.run(script('sensorTestHistory') + ['--output-dir', str(out), 'baseline', 'set',
-                                                                   'latest'], capture_output=True, text=True, timeout=60)
+        pin = script('sensorTestHistory') + ['--output-dir', str(out), 'baseline', 'set', 'latest']
+        got['pin'] = subprocess.run(pin, capture_output=True, text=True, timeout=60)
         got['a2'] = sensor_test(module_master, out)
     finally:
         emu.stop()
