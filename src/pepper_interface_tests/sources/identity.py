@@ -99,8 +99,7 @@ def read_live(caller_id: str, wait: float = WAIT) -> Identity:
         from .naoqi_msgs import known_class
         topic = info_topic(rosgraph.Master(caller_id).getPublishedTopics(''))
         if topic is None:
-            return unknown('no driver publishes naoqi_driver\'s info topic (naoqi_bridge_msgs/StringStamped '
-                           '.../info)')
+            return unknown('no driver publishes an info topic (naoqi_bridge_msgs/StringStamped)')
         got: Dict[str, str] = {}
         event = threading.Event()
 
