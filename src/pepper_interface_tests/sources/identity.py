@@ -16,10 +16,11 @@ answers naoqi_bridge_msgs/RobotInfo (src/helpers/driver_helpers.cpp:34-250): typ
 versions, no serial number, so it cannot tell two robots of one model apart and is not used.
 
 Seen with the real driver (built from ros-naoqi/naoqi_driver aed1b87) against the fake NAOqi:
-in 2 of 4 starts the topic was advertised but never sent (15 s of waiting). The converter runs
-once at 0 Hz (naoqi_driver.cpp:239-243 drops it from the queue after its one turn) and is only
-published if publishing is enabled at that moment (line 202); init() starts the loop (line 158)
-before setMasterURINet enables publishing (line 1041). A run then says the identity is unknown.
+in 3 of 8 starts the topic was advertised but never sent (15 s of waiting in one). The converter
+runs once at 0 Hz (naoqi_driver.cpp:239-243 drops it from the queue after its one turn) and is
+only published if publishing is enabled at that moment (line 202); init() starts the loop (line
+158) before setMasterURINet enables publishing (line 1041), the likely cause. A run then says
+the identity is unknown.
 
 The lookup never hangs or fails a run: the master is asked which topic of that type is
 published (one call), the latched message is awaited for at most WAIT seconds, and anything
