@@ -297,8 +297,8 @@ class Emulator:
         faults = faults_mod.format_faults(cfg.faults) or 'none'
         extra = ''
         if cfg.profile != 'simulator':
-            extra = ', robot %s, head %s, audio %s, realsense %s, cameras %s' % (
-                cfg.robot_id or 'unnamed', cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
+            extra = ', head %s, audio %s, realsense %s, cameras %s, robot %s' % (
+                cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution, cfg.robot_id or 'unnamed')
         else:
             extra = ', sim time at real-time factor %g' % cfg.real_time_factor
         if cfg.condition != 'normal':
