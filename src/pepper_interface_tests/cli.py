@@ -119,13 +119,13 @@ def _main(argv):
         return _fatal(str(e))
 
 
-def _baseline(plan: TestPlan) -> Any:
+def _baseline(plan: TestPlan, robot: str = '') -> Any:
     """The run's baseline comparison (outputs/baseline.py) and its note; ConfigError (exit 2)
     when --baseline names a run that is not there or cannot serve."""
     from .outputs import baseline
     from .outputs.history import HistoryError
     try:
-        return baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform)
+        return baseline.for_run(plan.output_dir, plan.options.baseline, plan.platform, robot)
     except HistoryError as e:
         raise ConfigError('--baseline: %s' % e, fix='pin a run where every sensor passed (sensorTestHistory '
                           'baseline set RUN), or run with --no-baseline') from None
@@ -157,7 +157,11 @@ def run_live(plan: Optional[TestPlan], cli: Options, plan_error: Optional[Config
         check_output_dir(plan.output_dir)
         source = live.LiveSource(rospy.get_name())
         from_server = {k: v for k, v in from_server.items() if getattr(cli, k, None) is None}
-        return execute(plan, source, time.monotonic, 'live', from_server)
+        robot = None
+        if plan.platform == 'robot':     # the simulator has no serial number to read
+            from .sources import identity
+            robot = identity.read_live(rospy.get_name())
+        return execute(plan, source, time.monotonic, 'live', from_server, robot)
     finally:
         node.forget_own_params()
         # rospy's shutdown first unregisters the node from the master (its hooks), then joins
@@ -213,7 +217,7 @@ def run_bag(plan: TestPlan, bag: str, cli: Options) -> int:
 
 
 def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_name: str,
-            param_sources: Optional[Dict[str, str]] = None) -> int:
+            param_sources: Optional[Dict[str, str]] = None, robot: Any = None) -> int:
     """Run the plan against a source and write every output; returns the exit code.
     From here on interrupts are deferred until every output exists (interrupts.py)."""
     interrupts.POLICY.raise_pending()     # one swallowed during start-up: nothing written yet
@@ -224,7 +228,11 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     from .outputs.terminal import Terminal
     from .runner import Runner
     from .sensors.base import RunContext
-    compare, note = _baseline(plan)   # --baseline's run (refused: exit 2), else the pinned one
+    if robot is None and plan.platform == 'robot' and source_name != 'live':
+        from .sources import identity  # a recording does not say which robot made it
+        robot = identity.unknown('a recording does not name its robot')
+    robot_id = robot.body_id if robot is not None else ''
+    compare, note = _baseline(plan, robot_id)   # --baseline's run (refused: exit 2), else the pinned one
     if note:
         print('sensorTest: note: %s' % note, flush=True)
     try:   # every run gets an id and, unless --no-history, its own folder <output_dir>/runs/<id>
@@ -244,6 +252,8 @@ def execute(plan: TestPlan, source: Source, clock: Callable[[], float], source_n
     runner.run.source = source_name
     runner.run.options = {k: v for k, v in plan.options.__dict__.items() if v is not None}
     runner.run.param_sources = dict(param_sources or {})
+    if robot is not None:
+        runner.run.robot, runner.run.robot_info = robot_id, robot.to_dict()
     run = runner.execute()
     if interrupts.POLICY.pending and not run.interrupted:
         sys.stderr.write('sensorTest: the interrupt came while the results were written: they are '

@@ -137,6 +137,10 @@ class RunResult:
     param_sources: Dict = field(default_factory=dict)        # option -> where its ROS param came from
     # the run compared with (outputs/baseline.py): run_id, start, path; {} when none
     baseline: Dict = field(default_factory=dict)
+    # the robot's serial number (naoqi_driver's info topic, sources/identity.py), '' when
+    # unknown; robot_info: its other values, or {'unknown': why}
+    robot: str = ''
+    robot_info: Dict = field(default_factory=dict)
 
     @property
     def exit_code(self) -> int:
@@ -175,6 +179,8 @@ class RunResult:
             'options': self.options,
             'param_sources': self.param_sources,
             'baseline': self.baseline or None,
+            'robot': self.robot or None,
+            'robot_info': self.robot_info or None,
             'sensors': sensors,
         }
 
@@ -206,6 +212,19 @@ def param_lines(run: RunResult) -> List[str]:
     """Where options given as ROS params came from (for the run header)."""
     return ['%s = %s from the %s' % (k, printable(run.options.get(k), 200), printable(v, 200))
             for k, v in sorted(run.param_sources.items())]
+
+
+def robot_line(run: RunResult) -> str:
+    """The run header's robot line: its identity, or why it is unknown ('' for the simulator)."""
+    if run.robot:
+        info = run.robot_info or {}
+        parts = [str(info.get('body_type') or ''), 'base %s' % info['base_version'] if info.get('base_version') else '',
+                 'head %s' % info['head_id'] if info.get('head_id') else '']
+        more = ', '.join(x for x in parts if x)
+        return 'robot %s%s' % (printable(run.robot, 200), ' (%s)' % printable(more, 200) if more else '')
+    why = (run.robot_info or {}).get('unknown')
+    return ('robot identity unknown: %s; a baseline is not checked for being this robot\'s' % printable(why, 300)
+            if why else '')
 
 
 def count_line(c: Dict[Verdict, int]) -> str:
@@ -258,7 +277,8 @@ def read_run(data: Dict[str, Any], values_of: Optional[ValuesOf] = None,
                     source=_text(data.get('source')) or 'live', files=_dict(data.get('files')),
                     options=_dict(data.get('options')), write_errors=_texts(data.get('write_errors')),
                     param_sources=_dict(data.get('param_sources')),
-                    baseline=_dict(data.get('baseline')))
+                    baseline=_dict(data.get('baseline')), robot=_text(data.get('robot')),
+                    robot_info=_dict(data.get('robot_info')))
     for s in data.get('sensors') or []:
         run.sensors.append(_read_sensor(s, values_of, family_of))
     return run

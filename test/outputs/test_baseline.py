@@ -82,7 +82,8 @@ def test_another_results_version_another_platform_and_another_robot_are_refused(
     assert baseline.why_not(run, 'robot') == 'it ran on the simulator, this run is on the robot'
     assert baseline.why_not(run, 'simulator') == ''
     run.data['robot'] = 'pepper-7'
-    assert 'another robot' in baseline.why_not(run, 'simulator', robot='pepper-3')
+    assert baseline.why_not(run, 'simulator', robot='pepper-3') == (
+        'baseline from robot pepper-7, this run is robot pepper-3: pin a baseline of this robot')
     run.data['schema_version'] = 99
     assert 'results version 99' in baseline.why_not(run, 'simulator')
     with open(os.path.join(folder, results.JSON_FILE), 'w') as f:
@@ -181,3 +182,28 @@ def test_the_terminal_summary_has_a_drift_section_that_fits(tmp_path, monkeypatc
     out = io.StringIO()
     Terminal(stream=out).run_ended(run)
     assert 'no drift since the baseline run 20261120-101500' in out.getvalue()
+
+
+A, B = 'AP990370B0000000', 'AP990370B0000001'
+OTHER = 'baseline from robot %s, this run is robot %s: pin a baseline of this robot' % (A, B)
+
+
+def test_a_pinned_baseline_of_another_robot_is_noted_and_not_used(tmp_path):
+    write_run(str(tmp_path), '20261120-101500', robot=A)
+    cli(tmp_path, 'baseline', 'set', '20261120-101500')
+    for robot, used in ((B, False), (A, True), ('', True)):     # '': this run does not know its robot
+        compare, _ = baseline.for_run(str(tmp_path), None, 'robot', robot)
+        compare.out = io.StringIO()
+        run = RunResult(platform='robot', mode='parallel', start=1795100000.0, robot=robot)
+        compare.run_started(run, None)
+        assert compare.active is used and bool(run.baseline) is used
+        assert (OTHER in ' '.join(compare.out.getvalue().split())) is not used, compare.out.getvalue()
+
+
+def test_dash_dash_baseline_of_another_robot_is_refused_and_a_baseline_without_one_serves(tmp_path):
+    folder = write_run(str(tmp_path), '20261120-101500', robot=A)
+    with pytest.raises(HistoryError, match=OTHER):
+        baseline.for_run(str(tmp_path), folder, 'robot', B)
+    assert baseline.for_run(str(tmp_path), folder, 'robot', A)[0] is not None
+    unnamed = write_run(str(tmp_path), '20261120-111500')       # a run that did not know its robot
+    assert baseline.for_run(str(tmp_path), unnamed, 'robot', B)[0] is not None

@@ -277,3 +277,25 @@ def test_a_pass_with_warnings_shows_in_every_output(tmp_path, monkeypatch):
     status = result_status(warned)
     assert status.level == DiagnosticStatus.WARN and status.message.startswith('PASS with warnings: ')
     assert result_status(clean).level == DiagnosticStatus.OK
+
+
+def test_the_robots_identity_in_the_dat_junit_json_and_report_header(tmp_path):
+    from pepper_interface_tests.outputs.report.page import header
+    run = RunResult(platform='robot', mode='parallel', start=T0, end=T0 + 3, robot='AP990370B0000001',
+                    robot_info={'body_id': 'AP990370B0000001', 'topic': '/naoqi_driver/info',
+                                'body_type': 'juliette', 'base_version': '1.8a'})
+    assert '[RUN] robot AP990370B0000001 (juliette, base 1.8a)\n' in files.dat_begin(run)
+    props = {p.get('name'): p.get('value') for p in ET.fromstring(files.junit_text(run)).iter('property')}
+    assert props['robot'] == 'AP990370B0000001'
+    data = run.to_dict()
+    assert data['robot'] == 'AP990370B0000001' and data['robot_info']['body_type'] == 'juliette'
+    again = R.read_run(data)
+    assert again.robot == 'AP990370B0000001' and R.robot_line(again) == R.robot_line(run)
+    assert header(run)['robot'] == 'robot AP990370B0000001 (juliette, base 1.8a)'
+    # unknown: said once, with the reason; the JUnit file has no robot property; the simulator says nothing
+    bag = RunResult(platform='robot', mode='parallel', start=T0,
+                    robot_info={'unknown': 'a recording does not name its robot'})
+    assert files.dat_begin(bag).count('[RUN] robot identity unknown: a recording does not name its robot') == 1
+    assert 'robot' not in {p.get('name') for p in ET.fromstring(files.junit_text(bag)).iter('property')}
+    assert bag.to_dict()['robot'] is None
+    assert R.robot_line(RunResult(platform='simulator', mode='parallel', start=T0)) == ''

@@ -30,6 +30,7 @@ import numpy as np
 
 from . import scene
 from .body import Body, Snapshot
+from .info import DEFAULT_BODY_ID, identity_values
 from .profiles import JOINT_NAMES, JOINTS_WITHOUT_VELOCITY
 
 SONAR_KEY = 'Device/SubDeviceList/Platform/%s/Sonar/Sensor/Value'
@@ -64,6 +65,7 @@ class WorldSettings:
     battery: float = 87.0                   # percent
     failing_camera: Optional[int] = None    # getImageRemote raises for this camera index
     touch: bool = False                     # FrontTactilTouched pressed and released every 2 s
+    body_id: str = DEFAULT_BODY_ID          # Device/DeviceList/ChestBoard/BodyId, the robot's serial
 
 
 class Memory:
@@ -79,20 +81,7 @@ class Memory:
         self._laser_t = -1.0
         self._laser: Dict[str, float] = {}
         self.static: Dict[str, Any] = {
-            'RobotConfig/Body/Type': 'juliette',         # Pepper's body type (driver_helpers.cpp:61)
-            'RobotConfig/Body/BaseVersion': '1.8a' if settings.head == 'stereo' else '1.7',
-            'RobotConfig/Head/FullHeadId': 'AP990495A0000000',
-            'Device/DeviceList/ChestBoard/BodyId': 'AP990370B0000000',
-            'RobotConfig/Body/Version': '1.8a', 'RobotConfig/Body/SoftwareRequirement': '2.5',
-            'RobotConfig/Body/Device/LeftArm/Version': '1.8a',
-            'RobotConfig/Body/Device/RightArm/Version': '1.8a',
-            'RobotConfig/Body/Device/Hand/Left/Version': '1.8a',
-            'RobotConfig/Body/Device/Legs/Version': '1.8a',
-            'Device/DeviceList/BatteryFuelGauge/SerialNumber': 'FAKE0001',
-            'Device/DeviceList/BatteryFuelGauge/FirmwareVersion': '1.0',
-            'RobotConfig/Body/Device/Platform/Version': '1.8a',
-            'RobotConfig/Body/Device/Brakes/Version': '1.8a',
-            'RobotConfig/Body/Device/Wheel/Version': '1.8a',
+            **identity_values(settings.head, settings.body_id),   # info.py: the keys naoqi_driver's info topic reads
             'BatteryPowerPluggedChanged': 0.0, 'BatteryFullChargedFlagChanged': 0.0,
             'Device/SubDeviceList/Battery/Current/Sensor/Value': -1.2,
         }

@@ -30,6 +30,7 @@ import numpy as np
 from ..sensors import joint_limits
 from . import scene
 from .fake_memory import Memory, WorldSettings
+from .info import DEFAULT_BODY_ID
 from .profiles import JOINT_NAMES
 
 LOG = logging.getLogger('fakeNaoqi')
@@ -301,7 +302,7 @@ def settings_from(args: argparse.Namespace) -> WorldSettings:
         hot_joint='HeadYaw' if 'hot-joint' in f else None,
         battery=20.0 if 'low-battery' in f else 87.0,
         failing_camera=K_TOP if 'camera-fails' in f else None,
-        touch='touch' in f)
+        touch='touch' in f, body_id=args.robot_id)
 
 
 def parse_args(argv: Sequence[str]) -> argparse.Namespace:
@@ -310,6 +311,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p.add_argument('--head', choices=('stereo', 'xtion'), default='stereo')
     p.add_argument('--naoqi', default='2.5.10.7', help='ALSystem.systemVersion() (default 2.5.10.7)')
     p.add_argument('--fault', action='append', default=[], choices=FAULTS)
+    p.add_argument('--robot-id', default=DEFAULT_BODY_ID, help='Device/DeviceList/ChestBoard/BodyId, the '
+                   'serial number naoqi_driver publishes on its info topic (default %s)' % DEFAULT_BODY_ID)
     p.add_argument('--seed', type=int, default=0)
     p.add_argument('--video-relay', action='store_true',
                    help='leave ALVideoDevice to tools/real-driver video_relay (for the C++ driver)')

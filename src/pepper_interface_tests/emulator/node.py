@@ -33,6 +33,10 @@ Private params (each also a command-line option, which wins):
   ~touch              robot profiles: the touch event topics (head, hands, bumpers), as a
                       driver whose boot_config.json enables them (robot-stock: true, as
                       stock naoqi_driver; robot: false, as the CSSR fork's boot_config.json)
+  ~robot_id           robot profiles: the serial number (Device/DeviceList/ChestBoard/BodyId)
+                      on the latched /naoqi_driver/info, as naoqi_driver publishes it (info.py)
+                      (AP990370B0000000; none: no info topic, as a driver whose
+                      boot_config.json disables converters.info)
   ~operator           an emulated operator follows /sensorTest/prompt and touches each zone
                       the guided check asks for                (false)
 Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no master).
@@ -51,6 +55,7 @@ from ..plan import settings
 from . import faults as faults_mod
 from .events import EVENT_PUBLISHERS, EmulatedOperator
 from .faults import FaultError, parse_faults
+from .info import DEFAULT_BODY_ID, InfoPublisher, check_body_id
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
 from .publishers import AudioPublisher, Clock, ClockPublisher, StreamPublisher, publisher_class
 from .speech import DirectSpeech, NaoqiSpeech
@@ -63,7 +68,7 @@ NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
                 faults='', rate_factor=1.0, camera_resolution='', topics_file='', seed=0,
                 audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
-                audio_buffer=0, operator=False, touch='')
+                audio_buffer=0, operator=False, touch='', robot_id=DEFAULT_BODY_ID)
 
 
 class EmulatorConfig:
@@ -101,6 +106,7 @@ class EmulatorConfig:
         self.camera_resolution = res
         self.seed = int(v['seed'])
         self.operator = settings.parse_bool(v['operator'], key='~operator')
+        self.robot_id = check_body_id(v['robot_id'])
         self.audio_pattern = settings.choice(v['audio_pattern'], ('tones', 'counter'), '~audio_pattern')
         self.ignored: List[str] = []
         if self.profile == 'simulator':
@@ -197,6 +203,8 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
+    p.add_argument('--robot-id', dest='robot_id', help='robot profiles: the serial number on the latched '
+                   '/naoqi_driver/info (default %s; none: no info topic)' % DEFAULT_BODY_ID)
     p.add_argument('--touch', choices=('true', 'false'), help='robot profiles: publish the touch '
                    'events (head, hands, bumpers) as a driver whose boot_config.json enables them '
                    '(default: robot-stock true as stock naoqi_driver, robot false as the CSSR fork)')
@@ -221,6 +229,7 @@ class Emulator:
         self.speech_sub: Optional[rospy.Subscriber] = None
         self.operator: Optional[EmulatedOperator] = None
         self.commands: Optional[CommandSubscribers] = None
+        self.info: Optional[InfoPublisher] = None
         robot = config.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
         from .body import Body
         # a glass pane ahead of the start pose (frontSonar:glass): the robot stands before it
@@ -239,6 +248,8 @@ class Emulator:
             from .commands import CommandSubscribers
             robot = cfg.faults.get(faults_mod.ROBOT, faults_mod.HEALTHY)
             self.commands = CommandSubscribers(self.body, self.clock.now, self.resting, robot.base_blocked)
+            if cfg.robot_id:
+                self.info = InfoPublisher(cfg.head, cfg.robot_id)   # the driver's latched identity
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)
@@ -286,8 +297,8 @@ class Emulator:
         faults = faults_mod.format_faults(cfg.faults) or 'none'
         extra = ''
         if cfg.profile != 'simulator':
-            extra = ', head %s, audio %s, realsense %s, cameras %s' % (
-                cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution)
+            extra = ', head %s, audio %s, realsense %s, cameras %s, robot %s' % (
+                cfg.head, cfg.audio, 'on' if cfg.realsense else 'off', cfg.camera_resolution, cfg.robot_id or 'unnamed')
         else:
             extra = ', sim time at real-time factor %g' % cfg.real_time_factor
         if cfg.condition != 'normal':
@@ -309,6 +320,8 @@ class Emulator:
             self.speech_sub.unregister()
         if self.commands is not None:
             self.commands.close()
+        if self.info is not None:
+            self.info.close()
         if self.operator is not None:
             self.operator.close()
         if self.speech is not None:

@@ -69,9 +69,9 @@ def why_not(run: RunInfo, platform: Optional[str] = None, robot: Optional[str] =
         return 'no sensor passed in it: there is nothing to compare with'
     if platform and data.get('platform') and data.get('platform') != platform:
         return 'it ran on the %s, this run is on the %s' % (data.get('platform'), platform)
-    theirs = data.get('robot')
+    theirs = data.get('robot')     # naoqi_driver's BodyId (sources/identity.py), when the runs knew it
     if robot and isinstance(theirs, str) and theirs and theirs != robot:
-        return 'it is another robot\'s (%s, this one is %s)' % (theirs, robot)
+        return 'baseline from robot %s, this run is robot %s: pin a baseline of this robot' % (theirs, robot)
     return ''
 
 
@@ -150,7 +150,7 @@ class Compare(RunObserver):
         s.flush()
 
     def run_started(self, run: RunResult, plan: object) -> None:
-        why = why_not(self.baseline, run.platform)
+        why = why_not(self.baseline, run.platform, run.robot)
         if why:      # a pinned one that no longer serves: said, no comparison (--baseline was checked before)
             self._say('note: baseline %s not used: %s' % (self.baseline.run_id, why))
             return
@@ -167,16 +167,17 @@ class Compare(RunObserver):
             self.count += len(drift.apply(result, then, self.ref))
 
 
-def for_run(output_dir: str, option: object, platform: str) -> Tuple[Optional[Compare], str]:
+def for_run(output_dir: str, option: object, platform: str,
+            robot: str = '') -> Tuple[Optional[Compare], str]:
     """The observer that compares a run with its baseline, and a note for the run header ('' or
     why the pinned baseline is not used). `option`: --baseline's value (a run, 'none'), False
-    (--no-baseline) or None (the pinned one). Raises HistoryError when the run --baseline
-    names is not found or cannot serve (the run does not start)."""
+    (--no-baseline) or None (the pinned one); `robot`: this run's identity ('' unknown). Raises
+    HistoryError when the run --baseline names is not found or cannot serve (the run does not start)."""
     if option is False or (isinstance(option, str) and option.strip().lower() in ('none', 'false', '')):
         return None, ''
     if isinstance(option, str):
         run = find(output_dir, option)
-        why = why_not(run, platform)
+        why = why_not(run, platform, robot)
         if why:
             raise HistoryError('run %s cannot be the baseline: %s' % (run.run_id, why))
         return Compare(run, pinned_one=False), ''

@@ -23,6 +23,7 @@ from ..results import (
     count_line,
     param_lines,
     printable,
+    robot_line,
     summary_line,
     timestamp,
 )
@@ -78,7 +79,8 @@ def dat_begin(run: RunResult) -> str:
             '[RUN] platform %s, mode %s, source %s%s\n'
             % (timestamp(run.start), run.platform, run.mode, printable(run.source, FILE_LIMIT),
                (', run id ' + run.run_id) if run.run_id else '')
-            + ''.join('[RUN] ROS param %s\n' % line for line in param_lines(run)) + '\n')
+            + ''.join('[RUN] ROS param %s\n' % line for line in param_lines(run))
+            + ''.join('[RUN] %s\n' % line for line in [robot_line(run)] if line) + '\n')
 
 
 
@@ -153,7 +155,7 @@ def junit_text(run: RunResult) -> str:
                        skipped=str(c[SKIPPED] + c[INTERRUPTED]), time='%.3f' % total_time)
     props = ET.SubElement(suite, 'properties')
     for k, v in (('platform', run.platform), ('mode', run.mode), ('source', run.source),
-                 ('interrupted', str(run.interrupted).lower())):
+                 ('interrupted', str(run.interrupted).lower())) + ((('robot', run.robot),) if run.robot else ()):
         ET.SubElement(props, 'property', name=k, value=_xml(v))
     for s in run.sensors:
         case = ET.SubElement(suite, 'testcase', classname='pepper_interface_tests.sensorTest',

@@ -27,6 +27,7 @@ from ..results import (
     count_line,
     param_lines,
     printable,
+    robot_line,
 )
 from ..sensors.families import traits
 
@@ -222,6 +223,10 @@ class Terminal(RunObserver):
         for text in param_lines(run):
             self.line('  ROS param ' + text)
         width = max(40, width)
+        said = robot_line(run)
+        if said:
+            self.line(textwrap.fill(said, width, initial_indent='  ', subsequent_indent=' ' * 4,
+                                    break_long_words=False, break_on_hyphens=False))
         for note in plan.notes:      # what is left out and why; windows other than --duration
             self.line(textwrap.fill(note, width, initial_indent='  note: ', subsequent_indent=' ' * 8))
 

@@ -102,9 +102,23 @@ time stamp
 string frame_id
 """
 
+# naoqi_driver's latched robot identity, /naoqi_driver/info (src/publishers/info.cpp:38
+# advertises it latched; src/converters/info.cpp:83-88 fills `data`): msg/StringStamped.msg of
+# ros-naoqi/naoqi_bridge_msgs (master). Read by sources/identity.py, published by the emulator.
+STRING_STAMPED_TYPE = 'naoqi_bridge_msgs/StringStamped'
+STRING_STAMPED_DEFINITION = """Header header
+string data
+================================================================================
+MSG: std_msgs/Header
+uint32 seq
+time stamp
+string frame_id
+"""
+
 # every naoqi_bridge_msgs type this package knows without the package installed
 DEFINITIONS = dict(TOUCH_DEFINITIONS, **{AUDIO_BUFFER_TYPE: AUDIO_BUFFER_DEFINITION,
-                                         JOINT_ANGLES_TYPE: JOINT_ANGLES_DEFINITION})
+                                         JOINT_ANGLES_TYPE: JOINT_ANGLES_DEFINITION,
+                                         STRING_STAMPED_TYPE: STRING_STAMPED_DEFINITION})
 
 
 def message_class_from_definition(type_name: str, definition: str) -> Type[genpy.Message]:

@@ -18,6 +18,7 @@ from ...results import (
     SKIPPED,
     RunResult,
     SensorResult,
+    robot_line,
     summary_line,
     timestamp,
 )
@@ -217,6 +218,7 @@ def header(run: RunResult) -> Dict[str, Any]:
         'title': 'sensorTest report: %s, %s mode' % (run.platform, run.mode),
         'run_id': run.run_id or '-',
         'source': 'live topics' if run.source == 'live' else 'bag %s' % run.source,
+        'robot': clean(robot_line(run)),
         'start': timestamp(run.start).replace('.', ' '),
         'end': timestamp(run.end).replace('.', ' ') if run.end else '-',
         'duration': '%.1f s' % (run.end - run.start) if run.end else '-',
