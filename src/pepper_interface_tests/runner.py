@@ -20,13 +20,15 @@ from . import interrupts
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
+from .motion import recorded
+from .motion.record import Recording
 from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
-from .sensors.stiffness import StiffnessWitness, witnesses
+from .sensors.stiffness import witnesses
 from .sensors.stream import no_publisher_note
 from .sensors.window import SensorRun, skipped_result
-from .sources import Source, SourceLost
+from .sources import Listener, Source, SourceLost
 
 TICK = 0.05
 
@@ -72,7 +74,8 @@ class Runner:
         self.results: Dict[str, SensorResult] = {}     # sensor name -> SensorResult
         self.closing: List[Tuple[SensorRun, threading.Thread]] = []   # windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
-        self.witnesses: List[StiffnessWitness] = []    # listeners a check asks about the robot (sensors/stiffness.py)
+        self.motion_rec: Optional[Recording] = None    # a recording's motion witnesses (bag runs)
+        self.witnesses: List[Listener] = []    # listeners a check asks about the robot (sensors/stiffness.py)
 
     def _start_next(self, i, now):
         # a plan leaves its lane only once it is recorded as running (or done): an interrupt at
@@ -155,7 +158,10 @@ class Runner:
             interrupts.pause('run-started')
             self._nothing_published()
             # before the first window: a bag then reads their topics from its start
-            self.witnesses = witnesses(self.plan, self.ctx)
+            self.witnesses = list(witnesses(self.plan, self.ctx))
+            if not self.source.live:   # a recording's own motion (sensors/cross.py)
+                self.motion_rec = Recording()
+                self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec)
             for witness in self.witnesses:
                 self.source.attach(witness)
             for i in range(len(self.lanes)):
@@ -250,7 +256,7 @@ class Runner:
                                           ['not run: the run was interrupted before it started']))
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
-        cross.apply(self.run.sensors)     # warnings that need two rows (sensors/cross.py)
+        cross.apply(self.run.sensors, self.motion_rec)     # findings that need two rows (sensors/cross.py)
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)

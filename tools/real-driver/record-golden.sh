@@ -38,7 +38,7 @@ VARIANTS=(
   # the base +0.5 rad): the motion witnesses and the head cameras at the driver's defaults
   "move||$NS/odom $NS/imu/base $NS/laser /joint_states $NS/sonar/front $NS/sonar/back $NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw"
 )
-MOVE_SECONDS=10    # the move variant: its commands end ~7 s in (move.py PLAN)
+MOVE_SECONDS=10    # the move variant: its commands end ~8.5 s in (move.py PLAN)
 
 [ -f "$CACHE/install/setup.bash" ] || { echo "record-golden: no driver in $CACHE (run build.sh first)" >&2; exit 2; }
 [ "$(id -u)" = 0 ] || { echo "record-golden: needs root for unshare -n" >&2; exit 2; }
@@ -123,8 +123,9 @@ for v in variants:
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
         if name == 'move':
             bags[name]['motion'] = ('tools/real-driver/move.py, started 1 s after rosbag record: '
-                                    'HeadYaw +0.5 rad at 1 s, back to 0 at 3 s (speed 0.1, /joint_angles), '
-                                    'base turn +0.5 rad at 5 s (/move_base_simple/goal, base_footprint)')
+                                    'a zero /cmd_vel at 1 s (stops the idle drive of the fake robot), HeadYaw +0.5 rad at 3 s, '
+                                    'back to 0 at 5 s (speed 0.1, /joint_angles), base turn +0.5 rad at 7 s '
+                                    '(/move_base_simple/goal, base_footprint)')
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node --nao_ip 127.0.0.1 --nao_port 9559 --roscore_ip 127.0.0.1 '
                              '--network_interface lo --namespace naoqi_driver --password no_password',
