@@ -17,11 +17,11 @@ import time
 from typing import Callable, Dict, Iterable, List, Optional, Tuple
 
 from . import interrupts
+from .motion import recorded
+from .motion.record import Recording
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
-from .motion import recorded
-from .motion.record import Recording
 from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
