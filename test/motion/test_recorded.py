@@ -1,0 +1,159 @@
+"""The --move rules on a recorded motion (motion/recorded.py, sensors/cross.py recorded_motion):
+the real naoqi_driver's golden `move` bag (tools/real-driver/record-golden.sh move: the head
+yaws +0.5 rad and back, then the base turns +0.5 rad) passes with the turn found, and copies of
+it with one witness broken (written here with rosbag's Python API) fail that witness's row
+and no other."""
+import copy
+import json
+import os
+import subprocess
+
+import pytest
+import rosbag
+
+from pepper_interface_tests.motion import recorded
+from pepper_interface_tests.motion.record import Recording
+from rosmaster import script
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+GOLDEN = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver')
+MOVE = os.path.join(GOLDEN, 'move.bag')
+NS = '/naoqi_driver'
+TOPICS = {'jointState': '/joint_states', 'odometry': NS + '/odom', 'imu': NS + '/imu/base',
+          'laser': NS + '/laser', 'frontCamera': NS + '/camera/front/image_raw',
+          'bottomCamera': NS + '/camera/bottom/image_raw', 'depthCamera': NS + '/camera/depth/image_raw'}
+SENSORS = list(TOPICS)
+COMMANDED = 0.5      # rad: the base turn and the head yaw of tools/real-driver/move.py
+TOLERANCE = 0.35     # MotionExpect.turn_tolerance
+
+
+def run_sensor_test(bag, out):
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(SENSORS),
+                                  '--output-dir', str(out), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(out / 'sensorTestResults.json')) as f:
+        return p, {s['name']: s for s in json.load(f)['sensors']}
+
+
+def read(bag):
+    """The bag's witnesses as a run would record them (motion/recorded.py listeners)."""
+    rec = Recording()
+    feeds = {w.topic: w for w in recorded.listeners(TOPICS, rec)}
+    with rosbag.Bag(bag) as b:
+        for topic, raw, t in b.read_messages(topics=list(feeds), raw=True):
+            feeds[topic].feed_raw(raw[0], raw[1], t.to_sec(), t.to_sec())
+    return rec
+
+
+def _turns(notes, what):
+    return [float(n.split(' of ')[1].split(' rad')[0]) for n in notes if n.startswith(what)]
+
+
+def test_the_real_drivers_recorded_turn_passes_and_is_found(tmp_path):
+    p, got = run_sensor_test(MOVE, tmp_path)
+    for name in SENSORS:
+        assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'], p.stdout[-2000:])
+        assert not [w for w in got[name]['warnings'] if 'recorded' in w], got[name]['warnings']
+    base = _turns(got['odometry']['notes'], 'recorded base turn')
+    assert len(base) == 1 and abs(base[0] - COMMANDED) <= TOLERANCE * COMMANDED, got['odometry']['notes']
+    heads = _turns(got['frontCamera']['notes'], 'recorded head yaw')
+    # +0.5 then back to 0 (the head's idle sway adds a few hundredths either way)
+    assert len(heads) == 2 and heads[0] > 0 > heads[1], heads
+    assert all(abs(abs(h) - COMMANDED) <= TOLERANCE * COMMANDED for h in heads), heads
+    assert _turns(got['jointState']['notes'], 'recorded base turn') == base
+
+
+def _gyro_sign(topic, msg, first):
+    if topic == TOPICS['imu']:
+        msg.angular_velocity.z = -msg.angular_velocity.z
+
+
+def _gyro_dead(topic, msg, first):
+    if topic == TOPICS['imu']:
+        msg.angular_velocity.x = msg.angular_velocity.y = msg.angular_velocity.z = 0.0
+
+
+def _gyro_axes(topic, msg, first):
+    if topic == TOPICS['imu']:
+        v = msg.angular_velocity
+        v.x, v.z = v.z, v.x
+
+
+def _laser_reversed(topic, msg, first):
+    if topic == TOPICS['laser']:
+        msg.ranges = list(reversed(msg.ranges))
+
+
+def _odometry_frozen(topic, msg, first):
+    if topic == TOPICS['odometry']:
+        msg.pose = copy.deepcopy(first.setdefault(topic, msg).pose)
+
+
+def _wheels_stuck(topic, msg, first):
+    if topic == TOPICS['jointState']:
+        start = dict(zip(first.setdefault(topic, copy.deepcopy(msg)).name, first[topic].position))
+        msg.position = [start[n] if n.startswith('Wheel') else p for n, p in zip(msg.name, msg.position)]
+
+
+def _camera_still(topic, msg, first):
+    if topic == TOPICS['frontCamera']:
+        msg.data = first.setdefault(topic, msg).data
+
+
+def corrupt(src, dst, fn):
+    first = {}
+    with rosbag.Bag(src) as b, rosbag.Bag(dst, 'w') as out:
+        for topic, msg, t in b.read_messages():
+            fn(topic, msg, first)
+            out.write(topic, msg, t)
+
+
+# corruption -> (the sensor it breaks, words of its reason)
+BROKEN = {
+    'gyro sign flipped': (_gyro_sign, 'imu', 'opposite sign'),
+    'gyro dead': (_gyro_dead, 'imu', 'reads about zero'),
+    'gyro axes swapped': (_gyro_axes, 'imu', 'seen on the gyro\'s x axis'),
+    'scan stored in reverse': (_laser_reversed, 'laser', 'turned the wrong way'),
+    'odometry frozen': (_odometry_frozen, 'odometry', 'its yaw did not change'),
+    'wheels stuck': (_wheels_stuck, 'jointState', 'wheel joints'),
+    'head camera not following': (_camera_still, 'frontCamera', 'not following the head'),
+}
+
+
+@pytest.mark.parametrize('fault', sorted(BROKEN))
+def test_a_broken_witness_of_a_recorded_motion_is_named(fault, tmp_path):
+    fn, sensor, words = BROKEN[fault]
+    bag = str(tmp_path / 'broken.bag')
+    corrupt(MOVE, bag, fn)
+    p, got = run_sensor_test(bag, tmp_path)
+    assert got[sensor]['verdict'] == 'FAIL', (fault, got[sensor], p.stdout[-2000:])
+    assert any(words in r and 'recorded' in r for r in got[sensor]['reasons']), got[sensor]['reasons']
+    others = {n: got[n]['reasons'] for n in SENSORS if n != sensor and got[n]['verdict'] != 'PASS'}
+    assert not others, (fault, others)
+
+
+def test_a_recording_without_a_base_turn_gives_no_base_finding(tmp_path):
+    """The still stretch of the golden bag (after the stop, before the turn: the head moves)."""
+    bag = str(tmp_path / 'still.bag')
+    with rosbag.Bag(MOVE) as b, rosbag.Bag(bag, 'w') as out:
+        start = b.get_start_time()
+        for topic, raw, t in b.read_messages(raw=True):
+            if start + 2.5 <= t.to_sec() <= start + 6.3:
+                out.write(topic, raw, t, raw=True)
+    rec = read(bag)
+    found, warned, notes = recorded.judge(rec)
+    assert not found and not warned, (found, warned)
+    assert not [n for texts in notes.values() for n in texts if 'base' in n], notes
+    assert recorded.base_spans(rec) == []
+
+
+def test_a_two_witness_recording_is_left_to_the_two_witness_warning():
+    """Odometry and the gyro alone cannot outvote each other: no finding from the vote."""
+    rec = read(MOVE)
+    rec.scans = []
+    rec.joints = [(t, {k: v for k, v in p.items() if not k.startswith('Wheel')}) for t, p in rec.joints]
+    rec.gyro = [(t, x, y, -z) for t, x, y, z in rec.gyro]
+    found, warned, notes = recorded.judge(rec)
+    assert 'imu' not in found and 'odometry' not in found, found
+    assert not [n for n in notes.get('odometry', []) if 'base turn' in n], notes
