@@ -157,3 +157,16 @@ def test_a_two_witness_recording_is_left_to_the_two_witness_warning():
     found, warned, notes = recorded.judge(rec)
     assert 'imu' not in found and 'odometry' not in found, found
     assert not [n for n in notes.get('odometry', []) if 'base turn' in n], notes
+
+
+def test_a_turn_while_driving_leaves_the_laser_unjudged():
+    """The fake NAOqi's idle drive (a circle: the healthy_stereo golden bag) turns and travels:
+    the laser's turn is not measured on it (recorded.MAX_TRAVEL), even with its scan reversed;
+    the other witnesses agree."""
+    rec = read(os.path.join(GOLDEN, 'healthy_stereo.bag'))
+    for s in rec.scans:
+        s.ranges = s.ranges[::-1]
+    found, warned, notes = recorded.judge(rec)
+    assert not found and not warned, (found, warned)
+    assert any('not a turn in place' in n for n in notes['laser']), notes
+    assert _turns(notes['imu'], 'recorded base turn'), notes

@@ -50,6 +50,10 @@ WHEEL_RATE = 0.5      # rad/s of the three wheels' summed spin (a 0.1 rad/s base
 BASE_ROWS = ('jointState', 'odometry', 'imu', 'laser')
 HEAD_ROWS = ('jointState',) + HEAD_CAMERAS
 ROLES = BASE_ROWS + HEAD_CAMERAS
+# m the base may travel during a turn for the laser to be judged on it: scan_turn matches a
+# turn in place (a --move turn); a robot driving while it turns changes its distances too
+# (0.1 m: a tenth of the beams' typical 1-3 m, the size of the rule's own tolerance)
+MAX_TRAVEL = 0.1
 
 Span = Tuple[float, float]
 
@@ -199,13 +203,20 @@ def judge(rec: Recording, expect: Optional[MotionExpect] = None
     found: Dict[str, List[str]] = {}
     warned: Dict[str, List[str]] = {}
     for i, span in enumerate(bases):
+        travel = _travel(rec, span)
+        if travel > MAX_TRAVEL and rec.scans:     # not a turn in place: the laser cannot tell
+            j.rec = dataclasses.replace(rec, scans=[])
         turn = _vote_turn(j, i, span)
+        if turn is not None:
+            j.base_step(i, Step('base', turn, turn, span[0], span[1]))
+        j.rec = rec
         if turn is None:
             continue
-        step = Step('base', turn, turn, span[0], span[1])
-        j.base_step(i, step)
+        if travel > MAX_TRAVEL and rec.scans:
+            _note(notes, ('laser',), 'the recorded base turn of %+.2f rad was not a turn in place '
+                  '(odometry: %.2f m travelled): the laser is not judged on it' % (turn, travel))
         _note(notes, BASE_ROWS, 'recorded base turn of %+.2f rad (the witnesses\' vote) from %.1f '
-              'to %.1f s' % (turn, span[0] - _t0(rec), span[1] - _t0(rec)))
+              'to %.1f s into the recording' % (turn, _since(rec, span[0]), _since(rec, span[1])))
         _collect(j, found, warned, 'the recorded base turn of %+.2f rad: ' % turn)
     for i, span in enumerate(head_spans(rec), start=len(bases)):
         if any(a < span[1] and span[0] < b for a, b in bases):
@@ -221,10 +232,16 @@ def judge(rec: Recording, expect: Optional[MotionExpect] = None
         j.e = dataclasses.replace(e, head_speed=min(max(speed, 1e-3), 1.0))
         j.head_step(i, Step('head', target, moved, span[0], span[1]))
         j.e = e
-        _note(notes, HEAD_ROWS, 'recorded head yaw of %+.2f rad (HeadYaw) from %.1f to %.1f s'
-              % (moved, span[0] - _t0(rec), span[1] - _t0(rec)))
+        _note(notes, HEAD_ROWS, 'recorded head yaw of %+.2f rad (HeadYaw) from %.1f to %.1f s into '
+              'the recording' % (moved, _since(rec, span[0]), _since(rec, span[1])))
         _collect(j, found, warned, 'the recorded head yaw of %+.2f rad: ' % moved)
     return found, warned, notes
+
+
+def _travel(rec: Recording, span: Span) -> float:
+    """How far odometry says the base went over the span (m; 0 without positions)."""
+    pts = [(x, y) for t, x, y in rec.odom_xy if span[0] <= t <= span[1]]
+    return sum(((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5 for a, b in zip(pts, pts[1:]))
 
 
 def _note(notes: Dict[str, List[str]], rows: Sequence[str], text: str) -> None:
@@ -232,9 +249,10 @@ def _note(notes: Dict[str, List[str]], rows: Sequence[str], text: str) -> None:
         notes.setdefault(r, []).append(text)
 
 
-def _t0(rec: Recording) -> float:
+def _since(rec: Recording, t: float) -> float:
+    """Seconds from the first witness message to t (the padding before it left out)."""
     starts = [s[0][0] for s in (rec.odom_yaw, rec.gyro, rec.joints) if s]
-    return min(starts) if starts else 0.0
+    return max(0.0, t - min(starts)) if starts else 0.0
 
 
 def _collect(j: Judge, found: Dict[str, List[str]], warned: Dict[str, List[str]], prefix: str) -> None:

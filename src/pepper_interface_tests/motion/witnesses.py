@@ -57,6 +57,8 @@ class Recorder:
     def _odom(self, role: str, msg: Any, t: float) -> None:
         q = msg.pose.pose.orientation
         self.rec.odom_yaw.append((t, estimate.yaw_of(q.x, q.y, q.z, q.w)))
+        p = msg.pose.pose.position
+        self.rec.odom_xy.append((t, p.x, p.y))
 
     def _imu(self, role: str, msg: Any, t: float) -> None:
         w = msg.angular_velocity
