@@ -7,13 +7,14 @@ import copy
 import json
 import os
 import subprocess
+import sys
 
 import pytest
 import rosbag
 
 from pepper_interface_tests.motion import recorded
 from pepper_interface_tests.motion.record import Recording
-from rosmaster import script
+from rosmaster import NODES, kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver')
@@ -170,3 +171,58 @@ def test_a_turn_while_driving_leaves_the_laser_unjudged():
     assert not found and not warned, (found, warned)
     assert any('not a turn in place' in n for n in notes['laser']), notes
     assert _turns(notes['imu'], 'recorded base turn'), notes
+
+
+# ------------------------------------------------------------------ the emulator, recorded moving
+
+EMULATOR_TOPICS = [t for name, t in TOPICS.items() if name != 'depthCamera']
+
+
+def record_the_emulator_moving(master, tmp_path, faults=''):
+    """rosbag record of the emulator while test/nodes/emu_move.py commands it as a user of
+    naoqi_driver does: HeadYaw +0.3 rad, then a moveTo turning +0.5 rad (no spin)."""
+    bag = str(tmp_path / 'emulator.bag')
+    log = open(str(tmp_path / 'emulator.log'), 'w')
+    emu = spawn(script('pepperEmulator') + ['--audio', 'off', '--camera-resolution', 'QQVGA']
+                + (['--faults', faults] if faults else []), master.env(), stdout=log,
+                stderr=subprocess.STDOUT)
+    rec = None
+    try:
+        rec = spawn(['rosbag', 'record', '-O', bag] + EMULATOR_TOPICS, master.env(), stdout=log,
+                    stderr=subprocess.STDOUT)
+        wait_until(lambda: os.path.exists(bag + '.active') and os.path.getsize(bag + '.active') > 1e5,
+                   60, 'rosbag records the emulator')
+        out = subprocess.run([sys.executable, os.path.join(NODES, 'emu_move.py'), '--spin', '0'],
+                             env=master.env(), stdout=subprocess.PIPE, timeout=90)
+        assert out.returncode == 0, out.stdout[-500:]
+    finally:
+        if rec is not None:
+            kill_group(rec)
+        kill_group(emu)
+        log.close()
+    return bag
+
+
+@pytest.mark.parametrize('faults, sensor, words', [
+    ('', None, None),
+    ('imu:gyro_inverted', 'imu', 'opposite sign'),
+    ('laser:reversed', 'laser', 'turned the wrong way'),
+])
+def test_the_emulator_recorded_moving(master, tmp_path, faults, sensor, words):
+    """The emulator's own recording of a commanded turn: healthy, every row passes and the turn
+    is found; with a motion fault (emulator/fault_table.py), that row fails and no other."""
+    bag = record_the_emulator_moving(master, tmp_path, faults)
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors',
+                                  ','.join(n for n in SENSORS if n != 'depthCamera'),
+                                  '--output-dir', str(tmp_path / 'out'), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(tmp_path / 'out' / 'sensorTestResults.json')) as f:
+        got = {s['name']: s for s in json.load(f)['sensors']}
+    turns = _turns(got['odometry']['notes'], 'recorded base turn')
+    assert any(abs(t - COMMANDED) <= TOLERANCE * COMMANDED for t in turns), (got['odometry']['notes'], p.stdout[-1500:])
+    bad = {n: got[n]['reasons'] for n in got if got[n]['verdict'] != 'PASS' and n != sensor}
+    assert not bad, bad
+    if sensor:
+        assert got[sensor]['verdict'] == 'FAIL', got[sensor]
+        assert any(words in r and 'recorded' in r for r in got[sensor]['reasons']), got[sensor]['reasons']
