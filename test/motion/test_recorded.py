@@ -134,6 +134,19 @@ def test_a_broken_witness_of_a_recorded_motion_is_named(fault, tmp_path):
     assert not others, (fault, others)
 
 
+def test_a_ros2_recording_of_the_turn_is_judged_alike(tmp_path):
+    """The same broken copy converted to a ROS 2 recording (rosbags-convert): the gyro is named."""
+    import ros2_recordings as rr
+    bag = str(tmp_path / 'broken.bag')
+    corrupt(MOVE, bag, _gyro_sign)
+    ros2 = rr.convert(bag, tmp_path / 'ros2', 'sqlite3')
+    p, got = run_sensor_test(ros2, tmp_path)
+    assert got['imu']['verdict'] == 'FAIL', (got['imu'], p.stdout[-2000:])
+    assert any('opposite sign' in r for r in got['imu']['reasons']), got['imu']['reasons']
+    assert not {n: got[n]['reasons'] for n in SENSORS if n != 'imu' and got[n]['verdict'] != 'PASS'}
+    assert _turns(got['odometry']['notes'], 'recorded base turn')
+
+
 def test_a_recording_without_a_base_turn_gives_no_base_finding(tmp_path):
     """The still stretch of the golden bag (after the stop, before the turn: the head moves)."""
     bag = str(tmp_path / 'still.bag')
