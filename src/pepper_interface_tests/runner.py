@@ -75,6 +75,7 @@ class Runner:
         self.closing: List[Tuple[SensorRun, threading.Thread]] = []   # windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
         self.motion_rec: Optional[Recording] = None    # a recording's motion witnesses (bag runs)
+        self.held: List[SensorResult] = []     # their rows, told to the observers once judged
         self.witnesses: List[Listener] = []    # listeners a check asks about the robot (sensors/stiffness.py)
 
     def _start_next(self, i, now):
@@ -112,6 +113,9 @@ class Runner:
 
     def _done(self, result):
         self.results[result.name] = result
+        if self.motion_rec is not None and result.name in recorded.ROLES:
+            self.held.append(result)    # its verdict may change with the recorded motion (cross.py)
+            return
         self.observers.sensor_done(result)
 
     def _finish(self, i, now, reason):
@@ -257,6 +261,9 @@ class Runner:
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
         cross.apply(self.run.sensors, self.motion_rec)     # findings that need two rows (sensors/cross.py)
+        for result in self.held:
+            self.observers.sensor_done(result)
+        self.held = []
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)
