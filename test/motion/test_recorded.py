@@ -239,3 +239,17 @@ def test_the_emulator_recorded_moving(master, tmp_path, faults, sensor, words):
     if sensor:
         assert got[sensor]['verdict'] == 'FAIL', got[sensor]
         assert any(words in r and 'recorded' in r for r in got[sensor]['reasons']), got[sensor]['reasons']
+
+
+def test_a_recording_keeps_frames_only_around_the_heads_motion():
+    """Memory stays bounded on a long recording: the small frames kept are those around the
+    head's yaws (recorded.KEEP_AROUND) and the last recorded.FRAMES_KEPT s, not all 97."""
+    rec = read(MOVE)
+    frames = rec.frames['frontCamera']
+    heads = recorded.head_spans(rec)
+    end = frames[-1][0]
+    assert 20 < len(frames) < 97, len(frames)
+    for t, _ in frames:
+        assert t >= end - recorded.FRAMES_KEPT - 0.2 or any(
+            a - recorded.KEEP_AROUND <= t <= b + recorded.KEEP_AROUND for a, b in heads), t
+    assert set(k for _, p in rec.joints for k in p) == {'HeadYaw', 'WheelFL', 'WheelFR', 'WheelB'}

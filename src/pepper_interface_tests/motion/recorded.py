@@ -50,6 +50,8 @@ WHEEL_RATE = 0.5      # rad/s of the three wheels' summed spin (a 0.1 rad/s base
 BASE_ROWS = ('jointState', 'odometry', 'imu', 'laser')
 HEAD_ROWS = ('jointState',) + HEAD_CAMERAS
 ROLES = BASE_ROWS + HEAD_CAMERAS
+FRAMES_KEPT = 3.0     # s of frames always kept (the frames before a head move starts)
+KEEP_AROUND = 2.0     # s either side of the head moving: frames kept (PAD plus a margin)
 # m the base may travel during a turn for the laser to be judged on it: scan_turn matches a
 # turn in place (a --move turn); a robot driving while it turns changes its distances too
 # (0.1 m: a tenth of the beams' typical 1-3 m, the size of the rule's own tolerance)
@@ -101,9 +103,44 @@ class RecordedWitness:
         pass
 
 
+class LeanRecorder(Recorder):
+    """The witnesses' handlers, bounded for a recording of any length: of /joint_states only
+    HeadYaw and the wheels are kept, and a head camera's small frames only around the head's
+    motion (the last FRAMES_KEPT s, and those within KEEP_AROUND s of HeadYaw moving faster
+    than HEAD_RATE): ten minutes of four cameras would otherwise keep ~400 MB of frames."""
+
+    def __init__(self, recording: Recording) -> None:
+        super().__init__(recording)
+        self.keeps: List[List[float]] = []     # [from, to]: frames kept for a head move
+        self.checked: Dict[str, int] = {}      # camera -> frames before this index are settled
+
+    def _joints(self, role: str, msg: Any, t: float) -> None:
+        kept = {n: p for n, p in zip(msg.name, msg.position) if n == 'HeadYaw' or n in WHEELS}
+        self.rec.joints.append((t, kept))
+        if 'HeadYaw' not in kept:
+            return
+        pts = [(ts, p['HeadYaw']) for ts, p in self.rec.joints[-60:] if 'HeadYaw' in p]
+        if _moving(pts[-30:], HEAD_RATE, angle=False):
+            if self.keeps and self.keeps[-1][1] >= t - KEEP_AROUND:
+                self.keeps[-1][1] = t + KEEP_AROUND
+            else:
+                self.keeps.append([t - KEEP_AROUND, t + KEEP_AROUND])
+
+    def _frame(self, role: str, msg: Any, t: float) -> None:
+        super()._frame(role, msg, t)
+        frames = self.rec.frames.get(role, [])
+        i = self.checked.get(role, 0)
+        while i < len(frames) and frames[i][0] < t - FRAMES_KEPT:
+            if any(a <= frames[i][0] <= b for a, b in self.keeps):
+                i += 1
+            else:
+                frames.pop(i)
+        self.checked[role] = i
+
+
 def listeners(topics: Mapping[str, str], rec: Recording) -> List[RecordedWitness]:
     """A listener per witness role the run's topics name, all feeding `rec`."""
-    recorder = Recorder(rec)
+    recorder = LeanRecorder(rec)
     return [RecordedWitness(role, topics[role], recorder) for role in ROLES if topics.get(role)]
 
 
