@@ -165,7 +165,8 @@ class Runner:
             self.witnesses = list(witnesses(self.plan, self.ctx))
             if not self.source.live:   # a recording's own motion (sensors/cross.py)
                 self.motion_rec = Recording()
-                self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec)
+                self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec,
+                                                     [s.name for s in self.plan.active])
             for witness in self.witnesses:
                 self.source.attach(witness)
             for i in range(len(self.lanes)):

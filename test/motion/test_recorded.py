@@ -253,3 +253,10 @@ def test_a_recording_keeps_frames_only_around_the_heads_motion():
         assert t >= end - recorded.FRAMES_KEPT - 0.2 or any(
             a - recorded.KEEP_AROUND <= t <= b + recorded.KEEP_AROUND for a, b in heads), t
     assert set(k for _, p in rec.joints for k in p) == {'HeadYaw', 'WheelFL', 'WheelFR', 'WheelB'}
+
+
+def test_a_run_listens_to_the_witnesses_only_for_rows_it_judges():
+    roles = lambda sel: sorted(w.role for w in recorded.listeners(TOPICS, Recording(), sel))  # noqa: E731
+    assert roles(['frontSonar']) == []
+    assert roles(['laser']) == sorted(['jointState', 'odometry', 'imu', 'laser'])
+    assert 'frontCamera' in roles(['frontCamera']) and 'bottomCamera' not in roles(['frontCamera'])

@@ -138,10 +138,19 @@ class LeanRecorder(Recorder):
         self.checked[role] = i
 
 
-def listeners(topics: Mapping[str, str], rec: Recording) -> List[RecordedWitness]:
-    """A listener per witness role the run's topics name, all feeding `rec`."""
+def listeners(topics: Mapping[str, str], rec: Recording,
+              selected: Optional[Sequence[str]] = None) -> List[RecordedWitness]:
+    """A listener per witness role the run's topics name, all feeding `rec`. With `selected`
+    (the run's sensors): none unless a motion witness's row is selected; then every base
+    witness (they vote for each other's rows) and the head cameras that are selected (a camera
+    is judged on its own row only: a run without one reads no images for this)."""
+    roles = list(ROLES)
+    if selected is not None:
+        if not set(selected) & set(ROLES):
+            return []
+        roles = [r for r in ROLES if r in BASE_ROWS or r in selected]
     recorder = LeanRecorder(rec)
-    return [RecordedWitness(role, topics[role], recorder) for role in ROLES if topics.get(role)]
+    return [RecordedWitness(role, topics[role], recorder) for role in roles if topics.get(role)]
 
 
 def _moving(series: Sequence[Tuple[float, float]], rate: float, angle: bool = True) -> List[Span]:
