@@ -31,7 +31,7 @@ INTEGRATION_FILES = {
     'sources/test_ros2_bags.py',
     'outputs/test_files_hostile.py', 'sensors/test_driver_semantics.py', 'emulator/test_emulator_node.py',
     'emulator/test_emulator_cli.py', 'test_node.py', 'emulator/test_fake_naoqi.py',
-    'emulator/test_golden_recordings.py',
+    'emulator/test_golden_recordings.py', 'motion/test_recorded.py',
     'outputs/test_history.py', 'launch/test_launch_files.py', 'emulator/test_naoqi_endpoint.py',
     'media/test_recording.py',
     'test_rostest.py',

@@ -17,16 +17,18 @@ import time
 from typing import Callable, Dict, Iterable, List, Optional, Tuple
 
 from . import interrupts
+from .motion import recorded
+from .motion.record import Recording
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
 from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
-from .sensors.stiffness import StiffnessWitness, witnesses
+from .sensors.stiffness import witnesses
 from .sensors.stream import no_publisher_note
 from .sensors.window import SensorRun, skipped_result
-from .sources import Source, SourceLost
+from .sources import Listener, Source, SourceLost
 
 TICK = 0.05
 
@@ -72,7 +74,9 @@ class Runner:
         self.results: Dict[str, SensorResult] = {}     # sensor name -> SensorResult
         self.closing: List[Tuple[SensorRun, threading.Thread]] = []   # windows ended, writers still closing
         self.order = [s.name for s in plan.sensors]
-        self.witnesses: List[StiffnessWitness] = []    # listeners a check asks about the robot (sensors/stiffness.py)
+        self.motion_rec: Optional[Recording] = None    # a recording's motion witnesses (bag runs)
+        self.held: List[SensorResult] = []     # their rows, told to the observers once judged
+        self.witnesses: List[Listener] = []    # listeners a check asks about the robot (sensors/stiffness.py)
 
     def _start_next(self, i, now):
         # a plan leaves its lane only once it is recorded as running (or done): an interrupt at
@@ -109,6 +113,9 @@ class Runner:
 
     def _done(self, result):
         self.results[result.name] = result
+        if self.motion_rec is not None and result.name in recorded.ROLES:
+            self.held.append(result)    # its verdict may change with the recorded motion (cross.py)
+            return
         self.observers.sensor_done(result)
 
     def _finish(self, i, now, reason):
@@ -155,7 +162,11 @@ class Runner:
             interrupts.pause('run-started')
             self._nothing_published()
             # before the first window: a bag then reads their topics from its start
-            self.witnesses = witnesses(self.plan, self.ctx)
+            self.witnesses = list(witnesses(self.plan, self.ctx))
+            if not self.source.live:   # a recording's own motion (sensors/cross.py)
+                self.motion_rec = Recording()
+                self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec,
+                                                     [s.name for s in self.plan.active])
             for witness in self.witnesses:
                 self.source.attach(witness)
             for i in range(len(self.lanes)):
@@ -251,7 +262,10 @@ class Runner:
                                           ['not run: the run was interrupted before it started']))
             del lane[:]
         self.run.sensors = [self.results[n] for n in self.order if n in self.results]
-        cross.apply(self.run.sensors)     # warnings that need two rows (sensors/cross.py)
+        cross.apply(self.run.sensors, self.motion_rec)     # findings that need two rows (sensors/cross.py)
+        for result in self.held:
+            self.observers.sensor_done(result)
+        self.held = []
         self.run.end = self.wall()
         interrupts.pause('final-write')
         self.observers.run_ended(self.run)

@@ -36,7 +36,11 @@ VARIANTS=(
   "low_battery|--fault low-battery|/diagnostics"
   "naoqi29|--naoqi 2.9.5.172|$BODY $NS/audio"
   "audio|--audio-relay|$NS/audio"
+  # the robot moves while recorded (tools/real-driver/move.py: head +0.5 rad and back, then
+  # the base +0.5 rad): the motion witnesses and the head cameras at the driver's defaults
+  "move||$NS/odom $NS/imu/base $NS/laser /joint_states $NS/sonar/front $NS/sonar/back $NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw"
 )
+MOVE_SECONDS=10    # the move variant: its commands end ~8.5 s in (move.py PLAN)
 
 [ -f "$CACHE/install/setup.bash" ] || { echo "record-golden: no driver in $CACHE (run build.sh first)" >&2; exit 2; }
 [ "$(id -u)" = 0 ] || { echo "record-golden: needs root for unshare -n" >&2; exit 2; }
@@ -77,8 +81,16 @@ record_one() {   # name fake-args topics (run inside the namespace)
     kill -INT "$fake_pid" "$relay" $audio "$core" 2>/dev/null; wait 2>/dev/null; return 1
   fi
   sleep 2     # the converters start once subscribed: let the cameras subscribe first
+  local seconds="$SECONDS_PER_BAG" mover=
+  if [ "$name" = move ]; then
+    seconds="$MOVE_SECONDS"
+    ( sleep 1; source "$REPO/tools/env.sh"; export ROS_MASTER_URI=http://127.0.0.1:11311
+      "$REPO/.venv/bin/python" "$HERE/move.py" ) >"$log.move" 2>&1 &
+    mover=$!
+  fi
   # shellcheck disable=SC2086
-  rosbag record --bz2 --duration="$SECONDS_PER_BAG" -O "$OUT/$name.bag" $topics >"$log.record" 2>&1 || true
+  rosbag record --bz2 --duration="$seconds" -O "$OUT/$name.bag" $topics >"$log.record" 2>&1 || true
+  [ -z "$mover" ] || wait "$mover" 2>/dev/null || true
   kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
   for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
   kill -INT "$relay" $audio "$fake_pid" 2>/dev/null || true
@@ -88,7 +100,7 @@ record_one() {   # name fake-args topics (run inside the namespace)
   wait 2>/dev/null || true
 }
 export -f record_one
-export OUT CACHE REPO SECONDS_PER_BAG NS
+export OUT CACHE REPO SECONDS_PER_BAG NS HERE MOVE_SECONDS
 
 for entry in "${VARIANTS[@]}"; do
   IFS='|' read -r name fake topics <<<"$entry"
@@ -102,6 +114,7 @@ done
 "$REPO/.venv/bin/python" - "$OUT" "$CACHE/sources.txt" "$SECONDS_PER_BAG" "${done_now[@]}" <<'EOF'
 import datetime, json, os, sys
 out, sources, seconds, variants = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+move_seconds = os.environ.get('MOVE_SECONDS', '10')
 path = os.path.join(out, 'manifest.json')
 old = json.load(open(path)) if os.path.exists(path) else {}
 commits = {}
@@ -114,8 +127,13 @@ for v in variants:
     bag = os.path.join(out, name + '.bag')
     if os.path.exists(bag):
         bags[name] = {'fake_naoqi': ('pepperFakeNaoqi --port 9559 --video-relay ' + fake).strip(), 'topics': topics.split(),
-                      'seconds': float(seconds), 'size_bytes': os.path.getsize(bag),
+                      'seconds': float(move_seconds if name == 'move' else seconds), 'size_bytes': os.path.getsize(bag),
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
+        if name == 'move':
+            bags[name]['motion'] = ('tools/real-driver/move.py, started 1 s after rosbag record: '
+                                    'a zero /cmd_vel at 1 s (stops the idle drive of the fake robot), HeadYaw +0.5 rad at 3 s, '
+                                    'back to 0 at 5 s (speed 0.1, /joint_angles), base turn +0.5 rad at 7 s '
+                                    '(/move_base_simple/goal, base_footprint)')
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node --nao_ip 127.0.0.1 --nao_port 9559 --roscore_ip 127.0.0.1 '
                              '--network_interface lo --namespace naoqi_driver --password no_password',

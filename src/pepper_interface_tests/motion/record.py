@@ -23,6 +23,7 @@ class Recording:
     lock: threading.Lock = field(default_factory=threading.Lock)
     joints: List[Tuple[float, Dict[str, float]]] = field(default_factory=list)
     odom_yaw: List[Tuple[float, float]] = field(default_factory=list)
+    odom_xy: List[Tuple[float, float, float]] = field(default_factory=list)   # t, x, y (m)
     gyro: List[Tuple[float, float, float, float]] = field(default_factory=list)   # t, x, y, z
     scans: List[Scan] = field(default_factory=list)
     sonar: Dict[str, Tuple[float, float]] = field(default_factory=dict)   # name -> (t, range)

@@ -28,41 +28,27 @@ FRAME_PERIOD = 0.09    # s between two kept frames of one camera (naoqi_driver's
 FRONT_SECTOR = 0.2     # rad either side of straight ahead: the laser's front sector
 
 
-class Witnesses:
-    def __init__(self, topics: Dict[str, str], recording: Recording,
-                 clock: Callable[[], float] = time.monotonic) -> None:
-        self.rec = recording
-        self.clock = clock
-        self.topics = {role: topics[role] for role in ROLES if topics.get(role)}
-        self.subs: List[Any] = []
-        self.closed = False
-        handlers = {'jointState': (JointState, self._joints), 'odometry': (Odometry, self._odom),
-                    'imu': (Imu, self._imu), 'laser': (LaserScan, self._laser),
-                    'frontSonar': (Range, self._sonar), 'backSonar': (Range, self._sonar),
-                    'bumper': (Bumper, self._bumper), 'robotHealth': (DiagnosticArray, self._health)}
-        for cam in HEAD_CAMERAS:
-            handlers[cam] = (Image, self._frame)
-        for role, topic in self.topics.items():
-            cls, fn = handlers[role]
-            self.subs.append(rospy.Subscriber(topic, rospy.AnyMsg, self._decode,
-                                              callback_args=(role, cls, fn), queue_size=5,
-                                              buff_size=1 << 22))
+class Recorder:
+    """Decoded witness messages into a Recording: `handle(role, msg, t)` under its lock. Live, the
+    Witnesses below subscribe; from a bag, motion/recorded.py feeds the same handlers."""
 
-    def _decode(self, raw: Any, args: Any) -> None:
-        role, cls, fn = args
-        if self.closed:
-            return
-        try:
-            msg = cls().deserialize(raw._buff)
-        except Exception:   # another type on the topic: that sensor's own row says so
-            return
-        t = self.clock()
+    def __init__(self, recording: Recording) -> None:
+        self.rec = recording
+        self.handlers: Dict[str, Any] = {
+            'jointState': (JointState, self._joints), 'odometry': (Odometry, self._odom),
+            'imu': (Imu, self._imu), 'laser': (LaserScan, self._laser),
+            'frontSonar': (Range, self._sonar), 'backSonar': (Range, self._sonar),
+            'bumper': (Bumper, self._bumper), 'robotHealth': (DiagnosticArray, self._health)}
+        for cam in HEAD_CAMERAS:
+            self.handlers[cam] = (Image, self._frame)
+
+    def handle(self, role: str, msg: Any, t: float) -> None:
         with self.rec.lock:
             self.rec.count(role)
             header = getattr(msg, 'header', None)
             if header is not None and header.stamp.to_sec() > 0:
                 self.rec.stamps[role] = (header.stamp.to_sec(), time.time())
-            fn(role, msg, t)
+            self.handlers[role][1](role, msg, t)
 
     # each handler runs under the recording's lock
     def _joints(self, role: str, msg: Any, t: float) -> None:
@@ -71,6 +57,8 @@ class Witnesses:
     def _odom(self, role: str, msg: Any, t: float) -> None:
         q = msg.pose.pose.orientation
         self.rec.odom_yaw.append((t, estimate.yaw_of(q.x, q.y, q.z, q.w)))
+        p = msg.pose.pose.position
+        self.rec.odom_xy.append((t, p.x, p.y))
 
     def _imu(self, role: str, msg: Any, t: float) -> None:
         w = msg.angular_velocity
@@ -125,6 +113,33 @@ class Witnesses:
         except ValueError:
             return
         frames.append((t, estimate.small_grey(img)))
+
+
+class Witnesses(Recorder):
+    """Live: one subscription per witness role whose topic the run knows."""
+
+    def __init__(self, topics: Dict[str, str], recording: Recording,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        super().__init__(recording)
+        self.clock = clock
+        self.topics = {role: topics[role] for role in ROLES if topics.get(role)}
+        self.subs: List[Any] = []
+        self.closed = False
+        for role, topic in self.topics.items():
+            cls = self.handlers[role][0]
+            self.subs.append(rospy.Subscriber(topic, rospy.AnyMsg, self._decode,
+                                              callback_args=(role, cls), queue_size=5,
+                                              buff_size=1 << 22))
+
+    def _decode(self, raw: Any, args: Any) -> None:
+        role, cls = args
+        if self.closed:
+            return
+        try:
+            msg = cls().deserialize(raw._buff)
+        except Exception:   # another type on the topic: that sensor's own row says so
+            return
+        self.handle(role, msg, self.clock())
 
     def close(self) -> None:
         self.closed = True

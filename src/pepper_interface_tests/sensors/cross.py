@@ -24,12 +24,22 @@ things), added once every window is judged (runner.py, before the outputs are wr
   more than RECORDED_TOLERANCE of the larger, is a warning on both rows with both numbers (two
   witnesses cannot tell which one is wrong: --move adds the wheels and the laser and votes).
   Integrating a gyro drifts: a few hundredths of a rad over a minute, far below the margin.
+  Not made when the recorded motion below judged a turn (three or more witnesses voted).
+- The recorded motion (a bag or a ROS 2 recording, not a live run): motion/recorded.py finds
+  the recording's base turns and head yaw moves and judges them with the --move rules, the
+  witnesses' vote in place of the command. A witness the majority outvotes FAILS on its row,
+  as live: the vote of three or more independent sensors is the same evidence a --move run
+  judges on (there the command only sets the size, and the vote decides whether the base
+  turned); a recording without a turn gets no finding. The motion found is a note on the
+  witnesses' rows.
 """
 import math
 import statistics
 from typing import List, Optional, Sequence, Tuple
 
-from ..results import SensorResult
+from ..motion import recorded
+from ..motion.record import Recording
+from ..results import FAIL, PASS, SensorResult
 from .values.imu import ImuValues
 from .values.laser import LaserValues
 from .values.odometry import OdometryValues
@@ -129,8 +139,31 @@ def recorded_turn(results: Sequence[SensorResult]) -> None:
         imu.warnings.append(text)
 
 
-def apply(results: List[SensorResult]) -> None:
-    """Every cross-check over the run's judged rows (warnings added in place)."""
+def recorded_motion(results: Sequence[SensorResult], rec: Recording) -> bool:
+    """The --move rules on the recording's own motion (motion/recorded.py), on the rows; True
+    when a base turn was judged by the vote."""
+    found, warned, notes = recorded.judge(rec)
+    rows = {r.name: r for r in results}
+    for sensor, texts in found.items():
+        r = rows.get(sensor)
+        if r is not None and r.verdict in (PASS, FAIL):
+            r.verdict = FAIL
+            r.reasons.extend(texts)
+    for sensor, texts in warned.items():
+        r = rows.get(sensor)
+        if r is not None and r.verdict in (PASS, FAIL):
+            r.warnings.extend(texts)
+    for sensor, texts in notes.items():
+        if sensor in rows:
+            rows[sensor].notes.extend(texts)
+    return any(n.startswith('recorded base turn') for texts in notes.values() for n in texts)
+
+
+def apply(results: List[SensorResult], rec: Optional[Recording] = None) -> None:
+    """Every cross-check over the run's judged rows (warnings added in place); `rec`: the
+    recording's motion witnesses (a bag run)."""
     sonar_against_laser(results)
     header_clocks(results)
-    recorded_turn(results)
+    voted = rec is not None and recorded_motion(results, rec)
+    if not voted:
+        recorded_turn(results)
