@@ -13,6 +13,7 @@ from pepper_interface_tests.sensors.values.health import HealthValues, JointRow
 from pepper_interface_tests.sensors.values.imu import ImuValues
 from pepper_interface_tests.sensors.values.joints import JointsValues
 from pepper_interface_tests.sensors.values.laser import LaserValues
+from pepper_interface_tests.sensors.values.motion import MotionValues, StepValues
 from pepper_interface_tests.sensors.values.range import RangeValues
 
 REF = drift.Ref('20261120-101500', '2026-11-20')
@@ -188,3 +189,24 @@ def test_docs_list_every_rule_with_its_margin_and_reason():
     for key, rule in drift.RULES.items():
         row = [line for line in text.splitlines() if line.startswith('| `%s` |' % key)]
         assert row and rule.margin_text() in row[0] and rule.reason in row[0], key
+
+
+def moved(odometry, laser, head=0.5, settled=True):
+    """A --move run's steps: the head +0.5 rad, the base +0.5 rad, what the witnesses measured."""
+    return MotionValues(head='moved', base='moved', steps=[
+        StepValues('head', 0.5, 1.0, 2.0, True, {'HeadYaw': head, 'frontCamera': 40.0}),
+        StepValues('base', 0.5, 2.0, 4.0, settled, {'odometry': odometry, 'gyro_z': 0.5, 'laser': laser,
+                                                    'wheels': 3.8})])
+
+
+def test_a_motion_followed_worse_than_on_the_baseline_is_a_drift_of_that_witness():
+    """follow_error: the mean |measured - commanded| per witness over the settled steps; only
+    a rise beyond 0.05 rad counts (the laser's scan matching wobbles by about 0.01 rad)."""
+    assert found(moved(0.5, 0.474), moved(0.5, 0.462), 'motion') == []      # within its spread
+    d = found(moved(0.5, 0.474), moved(0.41, 0.474, head=0.42), 'motion')
+    assert sorted(x.measure for x in d) == ['follow_error:HeadYaw', 'follow_error:odometry']
+    odo = [x for x in d if x.measure == 'follow_error:odometry'][0]
+    assert 'odometry follow error' in odo.text and '0.0900 rad' in odo.text and 'was 0' in odo.text
+    assert found(moved(0.41, 0.474), moved(0.5, 0.474), 'motion') == []     # better is no wear
+    # a step that did not settle (stopped, timed out) says nothing about how the base follows
+    assert found(moved(0.5, 0.474), moved(0.2, 0.2, settled=False), 'motion') == []

@@ -26,6 +26,7 @@ from ..sensors.values.health import HealthValues
 from ..sensors.values.imu import ImuValues
 from ..sensors.values.joints import JointsValues
 from ..sensors.values.laser import LaserValues
+from ..sensors.values.motion import MotionValues
 from ..sensors.values.range import RangeValues
 
 MIN_RATE_MESSAGES = 10        # a rate from fewer messages (robotHealth's 1 Hz arrays) is too coarse
@@ -137,6 +138,15 @@ RULES: Dict[str, Rule] = {
         'figure)', floor=0.001, way=1,
         many='many joints at once: check that the robot stood still, then the supply of the '
              'encoders and the boards that read them'),
+    'follow_error': Rule(
+        '%s follow error (mean |measured - commanded| per step)', 'rad', 0.05, False, 'larger',
+        'smaller',
+        'check that part (friction in the head, a wheel slipping or worn) or that witness',
+        'a --move run commands the same small, slow steps each time (0.5 rad); a healthy head, '
+        'base and witness follow them within a few hundredths of a radian, with a spread from '
+        'run to run of about 0.01 rad (the laser\'s scan matching the widest: 0.474 and 0.467 for '
+        '0.5 rad through the real naoqi_driver); 0.05 rad (3 deg) more is a part that follows '
+        'worse or a witness that measures worse', way=1),
     'temperature': Rule(
         '%s temperature', 'degC', 8.0, False, 'hotter', 'cooler',
         'check that joint (friction, a stalled motor) %s (its temperature, the robot\'s work '
@@ -145,6 +155,9 @@ RULES: Dict[str, Rule] = {
         'conditions is friction or a motor working against something', way=1,
         many='many joints at once: the room is warmer or the robot worked before the run'),
 }
+
+# the witnesses whose follow error drifts, per motion part (motion/rules.py names them)
+FOLLOWED: Dict[str, Tuple[str, ...]] = {'head': ('HeadYaw',), 'base': ('odometry', 'gyro_z', 'laser')}
 
 
 def _unit_of(unit: str) -> str:
@@ -207,9 +220,19 @@ def measures(r: SensorResult) -> Dict[str, float]:
     elif isinstance(v, JointsValues):
         for joint, noise in (v.position_noise_rad or {}).items():
             out['joint_noise:' + joint] = noise
-    # the hook for --move runs (the motion check, not here yet): its values dataclass gets a
-    # branch here (how closely each joint and the base followed its command, e.g.
-    # 'tracking_error:<joint>') and its kinds a row each in RULES and docs/drift.md
+    elif isinstance(v, MotionValues):
+        # --move runs: how closely the head and the base followed each command, per witness
+        # (the mean over the settled steps of |measured change - commanded change|)
+        errors: Dict[str, List[float]] = {}
+        for step in v.steps:
+            if not step.settled:
+                continue
+            for witness in FOLLOWED.get(step.part, ()):
+                got = step.measured.get(witness)
+                if _finite(got):
+                    errors.setdefault(witness, []).append(abs(float(got) - step.commanded))  # type: ignore[arg-type]
+        for witness, errs in errors.items():
+            out['follow_error:' + witness] = statistics.mean(errs)
     elif isinstance(v, HealthValues):
         for joint, temp in (v.temperatures or {row.joint: row.temperature_c for row in v.hottest
                                                  if row.temperature_c is not None}).items():
