@@ -26,10 +26,10 @@ The times are the recording's (record times); the rules' margins are MotionExpec
 """
 import dataclasses
 import statistics
-from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.expectations import MotionExpect
-from ..sources import messages
+from ..sources.witness import TopicWitness
 from . import estimate
 from .record import WHEELS, Recording
 from .rules import Judge
@@ -60,47 +60,17 @@ MAX_TRAVEL = 0.1
 Span = Tuple[float, float]
 
 
-class RecordedWitness:
+class RecordedWitness(TopicWitness):
     """One witness topic of a recording, fed by the source (a sources.Listener) into `recorder`."""
 
+    buff_size = 1 << 22
+
     def __init__(self, role: str, topic: str, recorder: Recorder) -> None:
-        self.role, self._topic, self.recorder = role, topic, recorder
+        super().__init__(topic, recorder.handlers[role][0]._type)
+        self.role, self.recorder = role, recorder
 
-    @property
-    def topic(self) -> str:
-        return self._topic
-
-    @property
-    def listens(self) -> bool:
-        return True
-
-    @property
-    def queue_size(self) -> int:
-        return 10
-
-    @property
-    def buff_size(self) -> int:
-        return 1 << 22
-
-    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
-        cls = self.recorder.handlers[self.role][0]
-        if type_name != cls._type:
-            return      # another type on the topic: that sensor's own row says so
-        try:
-            msg = messages.message_class(type_name)().deserialize(buff)
-        except Exception:   # a broken message: that sensor's own row says so
-            return
+    def take(self, msg: Any, t_recv: float) -> None:
         self.recorder.handle(self.role, msg, t_recv)
-
-    def use_sim_clock(self, sim_clock: Callable[[], float]) -> None:
-        pass
-
-    def use_record_clock(self) -> None:
-        pass
-
-    def observe_connections(self, n: int, now: float) -> None:
-        pass
 
 
 class LeanRecorder(Recorder):

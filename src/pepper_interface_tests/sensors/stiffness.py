@@ -26,9 +26,9 @@ This node's own statuses on /diagnostics never reach it (sources/live.py drops t
 nodes' statuses are not the driver's joints, so they are left out by name.
 """
 import threading
-from typing import TYPE_CHECKING, Any, Callable, Dict, List, Optional, Tuple
+from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
-from ..sources import messages
+from ..sources.witness import TopicWitness
 from .families import traits
 
 if TYPE_CHECKING:
@@ -41,50 +41,17 @@ DIAGNOSTICS_TYPE = 'diagnostic_msgs/DiagnosticArray'
 HEALTH_SENSOR = 'robotHealth'               # the catalog's name of the driver's /diagnostics
 
 
-class StiffnessWitness:
+class StiffnessWitness(TopicWitness):
     """The latest stiffness of each joint the driver reported on `topic` (thread-safe)."""
 
     def __init__(self, topic: str) -> None:
-        self._topic = topic
+        super().__init__(topic, DIAGNOSTICS_TYPE)
         self._lock = threading.Lock()
         self._stiffness: Dict[str, float] = {}
         self.arrays = 0                 # arrays that carried at least one joint's stiffness
 
-    # --- what a source asks (sources.Listener) ---------------------------------------------
-    @property
-    def topic(self) -> str:
-        return self._topic
-
-    @property
-    def listens(self) -> bool:
-        return True
-
-    @property
-    def queue_size(self) -> int:
-        return 10
-
-    @property
-    def buff_size(self) -> int:
-        return 1 << 16
-
-    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
-        if type_name != DIAGNOSTICS_TYPE:
-            return
-        try:
-            msg = messages.message_class(type_name)().deserialize(buff)
-        except Exception:   # a broken array says nothing about the joints (robotHealth judges it)
-            return
+    def take(self, msg: Any, t_recv: float) -> None:
         self.add(msg)
-
-    def use_sim_clock(self, sim_clock: Callable[[], float]) -> None:
-        pass
-
-    def use_record_clock(self) -> None:
-        pass
-
-    def observe_connections(self, n: int, now: float) -> None:
-        pass
 
     # --- what a check asks (sensors.base.RestWitness) -----------------------------------------
     def add(self, msg: Any) -> None:
