@@ -1,6 +1,9 @@
 """Unit: the cross-checks between sensors that need no motion (sensors/cross.py): the front
 sonar against the laser's front sector, and each sensor's header clock against the others'."""
 import math
+import re
+
+import pytest
 
 from pepper_interface_tests.results import SensorResult
 from pepper_interface_tests.sensors import cross
@@ -92,8 +95,14 @@ def test_the_emulators_glass_pane_and_an_offset_clock_are_warned(master, tmp_pat
         kill_group(emu)
     rows = {s['name']: s for s in json.loads((out / 'sensorTestResults.json').read_text())['sensors']}
     assert done.returncode == 0, done.stdout + done.stderr
-    assert any('front sonar reads 0.8' in w for w in rows['frontSonar']['warnings']), rows['frontSonar']
-    assert any('header stamps 2.' in w and 'behind' in w for w in rows['imu']['warnings']), rows['imu']
+    # the pane stands 0.8 m ahead; the sonar reads it with its own noise (0.79 and 0.81 m both
+    # seen): the distance named is read, not spelled
+    said = [float(m.group(1)) for w in rows['frontSonar']['warnings']
+            for m in [re.search(r'front sonar reads ([0-9.]+) m', w)] if m]
+    assert said and said[0] == pytest.approx(0.8, abs=0.05), rows['frontSonar']['warnings']
+    offsets = [float(m.group(1)) for w in rows['imu']['warnings']
+               for m in [re.search(r'header stamps ([0-9.]+) s behind', w)] if m]
+    assert offsets and offsets[0] == pytest.approx(2.5, abs=0.3), rows['imu']['warnings']   # delivery adds a little
     assert not any(w for n in ('odometry', 'jointState') for w in rows[n]['warnings'])
     assert os.path.exists(str(out / 'sensorTestOutput.dat'))
 
