@@ -26,7 +26,7 @@ SLOW_FILES = {'outputs/report/test_page.py'}
 SLOW_TESTS = {'test_chain_60s_realtime_no_lost_buffer',     # 60 s soak of the audio chain
               'test_a_large_bag_is_streamed_not_loaded'}    # a 240 MB bag written and streamed
 INTEGRATION_FILES = {
-    'audio_bridge/test_audio_bridge.py', 'sources/test_bag.py',
+    'audio_bridge/test_audio_bridge.py', 'audio_bridge/test_capture_py27.py', 'sources/test_bag.py',
     'emulator/test_bags.py', 'outputs/test_diagnostics_topic.py',
     'sources/test_ros2_bags.py',
     'outputs/test_files_hostile.py', 'sensors/test_driver_semantics.py', 'emulator/test_emulator_node.py',

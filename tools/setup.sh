@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent set-up: Debian packages, the venv, the catkin workspace.
-# Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium)
+# Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium,
+#                                    and builds CPython 2.7.12 for the capture side's test)
 # Each step is skipped when already done, so a second run takes a few seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -55,4 +56,10 @@ if [ ! -f "$WS/devel/setup.bash" ] || [ "$(cat "$STAMPS/build" 2>/dev/null)" != 
       -DCATKIN_ENABLE_TESTING=ON >"$STAMPS/build.log" 2>&1 ) || { cat "$STAMPS/build.log"; exit 1; }
   echo "$build_hash" > "$STAMPS/build"
 fi
+
+# 4. --test: CPython 2.7.12 with websocket-client 0.59, the Python of NAOqi on the robot, for the
+#    test that runs the audio bridge's capture side on it (test/audio_bridge/test_capture_py27.py).
+#    Built once (a few minutes) into a cache outside the work tree, shared by every checkout of
+#    this machine; a second run only checks its stamps (tools/platform/python27.sh).
+if [ "${1:-}" = "--test" ]; then tools/platform/python27.sh >/dev/null; fi
 say "ready (source tools/env.sh to use the package in a shell)"

@@ -19,7 +19,18 @@ import psutil
 import pytest
 import websocket  # websocket-client: the raw (hostile) client of these tests
 
-from audio_chain import BUFFER, RATE, Procs, finish_dump, free_port, get_param, message_count, wait_messages, wait_param
+from audio_chain import (
+    BUFFER,
+    RATE,
+    Procs,
+    counter_starts,
+    finish_dump,
+    free_port,
+    get_param,
+    message_count,
+    wait_messages,
+    wait_param,
+)
 from check_runs import ROBOT
 from pepper_interface_tests.audio_bridge import frame as fr
 from pepper_interface_tests.emulator.audio_source import (
@@ -27,7 +38,6 @@ from pepper_interface_tests.emulator.audio_source import (
     CHANNEL_TONES_HZ,
     AudioSource,
     expected_counter,
-    find_counter_start,
 )
 from rosmaster import ROOT, kill_group, script, wait_until
 
@@ -60,18 +70,6 @@ def chain(procs, master, tmp_path, pattern='counter', endpoint_args=(), capture_
     capture = procs.capture(naoqi_port, ws_port, *capture_args) if with_capture else None
     return naoqi_port, ws_port, out, dict(endpoint=endpoint, publisher=publisher,
                                           dumper=dumper, capture=capture)
-
-
-def counter_starts(blocks):
-    """Start index of every received block; fails unless each is an exact counter run in the
-    right fields (rearLeft, rearRight, frontLeft, frontRight = channels 0..3)."""
-    starts = []
-    for i, b in enumerate(blocks):
-        assert b.shape == (BUFFER, 4), 'message %d has shape %s' % (i, b.shape)
-        start = find_counter_start(b)  # raises unless every field is its channel's exact run
-        assert np.array_equal(b, expected_counter(start, BUFFER))
-        starts.append(start)
-    return np.array(starts)
 
 
 def dominant_hz(x, rate=RATE):

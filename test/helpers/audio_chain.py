@@ -14,6 +14,7 @@ import xmlrpc.client
 
 import numpy as np
 
+from pepper_interface_tests.emulator.audio_source import expected_counter, find_counter_start
 from rosmaster import NODES, free_port, kill_group, script, spawn, wait_until
 
 BUFFER = 4096
@@ -137,6 +138,19 @@ def finish_dump(dumper, out):
     return blocks, data['recv_time']
 
 
+def counter_starts(blocks, samples=BUFFER):
+    """Start index of every received block; fails unless each is an exact counter run of
+    ``samples`` samples in the right fields (rearLeft, rearRight, frontLeft, frontRight =
+    channels 0..3; emulator/audio_source.py, pattern ``counter``)."""
+    starts = []
+    for i, b in enumerate(blocks):
+        assert b.shape == (samples, 4), 'message %d has shape %s' % (i, b.shape)
+        start = find_counter_start(b)  # raises unless every field is its channel's exact run
+        assert np.array_equal(b, expected_counter(start, samples))
+        starts.append(start)
+    return np.array(starts)
+
+
 def get_param(master, name):
     code, msg, value = xmlrpc.client.ServerProxy(master.uri).getParam('/audio_test', name)
     return value if code == 1 else None
@@ -153,5 +167,5 @@ def wait_param(master, name, predicate, timeout):
                       % (name, last[0]), every=0.2)
 
 
-__all__ = ['Procs', 'free_port', 'wait_messages', 'message_count', 'finish_dump', 'get_param',
-           'wait_param', 'BUFFER', 'RATE']
+__all__ = ['Procs', 'free_port', 'wait_messages', 'message_count', 'finish_dump', 'counter_starts',
+           'get_param', 'wait_param', 'BUFFER', 'RATE']

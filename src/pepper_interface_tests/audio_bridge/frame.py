@@ -84,7 +84,9 @@ def encode_frame(payload, channels, samples_per_channel, sample_rate, sequence,
                  ts_sec=0, ts_usec=0, planar=True, stream_id=0):
     # type: (Union[bytes, bytearray, memoryview], int, int, int, int, int, int, bool, int) -> bytes
     """Return the frame (bytes) for one buffer. ``payload`` is the raw int16 LE sample bytes."""
-    payload = bytes(payload)
+    # memoryview.tobytes(), not bytes(): on Python 2.7 bytes is str, and str(memoryview) is its
+    # repr ('<memory at 0x...>'), not its contents
+    payload = payload.tobytes() if isinstance(payload, memoryview) else bytes(payload)
     _check_geometry(channels, samples_per_channel, sample_rate)
     expected = channels * samples_per_channel * 2
     if len(payload) != expected:
