@@ -211,6 +211,14 @@ class WebsocketSender(object):
                 self._ws.close(timeout=1)
             except Exception:
                 pass
+            # and the socket: once the server's close frame has been answered (by
+            # recv_data_frame, which marks the client not connected), websocket-client's close()
+            # does nothing, so the TCP connection stayed open and the publisher waited its
+            # close timeout (10 s) for it to end
+            try:
+                self._ws.shutdown()
+            except Exception:
+                pass
             self._ws = None
 
 

@@ -185,6 +185,7 @@ class Bridge:
         self._clock = clock
         # (peer, connection id, time of its last published frame)
         self._owner: Optional[Tuple[str, Optional[int], float]] = None
+        self._open: Dict[int, ServerConnection] = {}   # the connections being handled
 
     def warn_limited(self, key: str, text: str) -> None:
         n = self._limiter.hit(key)
@@ -237,6 +238,7 @@ class Bridge:
         peer = _peer(connection)
         self.stats.add('connections')
         self.log.info('capture connected from %s' % peer)
+        self._open[id(connection)] = connection
         try:
             for message in connection:
                 try:
@@ -250,7 +252,24 @@ class Bridge:
                 self.stats.bad('oversized')
                 self.warn_limited('oversized', 'closed connection from %s: message larger than'
                                   ' %d bytes' % (peer, MAX_FRAME_BYTES))
+        finally:
+            self._open.pop(id(connection), None)
         self.log.info('capture connection from %s closed' % peer)
+
+    def close_all(self, timeout: float = 2.0) -> None:
+        """Close every capture connection (1001, going away) and wait up to ``timeout`` s for
+        their handlers to finish the frames they read. At shutdown this comes first: a
+        connection left open while rospy shuts down swallowed the frames sent meanwhile, about
+        2.5 s of audio that the capture never resent; closed, the capture keeps them queued for
+        the next publisher, and the ~stats written next count every frame published."""
+        for connection in list(self._open.values()):
+            try:
+                connection.close(1001, 'publisher shutting down')
+            except Exception:  # already closing: nothing left to do
+                pass
+        deadline = time.monotonic() + timeout
+        while self._open and time.monotonic() < deadline:
+            time.sleep(0.01)
 
     def on_message(self, message: Union[str, bytes], peer: str, conn: Optional[int] = None) -> Optional[str]:
         """Validate, account and publish one message; returns the drop cause or None."""
@@ -461,6 +480,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     def shutdown() -> None:
         stop.set()
         server.shutdown()
+        bridge.close_all()
         _write_stats(bridge, rospy)
     rospy.on_shutdown(shutdown)
     rospy.spin()
