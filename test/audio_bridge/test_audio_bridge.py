@@ -47,15 +47,6 @@ CAPTURE_SIDE = [os.path.join(ROOT, 'src/pepper_interface_tests/audio_bridge/capt
                 os.path.join(ROOT, 'scripts/naoqiAudio')]
 
 
-@pytest.fixture
-def procs(tmp_path, master):
-    """The test's processes; stopped before its roscore (``master``) goes."""
-    p = Procs(tmp_path)
-    yield p
-    p.stop_all()
-    print(p.logs())  # shown by pytest only when the test failed
-
-
 def chain(procs, master, tmp_path, pattern='counter', endpoint_args=(), capture_args=(),
           publisher_args=(), with_capture=True, publisher_env=None):
     """Start the whole chain; return (naoqi_port, ws_port, dump_path, processes dict). Both

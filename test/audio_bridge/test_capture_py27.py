@@ -22,7 +22,7 @@ import time
 import numpy as np
 import pytest
 
-from audio_chain import RATE, Procs, counter_starts, finish_dump, get_param, message_count, wait_messages, wait_param
+from audio_chain import RATE, counter_starts, finish_dump, get_param, message_count, wait_messages, wait_param
 from pepper_interface_tests.audio_bridge import frame as fr
 from pepper_interface_tests.emulator.audio_source import expected_counter
 from rosmaster import NODES, ROOT, wait_until
@@ -47,14 +47,6 @@ def python27():
                          capture_output=True)
     assert res.returncode == 0, res.stderr.decode()
     return res.stdout.decode().strip()
-
-
-@pytest.fixture
-def procs(tmp_path, master):
-    p = Procs(tmp_path)
-    yield p
-    p.stop_all()
-    print(p.logs())  # shown by pytest only when the test failed
 
 
 def robot_env(**extra):

@@ -44,11 +44,20 @@ def say(text):
     sys.stdout.flush()
 
 
+class Naoqi(object):
+    """The robot's side: the services registered with it and its ALAudioDevice."""
+
+    def __init__(self, data, samples):
+        self.services = {}      # name -> service object
+        self.ids = {}           # service id -> name
+        self.audio = AudioDevice(self, data, samples)
+
+
 class AudioDevice(object):
     """ALAudioDevice: setClientPreferences, subscribe, unsubscribe; feeds one module."""
 
-    def __init__(self, session, data, samples):
-        self.session, self.data, self.samples = session, data, samples
+    def __init__(self, naoqi, data, samples):
+        self.naoqi, self.data, self.samples = naoqi, data, samples
         self.fed = 0
         self._prefs = {}
         self._stop = threading.Event()
@@ -64,7 +73,7 @@ class AudioDevice(object):
     def subscribe(self, name):
         if name not in self._prefs:
             raise RuntimeError('%s: setClientPreferences first' % name)
-        module = self.session.services_by_name[name]
+        module = self.naoqi.services[name]
         say('subscribed %s: %d ch, %d Hz, interleaved, %d samples per buffer'
             % (name, CHANNELS, RATE, self.samples))
         self._stop.clear()
@@ -97,10 +106,7 @@ class AudioDevice(object):
 class Session(object):
     """qi.Session: connect, listen, registerService, service, unregisterService, close."""
 
-    device = None
-
-    def __init__(self):
-        self.services_by_name = {}
+    naoqi = None    # the one Naoqi every session reaches (standin_qi)
 
     def connect(self, url):
         say('session connected to %s' % url)
@@ -112,22 +118,23 @@ class Session(object):
         return True
 
     def registerService(self, name, obj):
-        if name in self.services_by_name:
+        if name in self.naoqi.services:
             raise RuntimeError('Service "%s" is already registered' % name)
-        self.services_by_name[name] = obj
-        return len(self.services_by_name)
+        self.naoqi.services[name] = obj
+        sid = max(self.naoqi.ids or [0]) + 1
+        self.naoqi.ids[sid] = name
+        return sid
 
     def unregisterService(self, sid):
-        pass
+        self.naoqi.services.pop(self.naoqi.ids.pop(sid), None)
 
     def service(self, name):
         if name != 'ALAudioDevice':
             raise RuntimeError('no service %s in this stand-in' % name)
-        Session.device.session = self
-        return Session.device
+        return self.naoqi.audio
 
     def services(self):
-        return [{'name': n} for n in self.services_by_name]
+        return [{'name': n} for n in self.naoqi.services]
 
     def close(self):
         pass
@@ -138,7 +145,7 @@ def standin_qi(data, samples):
     qi = types.ModuleType('qi')
     qi.Session = Session
     qi.Application = lambda args, raw=False: None
-    Session.device = AudioDevice(None, data, samples)
+    Session.naoqi = Naoqi(data, samples)
     return qi
 
 
