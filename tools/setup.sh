@@ -61,5 +61,8 @@ fi
 #    test that runs the audio bridge's capture side on it (test/audio_bridge/test_capture_py27.py).
 #    Built once (a few minutes) into a cache outside the work tree, shared by every checkout of
 #    this machine; a second run only checks its stamps (tools/platform/python27.sh).
-if [ "${1:-}" = "--test" ]; then tools/platform/python27.sh >/dev/null; fi
+#    Without it (no CPython source, a failed build: said above) only that test fails, naming the fix.
+if [ "${1:-}" = "--test" ]; then
+  tools/platform/python27.sh >/dev/null || say "no Python 2.7 for test_capture_py27.py (see above)"
+fi
 say "ready (source tools/env.sh to use the package in a shell)"

@@ -261,12 +261,12 @@ class Bridge:
         their handlers to finish the frames they read. At shutdown this comes first: a
         connection left open while rospy shuts down swallowed the frames sent meanwhile, about
         2.5 s of audio that the capture never resent; closed, the capture keeps them queued for
-        the next publisher, and the ~stats written next count every frame published."""
+        the next publisher, and the ~stats written next count every frame published. Each close
+        waits for its peer's answer, so they run in threads: a silent peer (half-open after a
+        WiFi drop) holds up the shutdown ``timeout`` s, not the library's close timeout."""
         for connection in list(self._open.values()):
-            try:
-                connection.close(1001, 'publisher shutting down')
-            except Exception:  # already closing: nothing left to do
-                pass
+            threading.Thread(target=_close_going_away, args=(connection,), name='close',
+                             daemon=True).start()
         deadline = time.monotonic() + timeout
         while self._open and time.monotonic() < deadline:
             time.sleep(0.01)
@@ -343,6 +343,13 @@ class Bridge:
         if missing:
             self.warn_limited('gap', 'lost %d buffer(s) before sequence %d; %d lost in total'
                               % (missing, frame.sequence, self.tracker.lost))
+
+
+def _close_going_away(connection: 'ServerConnection') -> None:
+    try:
+        connection.close(1001, 'publisher shutting down')
+    except Exception:  # already closing: nothing left to do
+        pass
 
 
 def _peer(connection: 'ServerConnection') -> str:
