@@ -32,7 +32,8 @@ if [ "${1:-}" = "--installed" ]; then
   if [ -f "$prefix/.built" ] && [ "$(cat "$prefix/.wheels" 2>/dev/null)" = "$wheels" ]; then
     echo "$python"; exit 0
   fi
-  say "no CPython $version in $prefix yet; fix: tools/setup.sh --test (or $0) builds it"
+  say "no CPython $version in $prefix yet; fix: tools/setup.sh --test (or $0) builds it from" \
+    "Python-$version.tar.xz in \$PEPPER_PYTHON_SOURCES (default: ../shared/python)"
   exit 3
 fi
 
