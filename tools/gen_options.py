@@ -46,20 +46,21 @@ def _cell(text: str) -> str:
 
 
 def rows() -> List[Tuple[str, str, str, str]]:
-    """(group, flags, param, help) per option name, the flags of one name in one row, in the
-    order of OPTIONS; the help comes from the parser sensorTest builds."""
+    """(group, flags, param, help) per option name, in the order of OPTIONS: the flags of one name
+    in one row (`--show` / `--no-show`) unless only one of them is a ROS param (`--baseline`,
+    `--no-baseline`); the help comes from the parser sensorTest builds."""
     from pepper_interface_tests.cli import build_parser
     from pepper_interface_tests.plan.options import OPTIONS, SWITCHES
     helps: Dict[str, str] = {}
     for action in build_parser()._actions:     # argparse keeps its arguments only there
         for flag in action.option_strings:
             helps[flag] = action.help or ''
-    merged: Dict[Tuple[str, str], List[str]] = {}
-    order: List[Tuple[str, str]] = []
-    params: Dict[Tuple[str, str], str] = {}
-    texts: Dict[Tuple[str, str], List[str]] = {}
+    merged: Dict[Tuple[str, str, bool], List[str]] = {}
+    order: List[Tuple[str, str, bool]] = []
+    params: Dict[Tuple[str, str, bool], str] = {}
+    texts: Dict[Tuple[str, str, bool], List[str]] = {}
     for o in OPTIONS:
-        key = (o.group, o.name)
+        key = (o.group, o.name, o.param)
         if key not in merged:
             merged[key], texts[key] = [], []
             order.append(key)
@@ -69,8 +70,7 @@ def rows() -> List[Tuple[str, str, str, str]]:
                           + helps[o.flag])
         if o.param:
             params[key] = '`~%s`' % o.name
-    return [(g, ' / '.join(merged[(g, n)]), params.get((g, n), '—'), '; '.join(texts[(g, n)]))
-            for g, n in order]
+    return [(key[0], ' / '.join(merged[key]), params.get(key, '—'), '; '.join(texts[key])) for key in order]
 
 
 def page() -> str:
