@@ -105,7 +105,8 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
-    ('audio_bridge/publisher.py', "opts['topic']"): lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
+    ('audio_bridge/publisher.py', "opts['topic']"):
+        lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
     ('audio_bridge/publisher.py', "'~' + name"): _table_params('audio_bridge.publisher', 'DEFAULTS', skip=('token',)),
 }
 
@@ -307,10 +308,12 @@ def test_a_stale_page_is_caught():
         text = f.read()
     assert stale('sensorTest', page_entries(text)) == []
     broken = (text.replace('- `/sensorTest/prompt` (', '- `/sensorTest/asked` (')
-                  .replace('- `/naoqi_driver/laser` (`sensor_msgs/LaserScan`)', '- `/naoqi_driver/laser` (`sensor_msgs/Range`)')
+                  .replace('- `/naoqi_driver/laser` (`sensor_msgs/LaserScan`)',
+                           '- `/naoqi_driver/laser` (`sensor_msgs/Range`)')
                   .replace('- `~duration` (', '- `~length` ('))
     assert stale('sensorTest', page_entries(broken)) == [
-        'sensorTest: subscribed /naoqi_driver/laser is listed as sensor_msgs/Range, the code uses sensor_msgs/LaserScan',
+        'sensorTest: subscribed /naoqi_driver/laser is listed as sensor_msgs/Range, '
+        'the code uses sensor_msgs/LaserScan',
         'sensorTest: published /sensorTest/prompt is not listed',
         'sensorTest: published /sensorTest/asked is listed but the code no longer has it',
         'sensorTest: param ~duration is not listed',
