@@ -1,5 +1,5 @@
 """Unit: docs/node-api.md, the nodes' ROS interface in the ROS wiki's Node API form, against the
-code. The source is read with `ast`: every rospy.Publisher and rospy.Subscriber call (and the
+code. The source is read with `ast`: every rospy.Publisher, rospy.Subscriber and rospy.Service call (and the
 diagnostic_updater that publishes /diagnostics), every rospy.get_param / has_param /
 search_param / set_param, and every long option a program's parser declares. Each must be listed
 under its node, with the message type the code names where it names one, and nothing listed may
@@ -22,7 +22,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 SRC = os.path.join(ROOT, 'src', 'pepper_interface_tests')
 PAGE = os.path.join(ROOT, 'docs', 'node-api.md')
 
-TOPIC_CALLS = {'Publisher': 'published', 'Subscriber': 'subscribed'}
+TOPIC_CALLS = {'Publisher': 'published', 'Subscriber': 'subscribed', 'Service': 'services'}
 PARAM_CALLS = ('get_param', 'has_param', 'search_param', 'set_param')
 
 # the modules that make ROS calls, by the node that runs them
@@ -146,7 +146,7 @@ def _msg_imports(tree: ast.Module) -> Dict[str, str]:
 @functools.lru_cache(maxsize=None)
 def ros_calls(rel: str) -> List[Tuple[str, str, Set[Tuple[str, Optional[str]]]]]:
     """(what, 'file:line', {(name, type)}) for each ROS call of a module: what is 'published',
-    'subscribed' or 'param'."""
+    'subscribed', 'services' or 'param'."""
     tree = _parse(rel)
     consts, msgs = _constants(rel), _msg_imports(tree)
     out = []
@@ -214,8 +214,8 @@ def read_page() -> Dict[str, Dict[str, Dict[str, Optional[str]]]]:
 
 
 def code_entries(node: str) -> Dict[str, Dict[str, Set[Optional[str]]]]:
-    """{'subscribed'|'published'|'param': {name: {types the code names}}} of one node."""
-    out: Dict[str, Dict[str, Set[Optional[str]]]] = {'subscribed': {}, 'published': {}, 'param': {}}
+    """{'subscribed'|'published'|'services'|'param': {name: {types the code names}}} of one node."""
+    out: Dict[str, Dict[str, Set[Optional[str]]]] = {'subscribed': {}, 'published': {}, 'services': {}, 'param': {}}
     for rel in OWNERS[node]:
         for what, _, found in ros_calls(rel):
             for name, msg in found:
