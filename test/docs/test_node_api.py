@@ -112,9 +112,19 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
 
 
 @functools.lru_cache(maxsize=None)
-def _parse(rel: str) -> ast.Module:
+def _source(rel: str) -> str:
     with open(os.path.join(SRC, rel), encoding='utf-8') as f:
-        return ast.parse(f.read())
+        return f.read()
+
+
+@functools.lru_cache(maxsize=None)
+def _parse(rel: str) -> ast.Module:
+    return ast.parse(_source(rel))
+
+
+def _text(rel: str, node: ast.AST) -> str:
+    """An expression as written in the module (ast.unparse is Python 3.9+)."""
+    return ast.get_source_segment(_source(rel), node) or ''
 
 
 def _constants(rel: str) -> Dict[str, object]:
@@ -176,7 +186,7 @@ def ros_calls(rel: str) -> List[Tuple[str, str, Set[Tuple[str, Optional[str]]]]]
             msg = msgs.get(type_arg.id) if isinstance(type_arg, ast.Name) else None
             out.append((what, where, {(name, msg)}))
         else:
-            key2 = (rel, ast.unparse(arg))
+            key2 = (rel, _text(rel, arg))
             assert key2 in DYNAMIC, ('%s: rospy.%s(%s, ...) computes its %s: add it to DYNAMIC in %s and list '
                                      'what it can be in docs/node-api.md' % (where, call, key2[1],
                                                                               'param' if what == 'param' else 'topic',
@@ -285,7 +295,7 @@ def test_every_module_that_talks_to_ros_has_an_owner():
     assert unowned == [], 'say in OWNERS which node runs these, and list their topics in docs/node-api.md'
     for rel in owned:
         assert ros_calls(rel), '%s makes no ROS call any more: take it out of OWNERS' % rel
-    assert not set(DYNAMIC) - {(rel, ast.unparse(n.args[0])) for rel in owned for n in ast.walk(_parse(rel))
+    assert not set(DYNAMIC) - {(rel, _text(rel, n.args[0])) for rel in owned for n in ast.walk(_parse(rel))
                                  if isinstance(n, ast.Call) and n.args}, 'a DYNAMIC call is gone'
 
 
