@@ -5,7 +5,8 @@
 # make test-fast  only the unit tier (pure tests, no ROS master, under 8 s of CPU): pytest -m unit
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
-.PHONY: demo test test-fast lint setup bench bench-recording clean
+# make docs   regenerate docs/options.md from sensorTest's options (a test fails when it is stale)
+.PHONY: demo test test-fast lint setup docs bench bench-recording clean
 
 demo:
 	@tools/setup.sh
@@ -25,6 +26,10 @@ lint:
 
 setup:
 	@tools/setup.sh
+
+docs:
+	@tools/setup.sh
+	@bash -c 'source tools/env.sh && python tools/gen_options.py'
 
 bench:
 	@tools/setup.sh

@@ -403,7 +403,7 @@ def test_wrapper_exits_with_sensor_tests_code(master, tmp_path):
 def test_fault_example_fails_fast_with_the_reason(master, tmp_path):
     """A microphone fault with the default audio bridge: the emulator refuses it, and the launch
     ends at once with the emulator's reason (before: the launch sat there); the wrapper exits 2.
-    With audio:=direct, as the README writes the example, the same faults run."""
+    With audio:=direct, as docs/emulator.md writes the example, the same faults run."""
     faults = 'laser:nan;microphone:silent_channel=rearRight'
     code, out, took = wrapper(master, tmp_path, EMULATOR, 'faults:=' + faults, 'duration:=2',
                               'sensors:=laser,microphone', 'output_dir:=%s' % (tmp_path / 'o'),

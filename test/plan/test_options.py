@@ -1,7 +1,7 @@
 """sensorTest's options are declared once (plan/options.py OPTIONS): the command-line flags, the
-private ROS params, the Options fields and the README's options table must all name the same
-options. A field without a flag, a flag that fills no field, a param nobody reads or an option the
-README does not list fails here. Pure: no ROS master.
+private ROS params, the Options fields and the option reference docs/options.md must all name the
+same options. A field without a flag, a flag that fills no field, a param nobody reads or an option
+the reference does not list fails here (the page is generated: tools/gen_options.py). Pure: no ROS master.
 """
 import dataclasses
 import os
@@ -97,10 +97,10 @@ def test_options_from_settings_are_the_declared_ones():
     assert settings.Options is Options and settings.TestPlan.options == Options()
 
 
-def test_the_readme_lists_every_flag_with_its_param():
-    """README "Options": one row per option, its flags in the first column, `~name` in the second
+def test_the_option_reference_lists_every_flag_with_its_param():
+    """docs/options.md: one row per option, its flags in the first column, `~name` in the second
     exactly when it is a ROS param too."""
-    with open(os.path.join(settings.package_dir(), 'README.md'), encoding='utf-8') as f:
+    with open(os.path.join(settings.package_dir(), 'docs', 'options.md'), encoding='utf-8') as f:
         rows = [line for line in f if line.startswith('| `--')]
     readme = {}
     for row in rows:

@@ -107,12 +107,12 @@ def test_no_family_is_told_apart_by_a_string_test_outside_the_registry():
     assert not offenders, 'ask the family registry\'s traits instead: ' + ', '.join(offenders)
 
 
-def test_the_readme_names_each_familys_check_module():
-    """README "What is checked" points to each family's check, where its rules are stated."""
+def test_the_checks_page_names_each_familys_check_module():
+    """docs/checks.md points to each family's check, where its rules are stated."""
     import re
 
     from pepper_interface_tests.plan import settings
-    with open(os.path.join(settings.package_dir(), 'README.md'), encoding='utf-8') as f:
+    with open(os.path.join(settings.package_dir(), 'docs', 'checks.md'), encoding='utf-8') as f:
         text = f.read()
     rows = dict(re.findall(r'^\| (\w+) \| [^|]+ \| `(sensors/\w+\.py)`', text, re.M))
     assert rows == {name: 'sensors/%s.py' % fam.check.split(':')[0] for name, fam in families.FAMILIES.items()}

@@ -4,9 +4,10 @@ Each `Opt` row is one command-line flag. From the table come the argparse argume
 metavar, group: `add_arguments`), the private ROS params `~name` (`PARAMS`) and which of them are
 true/false (`BOOL_PARAMS`), and the reading of both into `Options` (`from_args`, `from_params`).
 The `Options` dataclass below names the same fields once more, typed for mypy; test/plan/test_options.py
-fails when the table, the dataclass and the README's options table disagree.
+fails when the table, the dataclass and the option reference docs/options.md disagree.
 
-To add an option: one row in OPTIONS, one field in Options, one row in README's "Options".
+To add an option: one row in OPTIONS, one field in Options, then `make docs` (docs/options.md is
+generated from this table: tools/gen_options.py) and its param in docs/node-api.md.
 """
 import argparse
 from dataclasses import dataclass, fields, replace

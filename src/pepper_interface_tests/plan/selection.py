@@ -1,6 +1,6 @@
 """Which sensors a run tests, and what the run header says about it.
 
-The rules (README "Options", `--cameras`, `--require-heard`, `--mic-mode`):
+The rules (docs/configuration.md "Choosing what runs": `--cameras`, `--require-heard`, `--mic-mode`):
 - The input file (or `--sensors`) says which sensors run, in which order.
 - `--cameras pepper|realsense|both` (or `~cameras`) selects the cameras it names: without
   `--sensors`, the run tests exactly the named group's cameras (pepper: front, bottom, depth,

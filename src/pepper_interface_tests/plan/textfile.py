@@ -31,7 +31,7 @@ def read_text(path: str, what: str, fix_missing: Optional[str] = None) -> str:
     """The whole text of a UTF-8 file (a leading BOM removed); ConfigError on any problem."""
     if not os.path.exists(path):
         raise ConfigError('%s not found' % what, path,
-                          fix=fix_missing or 'give an existing file (see README, "Files") or create it')
+                          fix=fix_missing or 'give an existing file (see docs/configuration.md) or create it')
     try:
         with open(path, 'rb') as f:
             raw = f.read()

@@ -18,7 +18,7 @@ Derived from this table or checked against it by a test (test/sensors/test_famil
 How to add a family (e.g. `bumper`: event messages, published only on a press or a release):
 1. its check module sensors/<family>.py: a `Check` subclass (sensors/base.py) whose docstring
    states each rule with the upstream driver line it follows (the one authoritative statement
-   of the rule: docs/checks.md and the README point to it);
+   of the rule: docs/checks.md points to it);
 2. its values: ONE frozen dataclass in its leaf sensors/values/<family>.py (importing only
    codec.py and sensors/values/__init__.py), every field with a default. A field made with
    codec.optional() is written only when set, codec.nullable() as null when None, codec.series()
@@ -38,8 +38,8 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
    shaped after the driver, and its faults;
 7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
    dataclass as the check handed it over), found by the row's `view` (nothing else lists it);
-8. its rows in docs/checks.md and docs/drivers.md, its row in the README's "What is checked"
-   (a test checks it), and its values' keys in docs/results.md;
+8. its rows in docs/checks.md (the family table: a test checks it) and docs/drivers.md, and
+   its values' keys in docs/results.md;
 9. its tests in test/sensors/test_<family>.py (the test tree mirrors the package).
 Nothing else (the runner, the sources, the outputs) names a family.
 """
