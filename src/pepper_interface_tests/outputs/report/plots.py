@@ -34,7 +34,9 @@ def figure(w: float, h: float, **kw: Any) -> 'Figure':
                                 'xtick.labelsize': FONT_PT - 1, 'ytick.labelsize': FONT_PT - 1,
                                 'legend.fontsize': FONT_PT - 1})
     from matplotlib.figure import Figure
-    return Figure(figsize=(w, h), dpi=DPI, layout='constrained', **kw)
+    # constrained_layout=True: what matplotlib 3.1 (Ubuntu 20.04) and today's both take;
+    # layout='constrained', its newer spelling, arrived in 3.5
+    return Figure(figsize=(w, h), dpi=DPI, constrained_layout=True, **kw)
 
 
 def uri(fig: 'Figure', tight: bool = False) -> str:
