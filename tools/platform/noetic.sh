@@ -14,8 +14,8 @@
 #      those packages are built for 3.11, which 3.8 does not load: rosbag then reads without
 #      LZ4, cv_bridge converts without its boost module (sensorTest reads images without it);
 #   4. the ROS commands written in Python (roslaunch, roscore, rosmaster, rostest, rosbag,
-#      rostopic, catkin_make, ...) as copies in the venv's bin/ running on its python, so the
-#      master and the launcher run on 3.8 too;
+#      rostopic, catkin_make, ...) run by the venv's python through one-line wrappers in its
+#      bin/, so the master and the launcher run on 3.8 too;
 #   5. build/noetic/ws: the catkin workspace built with -DPYTHON_EXECUTABLE= the venv's python
 #      (tools/workspace.sh), so every node of a launch file and sensorTest run on 3.8.
 # Use it with PEPPER_PLATFORM=noetic (tools/env.sh); tools/platform/noetic-tests.sh runs the tier.
@@ -54,7 +54,7 @@ dpkg -L $ros_packages | sort -u | while read -r f; do
     "$DIST"/*) ln -s "$f" "$TIER/ros1.new/${f##*/}" ;;
     /usr/bin/*)
       if [ -f "$f" ] && head -c 64 "$f" | head -1 | grep -qE '^#! ?(/usr/bin/python3|/usr/bin/env python3)'; then
-        { echo "#!$VENV/bin/python"; tail -n +2 "$f"; } > "$VENV/bin/${f##*/}"
+        printf '#!/bin/sh\nexec "%s" "%s" "$@"\n' "$VENV/bin/python" "$f" > "$VENV/bin/${f##*/}"
         chmod +x "$VENV/bin/${f##*/}"
       fi ;;
   esac
@@ -63,6 +63,9 @@ rm -rf "$TIER/ros1"; mv "$TIER/ros1.new" "$TIER/ros1"
 site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 echo "$TIER/ros1" > "$site/debian-ros1.pth"
 
-# 5. The catkin workspace
+# 5. The catkin workspace. Its top-level CMakeLists.txt is catkin's toplevel.cmake, which
+#    catkin_make finds relative to its python module's file: a link in build/noetic/ros1 here.
+mkdir -p "$TIER/ws/src"
+[ -e "$TIER/ws/src/CMakeLists.txt" ] || ln -s /usr/share/catkin/cmake/toplevel.cmake "$TIER/ws/src/CMakeLists.txt"
 tools/workspace.sh "$TIER/ws" "$VENV" "$STAMPS/noetic-build"
 say "ready: PEPPER_PLATFORM=noetic source tools/env.sh"
