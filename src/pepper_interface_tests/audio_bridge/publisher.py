@@ -1,8 +1,9 @@
 """ROS side of the audio bridge: websocket frames -> pepper_interface_tests/AudioCustomMsg.
 
 A rospy node running a websocket server of plain threads, one per connection (wsserver.py:
-websockets' sync server, or on websockets before 11.0 its asyncio server behind the same API). Every binary message is validated with ``decode_frame``; bad ones are
-dropped with at most one warning per cause every 5 s (with the count) and the node carries on.
+websockets' sync server, or on websockets before 11.0 its asyncio server behind the same API).
+Every binary message is validated with ``decode_frame``; bad ones are dropped with at most one
+warning per cause every 5 s (with the count) and the node carries on.
 Good 4-channel frames are published with channel 0..3 in rearLeft, rearRight, frontLeft,
 frontRight, whatever the layout (planar or interleaved) of the frame.
 

@@ -82,7 +82,8 @@ class AsyncioServer:
 
     def __init__(self, handler: Callable[[Any], None], host: str, port: int, max_size: int,
                  process_request: Callable[[Any, Any], Any], logger: logging.Logger) -> None:
-        from websockets.server import WebSocketServerProtocol, serve as asyncio_serve
+        from websockets.server import WebSocketServerProtocol
+        from websockets.server import serve as asyncio_serve
         # 8.1 logs through the module loggers under 'websockets', not a logger= argument
         logging.getLogger('websockets').setLevel(logger.getEffectiveLevel())
         self.loop = loop = asyncio.new_event_loop()
