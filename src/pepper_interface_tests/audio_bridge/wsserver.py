@@ -82,8 +82,9 @@ class AsyncioServer:
 
     def __init__(self, handler: Callable[[Any], None], host: str, port: int, max_size: int,
                  process_request: Callable[[Any, Any], Any], logger: logging.Logger) -> None:
-        from websockets.server import WebSocketServerProtocol
-        from websockets.server import serve as asyncio_serve
+        # websockets < 11.0 only; today's stubs know these names under websockets.legacy
+        from websockets.server import WebSocketServerProtocol  # type: ignore[attr-defined]
+        from websockets.server import serve as asyncio_serve  # type: ignore[attr-defined]
         # 8.1 logs through the module loggers under 'websockets', not a logger= argument
         logging.getLogger('websockets').setLevel(logger.getEffectiveLevel())
         self.loop = loop = asyncio.new_event_loop()
