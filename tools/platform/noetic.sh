@@ -11,8 +11,10 @@
 #      to their top-level entries in /usr/lib/python3/dist-packages, on the venv's path by a
 #      .pth file. Nothing else of Debian's dist-packages is visible (its numpy, matplotlib, ...
 #      are compiled for Debian's 3.11 and newer than focal's), and the compiled modules inside
-#      those packages are built for 3.11, which 3.8 does not load: rosbag then reads without
-#      LZ4, cv_bridge converts without its boost module (sensorTest reads images without it);
+#      those packages are built for 3.11, which 3.8 does not load: roslz4's (rosbag's LZ4) is
+#      built here for 3.8 from Debian's source (tools/platform/debian-source.sh) against
+#      Debian's libroslz4; cv_bridge converts without its boost module (sensorTest reads images
+#      without it); tf2_py is not built;
 #   4. the ROS commands written in Python (roslaunch, roscore, rosmaster, rostest, rosbag,
 #      rostopic, catkin_make, ...) run by the venv's python through one-line wrappers in its
 #      bin/, so the master and the launcher run on 3.8 too;
@@ -29,6 +31,17 @@ REQ=tools/platform/focal-requirements.txt
 DIST=/usr/lib/python3/dist-packages
 say() { printf '[noetic] %s\n' "$*"; }
 mkdir -p "$TIER" "$STAMPS"
+
+# 0. What the compiled modules below are built with (Debian packages)
+missing=""
+for p in liblz4-dev; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
+  say "installing Debian packages:$missing"
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null
+fi
 
 # 1-2. Python 3.8 and the venv
 PY=$(tools/platform/python.sh 3.8.16)
@@ -59,6 +72,23 @@ dpkg -L $ros_packages | sort -u | while read -r f; do
       fi ;;
   esac
 done
+# roslz4's extension built for this Python from Debian's source of it (ros-ros-comm), against
+# Debian's libroslz4, as ROS's focal package builds it for 3.8 (rosbag reads LZ4 bags with it)
+suffix=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_config_var("EXT_SUFFIX"))')
+lz4so="$TIER/compiled/_roslz4$suffix"
+if [ ! -f "$lz4so" ]; then
+  src="$(tools/platform/debian-source.sh python3-roslz4)/utilities/roslz4"
+  say "building roslz4's extension for $("$VENV/bin/python" -V 2>&1) from $src"
+  mkdir -p "$TIER/compiled"
+  gcc -shared -fPIC -O2 -I"$src/include" \
+    -I"$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')" \
+    "$src/src/_roslz4module.c" /usr/lib/x86_64-linux-gnu/libroslz4.so.1d -o "$lz4so.tmp"
+  mv "$lz4so.tmp" "$lz4so"
+fi
+rm "$TIER/ros1.new/roslz4"
+mkdir "$TIER/ros1.new/roslz4"
+ln -s "$DIST/roslz4/__init__.py" "$TIER/ros1.new/roslz4/__init__.py"
+ln -s "$lz4so" "$TIER/ros1.new/roslz4/"
 rm -rf "$TIER/ros1"; mv "$TIER/ros1.new" "$TIER/ros1"
 site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 echo "$TIER/ros1" > "$site/debian-ros1.pth"
