@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent set-up: Debian packages, the venv, the catkin workspace.
-# Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium)
+# Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium,
+#                                  liblz4-dev)
 # Each step is skipped when already done, so a second run takes a few seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +13,8 @@ say() { printf '[setup] %s\n' "$*"; }
 
 # 1. Debian packages (ROS 1 from Debian's own archive).
 pkgs=$(grep -v '^#' tools/debian-packages.txt | xargs)
-if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium"; fi
+# --test: chromium for the report test; liblz4-dev for the Noetic tier's roslz4 (tools/platform/noetic.sh)
+if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium liblz4-dev"; fi
 missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -20,6 +20,7 @@
 #      bin/, so the master and the launcher run on 3.8 too;
 #   5. build/noetic/ws: the catkin workspace built with -DPYTHON_EXECUTABLE= the venv's python
 #      (tools/workspace.sh), so every node of a launch file and sensorTest run on 3.8.
+# Needs what `tools/setup.sh --test` installs (liblz4-dev for roslz4's extension).
 # Use it with PEPPER_PLATFORM=noetic (tools/env.sh); tools/platform/noetic-tests.sh runs the tier.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -31,17 +32,6 @@ REQ=tools/platform/focal-requirements.txt
 DIST=/usr/lib/python3/dist-packages
 say() { printf '[noetic] %s\n' "$*"; }
 mkdir -p "$TIER" "$STAMPS"
-
-# 0. What the compiled modules below are built with (Debian packages)
-missing=""
-for p in liblz4-dev; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
-done
-if [ -n "$missing" ]; then
-  SUDO=""; [ "$(id -u)" = 0 ] || SUDO="sudo"
-  say "installing Debian packages:$missing"
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null
-fi
 
 # 1-2. Python 3.8 and the venv
 PY=$(tools/platform/python.sh 3.8.16)
