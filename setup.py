@@ -16,4 +16,6 @@ setup(**generate_distutils_setup(
               'pepper_interface_tests.outputs.report.views'],
     package_dir={'': 'src'},
     package_data={'pepper_interface_tests.outputs.report': ['templates/*']},
+    # Ubuntu 20.04's Python (ROS Noetic); the capture side alone also runs on NAOqi's 2.7
+    python_requires='>=3.8',
 ))

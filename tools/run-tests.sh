@@ -5,6 +5,9 @@
 #   --fast       the unit tier only (pytest -m unit, one process, no gates): make test-fast
 #   --no-gates   skip ruff and mypy; they are skipped too when the arguments name test files
 #                (a targeted run: tools/run-tests.sh test/sensors/test_laser.py -n 0 -k something)
+# After the whole suite (no test files named, no --fast), the Noetic tier: the package again on
+# Python 3.8 with Ubuntu 20.04's libraries (tools/platform/noetic-tests.sh; NOETIC_TIER=0 leaves
+# it out). Exit 1 when either fails.
 # Test files run in 3 workers (pytest-xdist, one file per worker at a time): most tests wait on
 # real-time listening windows, not on the CPU, and each starts its own master on a free port.
 set -euo pipefail
@@ -25,4 +28,9 @@ for arg in "$@"; do
   case "$arg" in -*) ;; *) [ -e "${arg%%::*}" ] && gates=0 ;; esac
 done
 if [ "$gates" = 1 ]; then tools/gates.sh; fi
-exec python -m pytest -p no:cacheprovider -n "${PYTEST_WORKERS:-3}" --dist loadfile "$@"
+rc=0
+python -m pytest -p no:cacheprovider -n "${PYTEST_WORKERS:-3}" --dist loadfile "$@" || rc=$?
+if [ "$gates" = 1 ] && [ $# = 0 ] && [ "${NOETIC_TIER:-1}" != 0 ]; then
+  tools/platform/noetic-tests.sh || rc=1
+fi
+exit $rc

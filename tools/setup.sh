@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Idempotent set-up: Debian packages, the venv, the catkin workspace.
 # Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium,
-#                                    and builds CPython 2.7.12 for the capture side's test)
+#                                    liblz4-dev for the Noetic tier's roslz4, and builds
+#                                    CPython 2.7.12 for the capture side's test)
 # Each step is skipped when already done, so a second run takes a few seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,7 +14,8 @@ say() { printf '[setup] %s\n' "$*"; }
 
 # 1. Debian packages (ROS 1 from Debian's own archive).
 pkgs=$(grep -v '^#' tools/debian-packages.txt | xargs)
-if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium"; fi
+# --test: chromium for the report test; liblz4-dev for the Noetic tier's roslz4 (tools/platform/noetic.sh)
+if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium liblz4-dev"; fi
 missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
@@ -34,28 +36,8 @@ if [ ! -x .venv/bin/python ] || [ "$(cat "$STAMPS/venv" 2>/dev/null)" != "$req_h
   echo "$req_hash" > "$STAMPS/venv"
 fi
 
-# 3. The catkin workspace in build/. build/src/pepper_interface_tests is a folder of links to
-#    this repository's top-level entries, all but build/ itself: tools that walk the package
-#    (rosrun, roslaunch, rostest) then never meet the workspace inside the package.
-#    Built with the venv's python so the scripts' devel-space relays run inside the venv.
-PKG="$WS/src/pepper_interface_tests"
-[ -L "$PKG" ] && rm "$PKG"
-mkdir -p "$PKG"
-for entry in "$ROOT"/* "$ROOT"/.ci; do
-  name=$(basename "$entry")
-  [ "$name" = build ] && continue
-  [ "$(readlink "$PKG/$name" 2>/dev/null)" = "$entry" ] || ln -sfn "$entry" "$PKG/$name"
-done
-for link in "$PKG"/* "$PKG"/.ci; do   # entries removed from the repository
-  [ -L "$link" ] && [ ! -e "$link" ] && rm "$link"
-done
-build_hash=layout2-$(cat package.xml CMakeLists.txt setup.py msg/*.msg | sha1sum | cut -c1-12)$(ls scripts | sha1sum | cut -c1-6)
-if [ ! -f "$WS/devel/setup.bash" ] || [ "$(cat "$STAMPS/build" 2>/dev/null)" != "$build_hash" ]; then
-  say "building the catkin workspace in build/"
-  ( cd "$WS" && PATH="$ROOT/.venv/bin:$PATH" catkin_make -DPYTHON_EXECUTABLE="$ROOT/.venv/bin/python" \
-      -DCATKIN_ENABLE_TESTING=ON >"$STAMPS/build.log" 2>&1 ) || { cat "$STAMPS/build.log"; exit 1; }
-  echo "$build_hash" > "$STAMPS/build"
-fi
+# 3. The catkin workspace in build/, built with the venv's python (tools/workspace.sh).
+tools/workspace.sh "$WS" "$ROOT/.venv" "$STAMPS/build"
 
 # 4. --test: CPython 2.7.12 with websocket-client 0.59, the Python of NAOqi on the robot, for the
 #    test that runs the audio bridge's capture side on it (test/audio_bridge/test_capture_py27.py).

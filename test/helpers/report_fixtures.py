@@ -106,18 +106,19 @@ def media_run(folder, sensors=MEDIA_SENSORS):
 
 
 def handmade_media(folder, name='clip.mp4', wav='clip.wav', seconds=2.0, fps=10):
-    """A small H.264 mp4 (cv2) and a 4-channel 48 kHz WAV (soundfile); returns their paths."""
-    import cv2
+    """A small H.264 mp4 (ffmpeg's libx264, as media/recording.py encodes) and a 4-channel
+    48 kHz WAV (soundfile); returns their paths. Not OpenCV's VideoWriter: the pip wheels of
+    OpenCV 4.2 (the Noetic tier's) have no H.264 encoder."""
+    import subprocess
+
     import soundfile
     path = os.path.join(folder, name)
-    writer = cv2.VideoWriter(path, cv2.VideoWriter_fourcc(*'avc1'), fps, (320, 240))
-    if not writer.isOpened():
-        writer = cv2.VideoWriter(path, cv2.VideoWriter_fourcc(*'mp4v'), fps, (320, 240))
-    for i in range(int(seconds * fps)):
-        msg = camera_image(i)
-        frame = np.frombuffer(msg.data, np.uint8).reshape(240, 320, 3)[:, :, ::-1]
-        writer.write(np.ascontiguousarray(frame))
-    writer.release()
+    frames = b''.join(np.ascontiguousarray(np.frombuffer(camera_image(i).data, np.uint8)
+                                           .reshape(240, 320, 3)[:, :, ::-1]).tobytes()
+                      for i in range(int(seconds * fps)))
+    subprocess.run(['ffmpeg', '-y', '-loglevel', 'error', '-f', 'rawvideo', '-pix_fmt', 'bgr24',
+                    '-s', '320x240', '-r', str(fps), '-i', '-', '-c:v', 'libx264', '-pix_fmt',
+                    'yuv420p', path], input=frames, check=True, timeout=60)
     rate = 48000
     t = np.arange(int(seconds * rate)) / float(rate)
     data = np.stack([0.2 * np.sin(2 * np.pi * f * t) for f in (220, 330, 440, 550)], axis=1)

@@ -14,6 +14,7 @@ import rosbag
 
 from pepper_interface_tests.motion import recorded
 from pepper_interface_tests.motion.record import Recording
+from rosbags_support import reads_ros2
 from rosmaster import NODES, kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -134,6 +135,7 @@ def test_a_broken_witness_of_a_recorded_motion_is_named(fault, tmp_path):
     assert not others, (fault, others)
 
 
+@reads_ros2
 def test_a_ros2_recording_of_the_turn_is_judged_alike(tmp_path):
     """The same broken copy converted to a ROS 2 recording (rosbags-convert): the gyro is named."""
     import ros2_recordings as rr

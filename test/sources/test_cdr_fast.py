@@ -9,6 +9,9 @@ import pytest
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
 from pepper_interface_tests.sources import cdr_fast, ros2types
+from rosbags_support import reads_ros2
+
+pytestmark = reads_ros2
 
 STORE = get_typestore(Stores.ROS2_HUMBLE)
 STORE.register(get_types_from_msg(ros2types.AUDIO_BUFFER_DEFINITION_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))

@@ -18,10 +18,21 @@ import pytest
 
 import fake_pepper as fake
 import ros2_recordings as rr
+from pepper_interface_tests.plan.textfile import ConfigError
+from pepper_interface_tests.sources.ros2bag import check_rosbags
+from rosbags_support import OLD_ROSBAGS, reads_ros2
 from rosmaster import script
 
 NO_MASTER = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1')
 QUIET = ['--no-history', '--no-report', '--no-record', '--no-show', '--no-diagnostics']
+
+
+@pytest.fixture(autouse=True)
+def _reading_needs_new_rosbags(request):
+    """Every test here reads ROS 2 recordings (skipped on rosbags < 0.10, as on Python 3.8),
+    but those of the refusal on such a rosbags."""
+    if OLD_ROSBAGS and 'old_rosbags' not in request.node.name:
+        pytest.skip(reads_ros2.kwargs['reason'])
 
 
 def run(bag, out, *extra, sensors=rr.SENSORS, quiet=QUIET):
@@ -391,3 +402,34 @@ def test_a_topic_whose_type_has_no_definition(tmp_path):
     assert data['laser']['verdict'] == 'FAIL'
     assert data['laser']['reasons'][0].startswith('topic /laser carries acme_msgs/Scan'), data['laser']
     assert data['imu']['verdict'] == 'PASS' and data['imu']['messages'] == 20
+
+
+# ------------------------------------------------------------------ old rosbags (Python 3.8)
+# rosbags 0.9.23, the last release for Python 3.8 (Ubuntu 20.04's), failed inside: "'Typestore'
+# object has no attribute 'fielddefs'", and on a ROS 2 Jazzy recording "ReaderError: Rosbag2
+# version 9 not supported". sensorTest now refuses ROS 2 recordings there in one sentence.
+
+def test_old_rosbags_is_refused_in_one_sentence_with_the_fix():
+    with pytest.raises(ConfigError) as err:
+        check_rosbags('/data/run', (0, 9, 23))
+    text = str(err.value)
+    first, fix = text.split('\n')
+    assert first.startswith('/data/run: reading a ROS 2 recording needs rosbags 0.10 or later, '
+                            'which needs Python 3.10 or later (here: rosbags 0.9.23 on Python ')
+    assert fix.startswith('  fix: ') and 'rosbags-convert --src /data/run' in fix
+    check_rosbags('/data/run', (0, 10, 0))
+    check_rosbags('/data/run', (0, 11, 9))
+
+
+@pytest.mark.skipif(not OLD_ROSBAGS, reason='rosbags 0.10 or later reads ROS 2 recordings')
+def test_a_ros2_recording_on_old_rosbags_ends_with_one_error_and_exit_2(tmp_path):
+    """A real ROS 2 recording (rosbags-convert of 0.9.23 itself, from a ROS 1 bag) and a lone
+    MCAP file (mcap-ros2-support) given to sensorTest on old rosbags."""
+    import subprocess
+    import sys
+    bag = rr.write_ros1(tmp_path / 'pepper.bag', rr.records(seconds=1.0))
+    exe = os.path.join(os.path.dirname(sys.executable), 'rosbags-convert')
+    subprocess.run([exe, str(bag), '--dst', str(tmp_path / 'ros2')], check=True, timeout=120)
+    for recording in (str(tmp_path / 'ros2'), str(tmp_path / 'ros2' / 'ros2.db3')):
+        text = error_of(recording, tmp_path)
+        assert 'reading a ROS 2 recording needs rosbags 0.10 or later' in text, text

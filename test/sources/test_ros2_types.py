@@ -5,6 +5,9 @@ from types import SimpleNamespace
 from rosbags.typesys import Stores, get_typestore
 
 from pepper_interface_tests.sources import ros2types
+from rosbags_support import reads_ros2
+
+pytestmark = reads_ros2
 
 HUMBLE = get_typestore(Stores.ROS2_HUMBLE)    # its module chain imported once, at collection
 NONE = SimpleNamespace(format=SimpleNamespace(name='NONE'), data='')

@@ -7,8 +7,10 @@ import os
 import pytest
 
 from pepper_interface_tests.sources.ros2index import record_times
+from rosbags_support import reads_ros2
 
-pytestmark = pytest.mark.integration    # writes recordings with rosbag/rosbags (imports cost ~1 s)
+# writes recordings with rosbag/rosbags (imports cost ~1 s)
+pytestmark = [pytest.mark.integration, reads_ros2]
 
 FORMS = ('sqlite3', 'mcap', 'mcap-zstd-file', 'sqlite3-zstd-message', 'sqlite3-split', 'mcap-split',
          'db3-file', 'mcap-ros2-support-file')

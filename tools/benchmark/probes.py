@@ -7,6 +7,8 @@ import time
 import xmlrpc.client
 from typing import Any, Dict, List, Optional, Tuple
 
+from pepper_interface_tests.media.recording import exit_code
+
 Usage = resource.struct_rusage
 
 
@@ -16,7 +18,7 @@ def wait4(pid: int, timeout: float) -> Tuple[Optional[int], Optional[Usage]]:
     while True:
         done, status, usage = os.wait4(pid, os.WNOHANG)
         if done:
-            return os.waitstatus_to_exitcode(status), usage
+            return exit_code(status), usage
         if time.monotonic() > deadline:
             return None, None
         time.sleep(0.02)

@@ -1,8 +1,9 @@
 """ROS side of the audio bridge: websocket frames -> pepper_interface_tests/AudioCustomMsg.
 
-A rospy node running a ``websockets.sync.server`` (plain threads, one per connection; no
-asyncio next to rospy). Every binary message is validated with ``decode_frame``; bad ones are
-dropped with at most one warning per cause every 5 s (with the count) and the node carries on.
+A rospy node running a websocket server of plain threads, one per connection (wsserver.py:
+websockets' sync server, or on websockets before 11.0 its asyncio server behind the same API).
+Every binary message is validated with ``decode_frame``; bad ones are dropped with at most one
+warning per cause every 5 s (with the count) and the node carries on.
 Good 4-channel frames are published with channel 0..3 in rearLeft, rearRight, frontLeft,
 frontRight, whatever the layout (planar or interleaved) of the frame.
 
@@ -51,6 +52,7 @@ import numpy as np
 from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg, read_token
 from pepper_interface_tests.audio_bridge.frame import MAX_FRAME_BYTES, TOKEN_HEADER, Frame, FrameError, decode_frame
 from pepper_interface_tests.audio_bridge.layout import LayoutGuard
+from pepper_interface_tests.audio_bridge.wsserver import closed_oversized, serve
 
 if TYPE_CHECKING:
     import argparse
@@ -248,7 +250,7 @@ class Bridge:
                     self.warn_limited('internal', 'frame from %s not published: %s: %s'
                                       % (peer, type(exc).__name__, exc))
         except ConnectionClosed as exc:
-            if exc.sent is not None and exc.sent.code == 1009:
+            if closed_oversized(exc):
                 self.stats.bad('oversized')
                 self.warn_limited('oversized', 'closed connection from %s: message larger than'
                                   ' %d bytes' % (peer, MAX_FRAME_BYTES))
@@ -445,7 +447,6 @@ def _write_stats(bridge: Bridge, rospy: 'ModuleType') -> None:
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
     import rospy
-    from websockets.sync.server import serve
 
     from pepper_interface_tests.msg import AudioCustomMsg
 
@@ -467,9 +468,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     quiet.setLevel(logging.CRITICAL + 1)
     quiet.propagate = False
     try:
-        server = serve(bridge.handle, opts['host'], opts['port'], compression=None,
-                       max_size=MAX_FRAME_BYTES, process_request=bridge.check_token,
-                       logger=quiet)
+        server = serve(bridge.handle, opts['host'], opts['port'], MAX_FRAME_BYTES,
+                       bridge.check_token, quiet)
     except OSError as exc:
         rospy.logerr('cannot listen on %s:%d: %s (fix: another --port / ~port, or 0 for any '
                      'free port)' % (opts['host'], opts['port'], exc.strerror or exc))

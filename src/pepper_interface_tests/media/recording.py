@@ -157,6 +157,14 @@ def _start_rate(times):
     return 1.0 / mean if mean > 0 else None
 
 
+def exit_code(status: int) -> int:
+    """A wait status as a return code (os.waitstatus_to_exitcode, which Python 3.8 lacks): the
+    exit code, or -N for a process ended by signal N, as subprocess's returncode."""
+    if os.WIFSIGNALED(status):
+        return -os.WTERMSIG(status)
+    return os.WEXITSTATUS(status)
+
+
 def _wait_cpu(proc, timeout):
     """(exit code, CPU seconds) of a child process, killed after `timeout` s."""
     deadline = time.monotonic() + timeout
@@ -166,7 +174,7 @@ def _wait_cpu(proc, timeout):
         except ChildProcessError:       # already reaped
             return proc.wait(), None
         if pid:
-            proc.returncode = os.waitstatus_to_exitcode(status)
+            proc.returncode = exit_code(status)
             return proc.returncode, usage.ru_utime + usage.ru_stime
         if time.monotonic() > deadline:
             proc.kill()

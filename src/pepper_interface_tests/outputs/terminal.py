@@ -102,7 +102,12 @@ def _reasons(texts: Sequence[str]) -> str:
 
 class HelpFormatter(argparse.RawDescriptionHelpFormatter):
     """--help of every program: the description's and epilog's own line breaks are kept (one
-    example per line), and a line wider than the terminal wraps, continued under itself."""
+    example per line), and a line wider than the terminal wraps, continued under itself. The
+    section of options is titled "options" on every Python (3.10 renamed argparse's "optional
+    arguments" so, bpo-9694)."""
+
+    def start_section(self, heading: Optional[str]) -> None:
+        super().start_section('options' if heading == 'optional arguments' else heading)
 
     def _fill_text(self, text: str, width: int, indent: str) -> str:
         lines = []

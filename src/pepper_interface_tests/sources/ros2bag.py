@@ -20,15 +20,47 @@ the dense window, from the storage's index (ros2index.py: no message data is rea
 has none, by one pass over the messages (the data dropped at once).
 """
 import os
-from typing import Any, Dict, Iterator, List, Optional
+import re
+import sys
+from typing import Any, Dict, Iterator, List, Optional, Tuple
 
 from ..plan.textfile import ConfigError
 from .bag import NS, BagSource, Record
 
+# The rosbags API read here is 0.10's (the Typestore's `fielddefs`, 0.9's `FIELDDEFS`), and 0.10
+# is the first release for Python 3.10+ only; 0.9.23, the last for Python 3.8 (Ubuntu 20.04's),
+# also reads no rosbag2 metadata version 9 (ROS 2 Jazzy's: "Rosbag2 version 9 not supported").
+ROSBAGS_MIN = (0, 10)
 FIX = ('check it is a ROS 2 recording (a folder with metadata.yaml and its .db3/.mcap files, or '
        'one .mcap or .db3 file) written completely (ros2 bag info; "ros2 bag reindex" rebuilds a '
        'missing metadata.yaml; "mcap recover IN.mcap -o OUT.mcap" an MCAP file whose recorder '
        'was killed)')
+
+
+def rosbags_version() -> Tuple[int, ...]:
+    """The installed rosbags' (major, minor, patch) from its distribution's metadata; () when
+    it is not installed."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return tuple(int(p) for p in re.findall(r'\d+', version('rosbags'))[:3])
+    except PackageNotFoundError:
+        return ()
+
+
+def check_rosbags(path: str, have: Optional[Tuple[int, ...]] = None) -> None:
+    """ConfigError (exit 2: the run cannot start) in one sentence, with the fix, when the
+    installed rosbags (`have`) is older than ROSBAGS_MIN."""
+    have = rosbags_version() if have is None else have
+    if have >= ROSBAGS_MIN:
+        return
+    raise ConfigError('reading a ROS 2 recording needs rosbags %s or later, which needs Python '
+                      '3.10 or later (here: rosbags %s on Python %d.%d)'
+                      % ('.'.join(map(str, ROSBAGS_MIN)), '.'.join(map(str, have)) or 'none',
+                         sys.version_info[0], sys.version_info[1]), path,
+                      fix='run sensorTest --bag on Python 3.10 or later with pip install '
+                          'rosbags==0.11.9, or there convert the recording into a ROS 1 bag, '
+                          'which this Python reads: rosbags-convert --src %s --dst recording.bag'
+                          % path)
 
 
 def _msg_dir() -> str:
@@ -46,6 +78,7 @@ class Ros2BagSource(BagSource):
             raise ConfigError('reading a ROS 2 recording needs the rosbags library, which is not '
                               'installed', path, fix='pip install rosbags==0.11.9 (Python 3.10 or '
                               'later; tools/setup.sh installs it)') from None
+        check_rosbags(path)
         from . import ros2types
         if os.path.isdir(path) and not os.path.exists(os.path.join(path, 'metadata.yaml')):
             raise ConfigError('no metadata.yaml in this folder: not a rosbag2 recording', path,

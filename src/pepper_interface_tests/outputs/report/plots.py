@@ -34,7 +34,9 @@ def figure(w: float, h: float, **kw: Any) -> 'Figure':
                                 'xtick.labelsize': FONT_PT - 1, 'ytick.labelsize': FONT_PT - 1,
                                 'legend.fontsize': FONT_PT - 1})
     from matplotlib.figure import Figure
-    return Figure(figsize=(w, h), dpi=DPI, layout='constrained', **kw)
+    # constrained_layout=True: what matplotlib 3.1 (Ubuntu 20.04) and today's both take;
+    # layout='constrained', its newer spelling, arrived in 3.5
+    return Figure(figsize=(w, h), dpi=DPI, constrained_layout=True, **kw)
 
 
 def uri(fig: 'Figure', tight: bool = False) -> str:
@@ -47,6 +49,12 @@ def uri(fig: 'Figure', tight: bool = False) -> str:
     else:
         fig.savefig(buf, format='png', dpi=DPI)
     return 'data:image/png;base64,' + base64.b64encode(buf.getvalue()).decode('ascii')
+
+
+def _stairs(ax: 'Axes', values: Sequence[float], edges: Sequence[float], **kw: Any) -> None:
+    """Axes.stairs(values, edges, baseline=None) in what matplotlib 3.1 (Ubuntu 20.04) has too
+    (stairs arrived in 3.4): a step line holding each value over its bin."""
+    ax.step(list(edges), list(values) + list(values[-1:]), where='post', **kw)
 
 
 def _grid(*axes: 'Axes') -> None:
@@ -67,7 +75,7 @@ def rates(rows: Sequence['RateRow'], t_end: float) -> str:
         if r.nominal:
             ax.hlines(r.nominal, r.start, r.end, colors=GREEN, linestyles='dashed', lw=0.9)
         if r.rates:
-            ax.stairs(r.rates, r.edges, color=colour, lw=1.8, baseline=None)
+            _stairs(ax, r.rates, r.edges, color=colour, lw=1.8)
         if not r.rates or max(r.rates) == 0:
             ax.text(0.5, 0.5, 'no messages', transform=ax.transAxes, ha='center', va='center', color=RED)
         ax.text(1.005, 0.5, r.label, transform=ax.transAxes, ha='left', va='center', color=colour,
@@ -187,7 +195,8 @@ def histogram(h: 'Histogram') -> str:
     fig = figure(8, 2.4)
     ax = fig.subplots()
     if len(h.edges) == len(h.counts) + 1:
-        ax.stairs(h.counts, h.edges, fill=True, color=BLUE, alpha=0.7)
+        ax.hist(h.edges[:-1], bins=h.edges, weights=h.counts, histtype='stepfilled', color=BLUE,
+                alpha=0.7)   # Axes.stairs(fill=True), which arrived in matplotlib 3.4
     else:
         width = (h.edges[1] - h.edges[0]) if len(h.edges) > 1 else 1.0
         ax.bar(h.edges, h.counts, width=width * 0.9, color=BLUE, alpha=0.7)
