@@ -99,14 +99,15 @@ class LeanRecorder(Recorder):
         self.keeps: List[List[float]] = []     # [from, to]: frames converted for a head move
         self.waiting: Dict[str, Deque[Tuple[float, bytes]]] = {}   # camera -> undecoded frames
         self.taken: Dict[str, float] = {}      # camera -> time of the last frame taken
+        self.head: Deque[Tuple[float, float]] = collections.deque(maxlen=30)   # the last HeadYaws
 
     def _joints(self, role: str, msg: Any, t: float) -> None:
         kept = {n: p for n, p in zip(msg.name, msg.position) if n == 'HeadYaw' or n in WHEELS}
         self.rec.joints.append((t, kept))
         if 'HeadYaw' not in kept:
             return
-        pts = [(ts, p['HeadYaw']) for ts, p in self.rec.joints[-60:] if 'HeadYaw' in p]
-        if _moving(pts[-30:], HEAD_RATE, angle=False):
+        self.head.append((t, kept['HeadYaw']))
+        if _moving(self.head, HEAD_RATE, angle=False):
             if self.keeps and self.keeps[-1][1] >= t - KEEP_AROUND:
                 self.keeps[-1][1] = t + KEEP_AROUND
             else:

@@ -59,8 +59,9 @@ _SIZE = struct.Struct('<2I')         # height, width
 _STEP = struct.Struct('<BI')         # is_bigendian, step
 STRIDE = 8        # statistics sample every 8th row and column
 # s between two frames whose sharpness and noise are measured (sensors/wear.py, about 1 ms a VGA
-# frame): two a second, 20 over a 10 s window, whatever the rate (their means are the drift's)
-WEAR_PERIOD = 0.5
+# frame): one a second, 10 over a 10 s window, whatever the rate (their means are the drift's;
+# a still robot's frames differ by their noise, which each frame's 76,800 grey pixels average)
+WEAR_PERIOD = 1.0
 # 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
 RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
                'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
