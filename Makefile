@@ -5,6 +5,9 @@
 # make test-fast  only the unit tier (pure tests, no ROS master, under 8 s of CPU): pytest -m unit
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
+# make bench  the benchmark (docs/benchmark.md): listening and recording next to rostopic hz,
+#             then reading a 60 s recording in three forms next to a deserializing read
+# make bench-recording  only the reading of recordings
 .PHONY: demo test test-fast lint setup bench bench-recording clean
 
 demo:
@@ -28,7 +31,8 @@ setup:
 
 bench:
 	@tools/setup.sh
-	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py'
+	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py; a=$$?; \
+	  python tools/benchmark/recording_benchmark.py; b=$$?; exit $$(( a > b ? a : b ))'
 
 bench-recording:
 	@tools/setup.sh
