@@ -6,6 +6,9 @@
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
 # make docs   regenerate docs/options.md from sensorTest's options (a test fails when it is stale)
+# make bench  the benchmark (docs/benchmark.md): listening and recording next to rostopic hz,
+#             then reading a 60 s recording in three forms next to a deserializing read
+# make bench-recording  only the reading of recordings
 .PHONY: demo test test-fast lint setup docs bench bench-recording clean
 
 demo:
@@ -33,7 +36,8 @@ docs:
 
 bench:
 	@tools/setup.sh
-	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py'
+	@bash -c 'source tools/env.sh && python tools/benchmark/sensor_test_benchmark.py; a=$$?; \
+	  python tools/benchmark/recording_benchmark.py; b=$$?; exit $$(( a > b ? a : b ))'
 
 bench-recording:
 	@tools/setup.sh

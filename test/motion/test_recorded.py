@@ -243,18 +243,28 @@ def test_the_emulator_recorded_moving(master, tmp_path, faults, sensor, words):
         assert any(words in r and 'recorded' in r for r in got[sensor]['reasons']), got[sensor]['reasons']
 
 
-def test_a_recording_keeps_frames_only_around_the_heads_motion():
-    """Memory stays bounded on a long recording: the small frames kept are those around the
-    head's yaws (recorded.KEEP_AROUND) and the last recorded.FRAMES_KEPT s, not all 97."""
+def test_a_recording_converts_frames_only_around_the_heads_motion():
+    """Memory and CPU follow the motion: the small frames made are those within
+    recorded.KEEP_AROUND s of the head's yaws, not all 93 the camera sent, and the frames the
+    head step is judged on (from the frame before its start) are among them."""
     rec = read(MOVE)
     frames = rec.frames['frontCamera']
     heads = recorded.head_spans(rec)
-    end = frames[-1][0]
-    assert 20 < len(frames) < 97, len(frames)
+    assert heads and 10 < len(frames) < rec.heard['frontCamera'] == 93, (len(frames), heads)
     for t, _ in frames:
-        assert t >= end - recorded.FRAMES_KEPT - 0.2 or any(
-            a - recorded.KEEP_AROUND <= t <= b + recorded.KEEP_AROUND for a, b in heads), t
+        assert any(a - recorded.KEEP_AROUND <= t <= b + recorded.KEEP_AROUND for a, b in heads), t
+    for a, b in heads:
+        assert any(t <= a for t, _ in frames) and any(a < t <= b for t, _ in frames)
     assert set(k for _, p in rec.joints for k in p) == {'HeadYaw', 'WheelFL', 'WheelFR', 'WheelB'}
+
+
+def test_a_recording_whose_head_stays_still_decodes_no_frame():
+    """HeadYaw decides before the pixels: a recording of a still head (the real driver's
+    healthy robot) hears every frame and makes none small."""
+    rec = read(os.path.join(GOLDEN, 'healthy_xtion.bag'))
+    assert not recorded.head_spans(rec)
+    assert rec.heard.get('frontCamera', 0) > 10 and len(rec.joints) > 10, rec.heard
+    assert not any(rec.frames.values()), {k: len(v) for k, v in rec.frames.items()}
 
 
 def test_a_run_listens_to_the_witnesses_only_for_rows_it_judges():

@@ -18,7 +18,7 @@ VERDICTS = {'laser': ('PASS', 600), 'frontCamera': ('PASS', 600)}
 
 def row(form, cpu, floor_cpu, verdicts=VERDICTS):
     return {'form': form, 'floor': rb.FLOOR[form], 'cpu': cpu, 'floor_cpu': floor_cpu, 'wall': cpu,
-            'size': 2.1e9, 'verdicts': dict(verdicts)}
+            'size': 2.1e9, 'rss': 250.0, 'floor_rss': 120.0, 'verdicts': dict(verdicts)}
 
 
 def test_the_median_ratio_is_judged_against_the_target(capsys):
@@ -33,8 +33,9 @@ def test_the_median_ratio_is_judged_against_the_target(capsys):
 
 
 def test_a_measurement_fits_80_columns():
-    line = rb.row_line(row('sqlite3', 12.61, 13.03), 10)
-    assert '12.61 s' in line and '0.97x' in line and len(line) <= 80
+    text = rb.row_line(row('sqlite3', 12.61, 13.03), 10)
+    assert '12.61 s' in text and '0.97x' in text and 'sensorTest 250 MB, rosbags 120 MB' in text
+    assert all(len(line) <= 80 for line in text.splitlines())
 
 
 def test_a_count_that_differs_from_the_ros1_bag_is_named(capsys):

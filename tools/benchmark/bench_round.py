@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import IO, Any, Dict, List, Optional, Tuple, Union
 
 import report
-from probes import MemorySampler, Usage, wait4, wait_subscribed
+from probes import MemorySampler, Usage, byte_compiled, wait4, wait_subscribed
 from workload import topics
 
 from pepper_interface_tests.plan.settings import package_dir
@@ -201,7 +201,7 @@ def _collect(rnd: Round, lst: Listeners, end: Ended, sampler: MemorySampler,
 def run_round(args: argparse.Namespace, tmp: str, master: PrivateMaster, files: Tuple[str, str, str],
               mode: str, label: str) -> Dict[str, Any]:
     """One side-by-side round; a dict of measurements (or {'error': text})."""
-    rnd = Round(args, tmp, label, mode, master.env(), master.uri)
+    rnd = Round(args, tmp, label, mode, byte_compiled(master.env()), master.uri)
     cmd, profile = _sensor_test_command(rnd, files)
     _print_commands(rnd, cmd)
     procs: List[subprocess.Popen] = []

@@ -16,7 +16,7 @@ import numpy as np
 from workload import RING, STREAMS
 
 
-def _frames(encoding: str, w: int, h: int) -> List[bytes]:
+def frames(encoding: str, w: int, h: int) -> List[bytes]:
     """RING distinct frames: moving gradients with noise (rgb8) or a depth ramp in mm (16UC1)."""
     rng = np.random.default_rng(7)
     yy, xx = np.mgrid[0:h, 0:w]
@@ -85,7 +85,7 @@ def publish(seconds: float, wait: float, subscribers: int = 1) -> int:
     rospy.init_node('sensor_test_benchmark_publisher', disable_signals=True)
     pubs = {s[0]: rospy.Publisher(s[1], AudioCustomMsg if s[2] == 'audio' else Image, queue_size=60)
             for s in STREAMS}
-    payloads = {s[0]: _audio(s[3]) if s[2] == 'audio' else _frames(s[2], s[3], s[4]) for s in STREAMS}
+    payloads = {s[0]: _audio(s[3]) if s[2] == 'audio' else frames(s[2], s[3], s[4]) for s in STREAMS}
     missing = _missing(pubs, subscribers, wait)
     if missing:
         print(json.dumps({'error': 'no subscriber on: ' + ', '.join(missing)}), flush=True)

@@ -13,9 +13,11 @@ a rosbag2 sqlite3 folder and a rosbag2 MCAP folder (or the ones already in
     report, history, live view and diagnostics off.
 The measure is CPU time (user + system from wait4, the process and its reaped
 children), not wall time: the machine is shared, and wall time counts the
-other work on it. Printed: both CPU times and their ratio per run, then per
-form the median ratio against issue 24's target (<= 1.5x) and whether the
-verdicts and message counts are those of the ROS 1 bag.
+other work on it. Printed: both CPU times and their ratio per run, and the
+peak RSS of each process (wait4's ru_maxrss), then per form the median ratio
+against the target (<= 1.5x) and whether the verdicts and message counts are
+those of the ROS 1 bag. Both run byte-compiled, as installed
+(probes.byte_compiled).
 Exit code 0 when every form met the target with the same verdicts, 1 when
 not, 2 when a process failed.
 """
@@ -31,19 +33,20 @@ import time
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 import recording
-from probes import wait4
+from probes import byte_compiled, wait4
 
 from pepper_interface_tests.outputs.terminal import HelpFormatter
 from pepper_interface_tests.plan.settings import package_dir
 
-TARGET = 1.5       # issue 24: sensorTest --bag <= 1.5x the library's own deserializing read
+TARGET = 1.5       # sensorTest --bag <= 1.5x the library's own deserializing read
 HERE = os.path.dirname(os.path.abspath(__file__))
 QUIET = ['--no-record', '--no-report', '--no-history', '--no-show', '--no-diagnostics']
 FLOOR = {'ros1': 'rosbag', 'sqlite3': 'rosbags', 'mcap': 'rosbags'}
 
 
-def _measure(cmd: Sequence[str], log: str, env: Dict[str, str]) -> Tuple[Optional[int], float, float]:
-    """(exit code, CPU seconds user + system, wall seconds) of one process."""
+def _measure(cmd: Sequence[str], log: str, env: Dict[str, str]) -> Tuple[Optional[int], float, float, float]:
+    """(exit code, CPU seconds user + system, wall seconds, peak RSS in MB) of one process (its
+    peak RSS: the kernel's high-water mark, wait4's ru_maxrss, in KiB on Linux)."""
     t0 = time.monotonic()
     with open(log, 'w') as f:
         p = subprocess.Popen(list(cmd), stdout=f, stderr=subprocess.STDOUT, env=env)
@@ -51,8 +54,8 @@ def _measure(cmd: Sequence[str], log: str, env: Dict[str, str]) -> Tuple[Optiona
     if usage is None:
         p.kill()
         p.wait()
-        return None, 0.0, time.monotonic() - t0
-    return code, usage.ru_utime + usage.ru_stime, time.monotonic() - t0
+        return None, 0.0, time.monotonic() - t0, 0.0
+    return code, usage.ru_utime + usage.ru_stime, time.monotonic() - t0, usage.ru_maxrss / 1024.0
 
 
 def _verdicts(out: str) -> Dict[str, Tuple[str, int]]:
@@ -66,18 +69,19 @@ def _verdicts(out: str) -> Dict[str, Tuple[str, int]]:
 def measure_form(name: str, path: str, tmp: str, env: Dict[str, str], label: str) -> Dict[str, Any]:
     """One measurement of one form: its floor reader, then sensorTest --bag (one after the other)."""
     log = os.path.join(tmp, 'floor-%s.log' % label)
-    code, floor_cpu, _ = _measure([sys.executable, os.path.join(HERE, 'readers.py'), FLOOR[name], path], log, env)
+    reader = [sys.executable, os.path.join(HERE, 'readers.py'), FLOOR[name], path]
+    code, floor_cpu, _, floor_rss = _measure(reader, log, env)
     if code != 0:
         return {'error': '%s: the floor reader failed (%s)' % (name, log)}
     out = os.path.join(tmp, 'out-' + label)
     log = os.path.join(tmp, 'sensorTest-%s.log' % label)
     cmd = [sys.executable, os.path.join(package_dir(), 'scripts', 'sensorTest'), '--bag', path,
            '--sensors', recording.SENSORS, '--output-dir', out] + QUIET
-    code, cpu, wall = _measure(cmd, log, env)
+    code, cpu, wall, rss = _measure(cmd, log, env)
     if code not in (0, 1):
         return {'error': '%s: sensorTest ended with %s (%s)' % (name, code, log)}
     return {'form': name, 'floor': FLOOR[name], 'floor_cpu': floor_cpu, 'cpu': cpu, 'wall': wall,
-            'verdicts': _verdicts(out)}
+            'rss': rss, 'floor_rss': floor_rss, 'verdicts': _verdicts(out)}
 
 
 def _recording(args: argparse.Namespace, folder: str) -> Dict[str, str]:
@@ -96,7 +100,7 @@ def _recording(args: argparse.Namespace, folder: str) -> Dict[str, str]:
 
 def run(args: argparse.Namespace) -> int:
     tmp = tempfile.mkdtemp(prefix='recordingBenchmark-')
-    env = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1')     # no master: --bag needs none
+    env = byte_compiled(dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))  # no master: --bag needs none
     print('recordingBenchmark: %d CPUs, load average %s; output in %s'
           % (os.cpu_count() or 0, ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
     try:
@@ -121,10 +125,12 @@ def run(args: argparse.Namespace) -> int:
 
 
 def row_line(row: Dict[str, Any], run: int) -> str:
-    """One measurement in 80 columns: CPU seconds of sensorTest and of the floor, their ratio."""
-    return ('  %d %-7s %5.0f MB  sensorTest %5.2f s  %-7s %5.2f s  %.2fx  wall %.1f s'
+    """One measurement in 80 columns: CPU seconds of sensorTest and of the floor, their ratio;
+    the peak RSS of each (MB)."""
+    return ('  %d %-7s %5.0f MB  sensorTest %5.2f s  %-7s %5.2f s  %.2fx  wall %.1f s\n'
+            '            peak RSS: sensorTest %.0f MB, %s %.0f MB'
             % (run, row['form'], row['size'] / 1e6, row['cpu'], row['floor'], row['floor_cpu'],
-               row['cpu'] / row['floor_cpu'], row['wall']))
+               row['cpu'] / row['floor_cpu'], row['wall'], row['rss'], row['floor'], row['floor_rss']))
 
 
 def summary(rows: Sequence[Dict[str, Any]]) -> bool:
@@ -142,6 +148,8 @@ def summary(rows: Sequence[Dict[str, Any]]) -> bool:
         ok = ok and good
         print('%-8s %.2fx of %s (median of %d, target <= %.1fx): %s'
               % (form, ratio, mine[0]['floor'], len(mine), TARGET, 'ok' if good else 'NOT MET'))
+        print('         peak RSS: sensorTest %.0f MB, %s %.0f MB (the largest of the runs)'
+              % (max(r['rss'] for r in mine), mine[0]['floor'], max(r['floor_rss'] for r in mine)))
         print('         %d/%d sensors PASS, %s' % (
             passed, len(verdicts), "verdicts and counts as the ROS 1 bag's" if same
             else 'VERDICTS OR COUNTS DIFFER from the ROS 1 bag'))

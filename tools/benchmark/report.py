@@ -1,12 +1,15 @@
 """What the benchmark prints: the per-stream table and the CPU and memory lines of a round,
-the summary against issue 12's targets, a py-spy profile's top entries."""
+the summary against the targets, a py-spy profile's top entries."""
 import argparse
 import os
 from typing import Any, Dict, List, Optional, Tuple
 
 from workload import STREAMS, Stream
 
-TARGETS = {'off': 1.5, 'on': 5.0}     # issue 12: CPU of sensorTest / CPU of rostopic hz
+# CPU of sensorTest over its floor: listening (recording off) over `rostopic hz` on the same
+# streams at the same time; recording over listening plus the encoders alone (encoders.py)
+TARGETS = {'off': 1.1, 'on': 1.1}
+FLOORS = {'off': 'rostopic hz', 'on': 'listening + encoders alone'}
 TARGET_LAST_FILE_S = 2.0
 TARGET_RSS_MB = 300.0
 
@@ -86,8 +89,12 @@ def print_round(m: Dict[str, Any], threads: Optional[Dict[int, float]], main_thr
           '(USS %.0f MB), RSS %.0f MB; sensorTest alone RSS %.0f MB, the children RSS %.0f MB'
           % (m['pss_tree'], m['uss_tree'], m['rss_tree'], m['rss'], m['rss_children']))
     print('rostopic hz: CPU %.2f s (user %.2f + system %.2f)' % (m['hz_cpu'], m['hz_user'], m['hz_system']))
-    print('ratio: %.2fx (target <= %.1fx)%s' % (m['ratio'], TARGETS[m['mode']],
-                                               '  [profiled: not comparable]' if m['profile'] else ''))
+    if m['mode'] == 'off':
+        print('ratio: %.2fx of rostopic hz (target <= %.1fx)%s' % (
+            m['ratio'], TARGETS['off'], '  [profiled: not comparable]' if m['profile'] else ''))
+    else:
+        print('ratio: %.2fx of rostopic hz (no target: the encoders\' work is not hz\'s); against '
+              'listening + the encoders alone in the summary' % m['ratio'])
     if m['mode'] == 'on':
         last_file = m['last_file']
         print('end of window -> last file written: %s' % ('%.2f s' % last_file if last_file is not None
@@ -100,27 +107,52 @@ def print_round(m: Dict[str, Any], threads: Optional[Dict[int, float]], main_thr
         print_profile(m['profile'])
 
 
+def floor_ratios(rounds: List[Dict[str, Any]]) -> None:
+    """Each round's floor and its ratio to it (m['floor'], m['floor_ratio']; None when there is
+    none): `rostopic hz` for listening; for recording, the listening round of the same run
+    (its label's number) plus the encoders alone (m['encoders_alone'])."""
+    off = {m['label'].split('-', 1)[1]: m for m in rounds if m['mode'] == 'off'}
+    for m in rounds:
+        if m['mode'] == 'off':
+            m['floor'] = m['hz_cpu']
+        else:
+            listening = off.get(m['label'].split('-', 1)[1])
+            enc = m.get('encoders_alone')
+            m['floor'] = listening['cpu'] + enc if listening is not None and enc is not None else None
+        m['floor_ratio'] = m['cpu'] / m['floor'] if m['floor'] else None
+
+
 def summary(rounds: List[Dict[str, Any]], args: argparse.Namespace) -> bool:
-    """One line per round against issue 12's targets; whether every round met every one."""
-    head = '%-8s %10s %10s %7s %7s %11s %9s %9s %9s %s' % (
-        'round', 'sensorTest', 'hz', 'ratio', 'target', 'last file', 'tree PSS', 'tree RSS', 'counts', 'met')
+    """One line per round against the targets; whether every round met every one."""
+    floor_ratios(rounds)
+    head = '%-8s %10s %10s %7s %-28s %7s %7s %9s %9s %9s %s' % (
+        'round', 'sensorTest', 'floor', 'ratio', 'floor is', 'target', 'hz', 'last file', 'tree PSS',
+        'counts', 'met')
     print('\nsummary (CPU seconds of the whole process incl. children; side by side in one round)')
     print(head)
     print('-' * len(head))
     ok = True
     for m in rounds:
-        met = [m['ratio'] <= TARGETS[m['mode']], m['pss_tree'] <= TARGET_RSS_MB, m['counts_ok']]
+        ratio = m['floor_ratio']
+        met = [ratio is not None and ratio <= TARGETS[m['mode']], m['pss_tree'] <= TARGET_RSS_MB, m['counts_ok']]
+        floor = FLOORS[m['mode']]
         if m['mode'] == 'on':
             met.append(m['last_file'] is not None and m['last_file'] <= TARGET_LAST_FILE_S)
+            if m.get('encoders_alone') is not None:
+                floor = 'listening + encoders %.2fs' % m['encoders_alone']
         ok = ok and all(met)
-        print('%-8s %9.2fs %9.2fs %6.2fx %6.1fx %11s %6.0f MB %6.0f MB %9s %s' % (
-            m['label'], m['cpu'], m['hz_cpu'], m['ratio'], TARGETS[m['mode']],
-            '%.2f s' % m['last_file'] if m['last_file'] is not None else '-', m['pss_tree'], m['rss_tree'],
+        print('%-8s %9.2fs %10s %7s %-28s %6.1fx %6.2fs %9s %6.0f MB %9s %s' % (
+            m['label'], m['cpu'], '%.2fs' % m['floor'] if m['floor'] else '-',
+            '%.2fx' % ratio if ratio is not None else '-', floor, TARGETS[m['mode']], m['hz_cpu'],
+            '%.2f s' % m['last_file'] if m['last_file'] is not None else '-', m['pss_tree'],
             'all' if m['counts_ok'] else 'MISSING', 'yes' if all(met) else 'NO'))
-    print('targets (issue 12): ratio <= 1.5x recording off, <= 5x recording on; last file <= %.0f s after the '
-          'window; peak memory <= %.0f MB (PSS of sensorTest and its ffmpeg children together: shared '
-          'libraries counted once; the RSS sum counts them once per process); >= %.0f%% received and '
-          'recorded: %s' % (TARGET_LAST_FILE_S, TARGET_RSS_MB, 100 * args.target, 'all met' if ok else 'NOT all met'))
+    print('targets: listening (recording off) <= %.1fx of rostopic hz on the same streams at the same '
+          'time; recording <= %.1fx of listening + the encoders alone (the same run\'s listening round, '
+          'and ffmpeg encoding the same frames with nothing else running); last file <= %.0f s after '
+          'the window; peak memory <= %.0f MB (PSS of sensorTest and its ffmpeg children together: '
+          'shared libraries counted once; the RSS sum counts them once per process); >= %.0f%% received '
+          'and recorded: %s' % (TARGETS['off'], TARGETS['on'], TARGET_LAST_FILE_S, TARGET_RSS_MB,
+                                100 * args.target, 'all met' if ok else 'NOT all met'))
     return ok
 
 

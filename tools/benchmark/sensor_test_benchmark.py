@@ -25,9 +25,13 @@ of sensorTest and of `rostopic hz` and their ratio; the time from the end of the
 the last recording written (mtime); the peak memory of sensorTest and its ffmpeg children
 together (psutil, sampled every 0.1 s) as PSS (each shared page divided among the processes
 that map it) and as RSS (the sum counts the libraries every ffmpeg maps once per process),
-and sensorTest's own RSS. Then one summary line per round with the targets of issue 12: ratio
-<= 1.5 with recording off, <= 5 with recording on, last file <= 2 s after the window, peak
-memory (PSS of the whole tree) <= 300 MB, every message received (>= --target) and recorded.
+and sensorTest's own RSS. After each recording round, the encoders alone (encoders.py): the
+package's own video recorders encode the frames the round published with nothing else running;
+their ffmpeg CPU is the recording's floor above listening. Then one summary line per round
+against the targets: listening (recording off) <= 1.1x the CPU of `rostopic hz` beside it;
+recording <= 1.1x of (the same run's listening round + the encoders alone); last file <= 2 s
+after the window; peak memory (PSS of the whole tree) <= 300 MB; every message received
+(>= --target) and recorded. The processes run byte-compiled, as installed (probes.byte_compiled).
 Exit code 0 when every round met every target, 1 otherwise, 2 when a round could not run.
 `--profile DIR` runs sensorTest under py-spy (if installed) and prints the top entries
 (CPU ratios of such a round include the profiler and are not comparable).
@@ -40,6 +44,7 @@ import tempfile
 from typing import Any, Dict, List, Optional, Sequence
 
 from bench_round import run_round
+from encoders import encoders_alone
 from report import TARGETS, summary
 from workload import write_files
 
@@ -57,8 +62,19 @@ def _rounds(args: argparse.Namespace, tmp: str, master: PrivateMaster) -> Option
             if 'error' in m:
                 print(m['error'])
                 return None
+            if mode == 'on':
+                m['encoders_alone'] = _encoders_alone(m, os.path.join(tmp, 'encoders-%d' % (i + 1)))
             rounds.append(m)
     return rounds
+
+
+def _encoders_alone(m: Dict[str, Any], folder: str) -> Optional[float]:
+    """CPU seconds of the encoders alone on the frames the round published (encoders.py)."""
+    cpu, errors = encoders_alone({name: row['published'] for name, row in m['streams'].items()}, folder)
+    for error in errors:
+        print('encoders alone: ' + error)
+    print('encoders alone (ffmpeg on the same frames, nothing else running): CPU %.2f s' % cpu)
+    return None if errors else cpu
 
 
 def run(args: argparse.Namespace) -> int:

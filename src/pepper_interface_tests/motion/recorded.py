@@ -24,9 +24,10 @@ Rates are taken over RATE_SPAN s at least.
 
 The times are the recording's (record times); the rules' margins are MotionExpect's defaults.
 """
+import collections
 import dataclasses
 import statistics
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, Deque, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.expectations import MotionExpect
 from ..sources.witness import TopicWitness
@@ -34,7 +35,7 @@ from . import estimate
 from .record import WHEELS, Recording
 from .rules import Judge
 from .sequence import HEAD_YAW_SPEED, Step
-from .witnesses import HEAD_CAMERAS, Recorder
+from .witnesses import FRAME_PERIOD, HEAD_CAMERAS, Recorder
 
 MOVING_RATE = 0.1     # rad/s: ALMotion turns at up to 1 rad/s; a still robot's gyro reads ~0.01
 # rad/s of HeadYaw: a commanded yaw at the slowest useful speed (0.05 of 7.34 rad/s) moves 0.37;
@@ -50,8 +51,10 @@ WHEEL_RATE = 0.5      # rad/s of the three wheels' summed spin (a 0.1 rad/s base
 BASE_ROWS = ('jointState', 'odometry', 'imu', 'laser')
 HEAD_ROWS = ('jointState',) + HEAD_CAMERAS
 ROLES = BASE_ROWS + HEAD_CAMERAS
-FRAMES_KEPT = 3.0     # s of frames always kept (the frames before a head move starts)
-KEEP_AROUND = 2.0     # s either side of the head moving: frames kept (PAD plus a margin)
+# s either side of HeadYaw moving: the head cameras' frames converted (a head step starts PAD
+# before the first rate over RATE_SPAN that passes HEAD_RATE, and is judged from the frame before
+# it: 0.7 s plus a frame's gap; 2 s leaves room for a loaded robot's 1.3 fps)
+KEEP_AROUND = 2.0
 # m the base may travel during a turn for the laser to be judged on it: scan_turn matches a
 # turn in place (a --move turn); a robot driving while it turns changes its distances too
 # (0.1 m: a tenth of the beams' typical 1-3 m, the size of the rule's own tolerance)
@@ -61,51 +64,89 @@ Span = Tuple[float, float]
 
 
 class RecordedWitness(TopicWitness):
-    """One witness topic of a recording, fed by the source (a sources.Listener) into `recorder`."""
+    """One witness topic of a recording, fed by the source (a sources.Listener) into `recorder`;
+    a head camera's messages go undecoded to LeanRecorder.raw_frame."""
 
     buff_size = 1 << 22
 
-    def __init__(self, role: str, topic: str, recorder: Recorder) -> None:
+    def __init__(self, role: str, topic: str, recorder: 'LeanRecorder') -> None:
         super().__init__(topic, recorder.handlers[role][0]._type)
         self.role, self.recorder = role, recorder
+
+    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+                 conn: Optional[Dict[str, Any]] = None) -> None:
+        if self.role not in HEAD_CAMERAS:
+            super().feed_raw(type_name, buff, t_recv, ros_now, conn)
+        elif type_name == self.type_name:
+            self.recorder.raw_frame(self.role, buff, t_recv)
 
     def take(self, msg: Any, t_recv: float) -> None:
         self.recorder.handle(self.role, msg, t_recv)
 
 
 class LeanRecorder(Recorder):
-    """The witnesses' handlers, bounded for a recording of any length: of /joint_states only
-    HeadYaw and the wheels are kept, and a head camera's small frames only around the head's
-    motion (the last FRAMES_KEPT s, and those within KEEP_AROUND s of HeadYaw moving faster
-    than HEAD_RATE): ten minutes of four cameras would otherwise keep ~400 MB of frames."""
+    """The witnesses' handlers, bounded for a recording of any length, and no dearer than the
+    motion in it: of /joint_states only HeadYaw and the wheels are kept, and a head camera's
+    frame is decoded and made small only when HeadYaw moves faster than HEAD_RATE within
+    KEEP_AROUND s of it. The cheap witness decides: a frame waits undecoded (the bytes the
+    source read, no copy) until HeadYaw moves, which converts the waiting frames within
+    KEEP_AROUND s, or until it is KEEP_AROUND s old, when it is dropped unread. A recording
+    whose head never moves converts no frame (ten minutes of four cameras would otherwise cost
+    a conversion per frame and ~400 MB of small frames)."""
 
     def __init__(self, recording: Recording) -> None:
         super().__init__(recording)
-        self.keeps: List[List[float]] = []     # [from, to]: frames kept for a head move
-        self.checked: Dict[str, int] = {}      # camera -> frames before this index are settled
+        self.keeps: List[List[float]] = []     # [from, to]: frames converted for a head move
+        self.waiting: Dict[str, Deque[Tuple[float, bytes]]] = {}   # camera -> undecoded frames
+        self.taken: Dict[str, float] = {}      # camera -> time of the last frame taken
+        self.head: Deque[Tuple[float, float]] = collections.deque(maxlen=30)   # the last HeadYaws
 
     def _joints(self, role: str, msg: Any, t: float) -> None:
         kept = {n: p for n, p in zip(msg.name, msg.position) if n == 'HeadYaw' or n in WHEELS}
         self.rec.joints.append((t, kept))
         if 'HeadYaw' not in kept:
             return
-        pts = [(ts, p['HeadYaw']) for ts, p in self.rec.joints[-60:] if 'HeadYaw' in p]
-        if _moving(pts[-30:], HEAD_RATE, angle=False):
+        self.head.append((t, kept['HeadYaw']))
+        if _moving(self.head, HEAD_RATE, angle=False):
             if self.keeps and self.keeps[-1][1] >= t - KEEP_AROUND:
                 self.keeps[-1][1] = t + KEEP_AROUND
             else:
                 self.keeps.append([t - KEEP_AROUND, t + KEEP_AROUND])
+            self._convert_waiting()
 
-    def _frame(self, role: str, msg: Any, t: float) -> None:
-        super()._frame(role, msg, t)
-        frames = self.rec.frames.get(role, [])
-        i = self.checked.get(role, 0)
-        while i < len(frames) and frames[i][0] < t - FRAMES_KEPT:
-            if any(a <= frames[i][0] <= b for a, b in self.keeps):
-                i += 1
+    def raw_frame(self, role: str, buff: bytes, t: float) -> None:
+        """A head camera's serialized sensor_msgs/Image at time t: at most one every
+        FRAME_PERIOD s is taken; converted now when HeadYaw moved within KEEP_AROUND s, else
+        left waiting."""
+        with self.rec.lock:
+            self.rec.count(role)
+            if role in self.taken and t - self.taken[role] < FRAME_PERIOD:
+                return
+            self.taken[role] = t
+            waiting = self.waiting.setdefault(role, collections.deque())
+            while waiting and waiting[0][0] < t - KEEP_AROUND:
+                waiting.popleft()        # HeadYaw did not move within KEEP_AROUND s of it
+            if self.keeps and self.keeps[-1][1] >= t:
+                self._convert(role, buff, t)
             else:
-                frames.pop(i)
-        self.checked[role] = i
+                waiting.append((t, buff))
+
+    def _convert_waiting(self) -> None:
+        """HeadYaw moves: the waiting frames from the start of its keep on are converted, the
+        older ones can be in no later keep (each starts KEEP_AROUND s before its motion)."""
+        start = self.keeps[-1][0]
+        for role, waiting in self.waiting.items():
+            while waiting:
+                t, buff = waiting.popleft()
+                if t >= start:
+                    self._convert(role, buff, t)
+
+    def _convert(self, role: str, buff: bytes, t: float) -> None:
+        try:
+            msg = self.handlers[role][0]().deserialize(buff)
+        except Exception:   # a broken message: that camera's own row says so
+            return
+        self._frame(role, msg, t)
 
 
 def listeners(topics: Mapping[str, str], rec: Recording,

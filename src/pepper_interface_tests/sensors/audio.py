@@ -122,6 +122,9 @@ class AudioCheck(Check):
     family = 'audio'
     expect: 'AudioExpect'
     queue_size = 200
+    # the samples as numpy views of the message's bytes: genpy's deserialize unpacks each of an
+    # AudioBuffer's 32768 int16 into a Python int (a tuple numpy then copies back, ~1.5 ms)
+    numpy_arrays = True
 
     def __init__(self, plan: 'SensorPlan', ctx: 'RunContext') -> None:
         super().__init__(plan, ctx)

@@ -223,6 +223,7 @@ class Check:
     found: Any = None       # the family's values dataclass once finish() built it; a subclass types it
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
+    numpy_arrays = False    # numeric arrays decoded as numpy views (genpy's deserialize_numpy)
 
     def __init__(self, plan: 'SensorPlan', ctx: RunContext) -> None:
         self.plan = plan

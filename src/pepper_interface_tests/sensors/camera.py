@@ -58,7 +58,10 @@ _HEADER = struct.Struct('<3I')       # seq, stamp secs, stamp nsecs
 _SIZE = struct.Struct('<2I')         # height, width
 _STEP = struct.Struct('<BI')         # is_bigendian, step
 STRIDE = 8        # statistics sample every 8th row and column
-WEAR_EVERY = 4    # sharpness and noise (sensors/wear.py, ~2 ms a VGA frame) of every 4th frame
+# s between two frames whose sharpness and noise are measured (sensors/wear.py, about 1 ms a VGA
+# frame): one a second, 10 over a 10 s window, whatever the rate (their means are the drift's;
+# a still robot's frames differ by their noise, which each frame's 76,800 grey pixels average)
+WEAR_PERIOD = 1.0
 # 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
 RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
                'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
@@ -309,7 +312,8 @@ class CameraCheck(ImageCheck):
         self.same_halves = 0
         self.brightness_series: List[Point] = []
         self.found: Optional[CameraValues] = None
-        self.sharpness, self.noise = Acc(), Acc()       # every WEAR_EVERY-th frame (drift)
+        self.sharpness, self.noise = Acc(), Acc()       # a frame every WEAR_PERIOD s (drift)
+        self.wear_at: Optional[float] = None            # when they were last measured
 
     def settled(self) -> bool:
         return self.count >= self.frozen_frames + 1
@@ -340,7 +344,8 @@ class CameraCheck(ImageCheck):
             self.constant += 1
             bad = 'constant'
         self._frozen(msg, t)
-        if self.converted % WEAR_EVERY == 1:
+        if self.wear_at is None or t - self.wear_at >= WEAR_PERIOD:
+            self.wear_at = t
             sharp, noise = focus_and_noise(colour)
             self.sharpness.add(sharp)
             self.noise.add(noise)

@@ -47,7 +47,7 @@ class JumpWatch:
         rate, baseline = self.max_rate, self.baseline
         for rw, rv in self.refs:
             dt = abs(when - rw)
-            d = math.hypot(*[a - b for a, b in zip(value, rv)])
+            d = math.dist(value, rv)      # hypot of the differences, in C (Python 3.8)
             over = d - rate * (dt if dt > baseline else baseline)
             if over > excess:
                 excess, worst = over, (d, dt)
@@ -56,7 +56,7 @@ class JumpWatch:
                 self.jumps += 1
                 self.in_jump = True
                 last_when, last = self.refs[-1]
-                size = math.hypot(*[a - b for a, b in zip(value, last)])
+                size = math.dist(value, last)
                 if size > self.largest:
                     self.largest, self.largest_t, self.largest_dt = size, t, abs(when - last_when)
             if all(abs(when - rw) > self.baseline for rw, _ in self.refs):

@@ -95,8 +95,7 @@ class SensorRun:
             if not self.stream.accept(type_name, conn):
                 return
             try:
-                decode = self.decode or self._class_for(type_name, conn)().deserialize
-                msg = decode(buff)
+                msg = self.decode(buff) if self.decode else self._message(type_name, conn, buff)
             except Exception as e:  # a corrupt message is a finding, not a crash
                 self.stream.issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
                 return
@@ -113,6 +112,13 @@ class SensorRun:
                 debug('%s #%d t=%.3f s%s' % (
                     self.sensor.name, self.stream.stats.count, t_recv - self.clock.began,
                     ' stamp %.3f frame "%s"' % (stamp or 0.0, header.frame_id) if header is not None else ''))
+
+    def _message(self, type_name: str, conn: Optional[Dict[str, Any]], buff: bytes) -> Any:
+        msg = self._class_for(type_name, conn)()
+        if self.check.numpy_arrays:
+            import numpy
+            return msg.deserialize_numpy(buff, numpy)
+        return msg.deserialize(buff)
 
     def _class_for(self, type_name: str, conn: Optional[Dict[str, Any]]) -> Type[Any]:
         cls = self.classes.get(type_name)
