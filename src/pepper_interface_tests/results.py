@@ -83,6 +83,21 @@ class Drift:
     text: str = ''          # the whole warning, as SensorResult.warnings holds it
 
 
+@dataclass(frozen=True)
+class FramePlacement:
+    """Where a sensor's data sits on the robot (sensors/frames.py): its messages' frame looked
+    up in /tf into `target` at their own stamps."""
+    frame_id: str = ''
+    target: str = ''
+    judged: int = 0             # stamps looked up
+    placed: int = 0             # of which tf2 could transform
+    # the frames tf2 walked from frame_id to target (placed), or the walk up to the first
+    # missing link (never placed)
+    chain: List[str] = field(default_factory=list)
+    missing_above: str = ''     # never placed: the highest frame reached, nothing above it
+    worst_gap_s: Optional[float] = None     # the largest extrapolation tf2 refused (s; + future)
+
+
 @dataclass
 class SensorResult:
     name: str
@@ -113,6 +128,8 @@ class SensorResult:
     family: str = ''                     # the check family (sensors/families.py), '' when unknown
     rate_series: Optional[List[Tuple[float, float]]] = None   # messages per second over the window
     drift: List[Drift] = field(default_factory=list)   # values beyond their margin since the baseline
+    # its frame in the robot's transform tree (sensors/frames.py); None: not judged
+    frame: Optional[FramePlacement] = None
 
     @property
     def ok(self) -> bool:
@@ -307,6 +324,11 @@ def _read_sensor(s, values_of, family_of):
             r.values = codec.join(cls, s.get('values'), s.get('series'))
         except codec.CodecError:
             r.values = None          # values of another version that do not fit: the verdict stays
+    if isinstance(s.get('frame'), dict):
+        try:
+            r.frame = codec.from_json(FramePlacement, s['frame'])
+        except codec.CodecError:
+            pass                 # a frame of another version: its reason stays in reasons
     for d in s.get('drift') if isinstance(s.get('drift'), list) else []:
         try:
             r.drift.append(codec.from_json(Drift, d))

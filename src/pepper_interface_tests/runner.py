@@ -25,6 +25,7 @@ from .results import FAIL, SKIPPED, RunResult, SensorResult
 from .sensors import cross
 from .sensors.base import RunContext
 from .sensors.families import traits
+from .sensors import tree
 from .sensors.stiffness import witnesses
 from .sensors.stream import no_publisher_note
 from .sensors.window import SensorRun, skipped_result
@@ -162,7 +163,7 @@ class Runner:
             interrupts.pause('run-started')
             self._nothing_published()
             # before the first window: a bag then reads their topics from its start
-            self.witnesses = list(witnesses(self.plan, self.ctx))
+            self.witnesses = list(witnesses(self.plan, self.ctx)) + tree.witnesses(self.plan, self.ctx)
             if not self.source.live:   # a recording's own motion (sensors/cross.py)
                 self.motion_rec = Recording()
                 self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec,
@@ -253,6 +254,7 @@ class Runner:
         for witness in self.witnesses:
             self.source.detach(witness)     # never waits for the master (sources/live.py)
         self.ctx.services.stiffness = None
+        self.ctx.services.tree = None
         self.witnesses = []
         for lane in self.lanes:
             for plan in lane:
