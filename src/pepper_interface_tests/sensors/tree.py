@@ -214,7 +214,8 @@ class TfTopic:
             msg = self._cls().deserialize(buff)
         except Exception:
             return
-        node = str((conn or {}).get('callerid') or '?')
+        caller = (conn or {}).get('callerid') or '?'
+        node = caller.decode('utf-8', 'replace') if isinstance(caller, bytes) else str(caller)
         self.record.add(msg, self.static, node, ros_now)
 
     def use_sim_clock(self, sim_clock: Any) -> None:
