@@ -22,10 +22,9 @@ from .motion.record import Recording
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
-from .sensors import cross
+from .sensors import cross, tree
 from .sensors.base import RunContext
 from .sensors.families import traits
-from .sensors import tree
 from .sensors.stiffness import witnesses
 from .sensors.stream import no_publisher_note
 from .sensors.window import SensorRun, skipped_result

@@ -65,7 +65,8 @@ def test_without_neck_to_head_the_four_head_cameras_fail_by_name(tmp_path):
     for name in HEAD_CAMERAS:
         s = got[name]
         assert s['verdict'] == 'FAIL', (name, s['reasons'])
-        assert [r for r in s['reasons'] if 'has no path to base_footprint: /tf has nothing above Head' in r], s['reasons']
+        words = 'has no path to base_footprint: /tf has nothing above Head'
+        assert [r for r in s['reasons'] if words in r], s['reasons']
         assert s['frame']['missing_above'] == 'Head' and s['frame']['placed'] == 0, s['frame']
     assert 'CameraTop_optical_frame has no path' in got['frontCamera']['reasons'][0]
     assert 'CameraBottom_optical_frame has no path' in got['bottomCamera']['reasons'][0]

@@ -58,8 +58,8 @@ from .faults import FaultError, parse_faults
 from .info import DEFAULT_BODY_ID, InfoPublisher, check_body_id
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
 from .publishers import AudioPublisher, Clock, ClockPublisher, JointStatePublisher, StreamPublisher, publisher_class
-from .tf_publisher import TfPublisher
 from .speech import DirectSpeech, NaoqiSpeech
+from .tf_publisher import TfPublisher
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource

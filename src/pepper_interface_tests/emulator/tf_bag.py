@@ -48,7 +48,7 @@ def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoq
     poses.sort()
     written = 0
     with rosbag.Bag(src) as bag, rosbag.Bag(dst, 'w', compression='bz2') as out:
-        for topic, m, t, conn in _with_headers(bag):
+        for topic, m, t, conn in bag.read_messages(raw=True, return_connection_header=True):
             if topic == TF_TOPIC:
                 continue
             out.write(topic, m, t, raw=True, connection_header=conn)
@@ -77,11 +77,6 @@ def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoq
             out.write(TF_TOPIC, tf, t, connection_header=header)
             written += 1
     return written
-
-
-def _with_headers(bag: Any) -> Any:
-    for topic, raw, t, conn in bag.read_messages(raw=True, return_connection_header=True):
-        yield topic, raw, t, conn
 
 
 def _decode(raw: Any) -> Any:

@@ -26,6 +26,7 @@ def _rows(v: TfValues, marks: Dict[str, List[Tuple[str, bool]]], only: Set[str])
     for link in v.links:
         children.setdefault(link.parent, []).append(link.child)
     rows: List[List[object]] = []
+    drawn: Set[str] = set()
 
     def walk(frame: str, depth: int) -> None:
         if only and frame not in only:
@@ -34,6 +35,7 @@ def _rows(v: TfValues, marks: Dict[str, List[Tuple[str, bool]]], only: Set[str])
         cell: List[object] = [Span(', '.join(n for n, _ in sensors),
                                    cls='' if all(ok for _, ok in sensors) else 'fail-text', strong=True)] \
             if sensors else []
+        drawn.add(frame)
         rows.append([INDENT * depth + ('\u2514 ' if depth else '') + frame, cell])
         for c in sorted(children.get(frame, [])):
             walk(c, depth + 1)
@@ -41,7 +43,7 @@ def _rows(v: TfValues, marks: Dict[str, List[Tuple[str, bool]]], only: Set[str])
     for root in v.roots:
         walk(root, 0)
     for frame in sorted(marks):         # sensors' frames the tree never held
-        if not any(r[0].endswith(frame) for r in rows):
+        if frame not in drawn:
             rows.append([Span(frame + ' (not in /tf)', cls='fail-text'),
                          Span(', '.join(n for n, _ in marks[frame]), cls='fail-text', strong=True)])
     return rows
