@@ -74,3 +74,42 @@ def test_each_tree_fault_is_caught_on_the_tf_row_only(master, tmp_path, fault, w
         s = res[name]
         assert s['verdict'] == 'PASS', (fault, name, s['reasons'])
         assert not frame_reasons(s), (fault, name, s['warnings'])
+
+
+def test_tree_faults_parse_and_are_listed():
+    from pepper_interface_tests.emulator import fault_table
+    from pepper_interface_tests.emulator.faults import FaultError, format_faults, parse_faults
+    f = parse_faults('tf:no_description,stale;TF:future_stamps,second_publisher')
+    assert f['tf'].no_description and f['tf'].stale and f['tf'].future_stamps and f['tf'].second_publisher
+    assert parse_faults(format_faults(f)) == f
+    with pytest.raises(FaultError, match='does not apply to laser'):
+        parse_faults('laser:no_description')
+    table = fault_table.table()
+    for name in ('no_description', 'second_publisher', 'stale', 'future_stamps'):
+        assert name in table
+    assert max(len(line) for line in table.splitlines()) <= 80
+
+
+def test_the_emulators_tree_is_the_urdfs():
+    """84 pairs below odom as naoqi_driver sends them (joint_state.cpp:147-185), the head chain
+    turning with HeadYaw and HeadPitch, the fingers following their hand; the simulator's leg
+    chain from base_footprint up."""
+    import math
+
+    from pepper_interface_tests.emulator.profiles import JOINT_NAMES
+    from pepper_interface_tests.emulator.urdf_tree import JOINTS, driver_tree, simulator_tree
+    positions = {j: 0.0 for j in JOINT_NAMES}
+    positions.update(HeadYaw=0.4, HeadPitch=-0.2, LHand=1.0)
+    tree = driver_tree(positions)
+    assert len(JOINTS) == 83 and len(tree) == 83
+    by_child = {c: (p, xyz, q) for p, c, xyz, q in tree}
+    assert len({c for _, c, _, _ in tree} | {'base_link'}) == 84
+    parent, xyz, q = by_child['Neck']
+    assert parent == 'torso' and xyz == (-0.038, 0.0, 0.1699)
+    assert math.isclose(2 * math.atan2(q[2], q[3]), 0.4, abs_tol=1e-9)
+    assert math.isclose(2 * math.atan2(by_child['Head'][2][1], by_child['Head'][2][3]), -0.2, abs_tol=1e-9)
+    assert by_child['CameraTop_optical_frame'][0] == 'CameraTop_frame'
+    assert by_child['CameraTop_frame'][0] == 'Head' and by_child['base_footprint'][0] == 'Tibia'
+    assert driver_tree(positions, described=False) == []
+    sim = {c: p for p, c, _, _ in simulator_tree(tree)}
+    assert sim['Tibia'] == 'base_footprint' and sim['torso'] == 'Hip' and sim['base_link'] == 'torso'

@@ -202,7 +202,7 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
         SensorSpec('imu', 'imu', imu_topic, 10.0, 'base_footprint',
                    extra=((torso, 'base_link'),) if torso else ()),
         # joint_state.cpp:147-201: the URDF's tree with every joint state (tf_publisher.py)
-        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0),
+        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0, layout='realsense' if realsense else ''),
     ]
     if realsense:
         # realsense2_camera (ros1-legacy) base_realsense_node.cpp: colour RGB8 (:116), depth 16UC1 (:95-96),

@@ -7,7 +7,8 @@ publishes to `TfPublisher.send`. `odom -> base_link` is the body's pose at that 
 (joint_state.cpp:162-185: the torso's pose from ALMotion, the odometry's too). With no joint
 state publisher the tree keeps its own 50 Hz schedule from the body's joints.
 
-The simulator's layout follows robot_state_publisher and Gazebo (urdf_tree.py's docstring):
+With --realsense the camera's own frames and its mount go out once on /tf_static
+(REALSENSE_TREE). The simulator's layout follows robot_state_publisher and Gazebo (urdf_tree.py's docstring):
 `odom -> base_footprint` and the moving joints on /tf, the fixed joints once, latched, on
 /tf_static, the leg chain from base_footprint up.
 
@@ -26,10 +27,21 @@ from geometry_msgs.msg import TransformStamped
 from tf2_msgs.msg import TFMessage
 
 from .publishers import StreamPublisher
-from .urdf_tree import Transform, driver_tree, quat_axis, simulator_tree
+from .urdf_tree import Transform, driver_tree, quat_axis, quat_rpy, simulator_tree
 
 STALE_S = 0.8
 FUTURE_S = 1.0
+# The RealSense on the head (--realsense): realsense2_camera (ros1-legacy) publishes its own
+# frames once on /tf_static (base_realsense_node.cpp publishStaticTransforms: camera_link ->
+# camera_color_frame, the D435's colour imager 15 mm to the left, -> camera_color_optical_frame
+# turned as every optical frame, z forward); the mount, Head -> camera_link, is the robot's own
+# static transform (a static_transform_publisher in its launch): here 0.1 m in front of and
+# 0.15 m above Head, a stand-in
+REALSENSE_TREE: List[Transform] = [
+    ('Head', 'camera_link', (0.1, 0.0, 0.15), (0.0, 0.0, 0.0, 1.0)),
+    ('camera_link', 'camera_color_frame', (0.0, 0.015, 0.0), (0.0, 0.0, 0.0, 1.0)),
+    ('camera_color_frame', 'camera_color_optical_frame', (0.0, 0.0, 0.0), quat_rpy(-1.5707963, 0.0, -1.5707963)),
+]
 
 
 def _msg(transforms: List[Transform], stamp: rospy.Time) -> TFMessage:
@@ -59,9 +71,13 @@ class TfPublisher(StreamPublisher):
         self._lock = threading.Lock()
         self._static: Optional[rospy.Publisher] = None
         self._second: Optional[subprocess.Popen] = None
+        fixed: List[Transform] = []
         if self.gazebo:
-            self._static = rospy.Publisher(self.spec.topic + '_static', TFMessage, queue_size=1, latch=True)
             fixed = [t for t in simulator_tree(driver_tree({})) if not self._moving(t)]
+        elif self.spec.layout == 'realsense':
+            fixed = list(REALSENSE_TREE)
+        if fixed:
+            self._static = rospy.Publisher(self.spec.topic + '_static', TFMessage, queue_size=1, latch=True)
             self._static.publish(_msg(fixed, rospy.Time.now()))
         if self.faults.second_publisher:
             self._second = subprocess.Popen(

@@ -31,7 +31,6 @@ from ..sources.witness import TopicWitness
 
 if TYPE_CHECKING:
     from ..plan.model import TestPlan
-    from .base import RunContext
 
 TF_TYPE = 'tf2_msgs/TFMessage'
 TF_SENSOR = 'tf'                 # the catalog's row of /tf
@@ -405,9 +404,10 @@ def tf_topic(plan: 'TestPlan', topics: Dict[str, str]) -> Optional[str]:
     return topics.get(TF_SENSOR) or DEFAULT_TF
 
 
-def witnesses(plan: 'TestPlan', ctx: 'RunContext') -> List[Any]:
+def witnesses(plan: 'TestPlan', ctx: Any) -> List[Any]:
     """The tree's listeners for this run (the runner attaches them to the source before the
-    first window), offered to the checks as ctx.services.tree."""
+    first window), offered to the checks as ctx.services.tree (ctx: the run's
+    sensors.base.RunContext, which names this module's Tree)."""
     topic = tf_topic(plan, dict(ctx.topics))
     if topic is None:
         return []
