@@ -244,6 +244,19 @@ def robot_line(run: RunResult) -> str:
             if why else '')
 
 
+def frame_line(r: SensorResult) -> str:
+    """Where the sensor's data sits on the robot ('' when its frame was not judged): the chain
+    tf2 walked to the target, or the missing link (sensors/frames.py)."""
+    f = r.frame
+    if f is None or not f.judged:
+        return ''
+    if f.placed == 0:
+        return 'frame %s: no path to %s (/tf has nothing above %s)' % (
+            printable(f.frame_id, 200), f.target, printable(f.missing_above or f.frame_id, 200))
+    chain = ' -> '.join(printable(x, 200) for x in f.chain) or printable(f.frame_id, 200)
+    return 'frame %s: placed at %d of %d stamps' % (chain, f.placed, f.judged)
+
+
 def count_line(c: Dict[Verdict, int]) -> str:
     text = '%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED])
     return text + (', %d interrupted' % c[INTERRUPTED] if c.get(INTERRUPTED) else '')

@@ -2,6 +2,9 @@
 test/fixtures/real-driver/) with the driver's /tf derived from its own joint states and
 odometry (emulator/tf_bag.py), read by the real sensorTest --bag.
 
+The recording's own /tf (derived the same way, test/fixtures/real-driver/manifest.json) is
+replaced by a fresh one in each test, so each test says which tree it judges.
+
 * with /tf, every frame is placed and every row passes;
 * with every Neck -> Head transform removed, the four head cameras fail by name ("/tf has
   nothing above Head") and no other row fails;
@@ -10,9 +13,11 @@ odometry (emulator/tf_bag.py), read by the real sensorTest --bag.
 import json
 import os
 import subprocess
+import xml.etree.ElementTree as ET
 
 import pytest
 
+from pepper_interface_tests import results
 from pepper_interface_tests.emulator.tf_bag import add_tf
 from rosmaster import script
 
@@ -38,7 +43,7 @@ def frame_words(s):
 
 @pytest.fixture(scope='module')
 def with_tf(tmp_path_factory):
-    path = str(tmp_path_factory.mktemp('tf') / 'healthy_stereo_tf.bag')
+    path = str(tmp_path_factory.mktemp('tf') / 'healthy_stereo_tf.bag')      # /tf derived afresh
     assert add_tf(GOLDEN, path) > 100
     return path
 
@@ -53,6 +58,12 @@ def test_the_real_driver_with_its_tf_places_every_frame(with_tf, tmp_path):
         assert frame['placed'] == frame['judged'] > 10, (name, frame)
         assert frame['chain'][:1] + frame['chain'][-1:] == [frame['frame_id'], 'base_footprint'], frame
         assert ['Head', 'Neck', 'torso'] == [f for f in frame['chain'] if f in ('Head', 'Neck', 'torso')]
+    dat = (tmp_path / results.OUTPUT_FILE).read_text()
+    assert ('[FRAME] frame CameraTop_optical_frame -> CameraTop_frame -> Head -> Neck -> torso -> Hip -> '
+            'Pelvis -> Tibia -> base_footprint: placed at') in dat
+    cases = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')
+    sonar = [c for c in cases if c.get('name') == 'frontSonar'][0].find('system-out').text
+    assert 'frame SonarFront_frame -> Tibia -> base_footprint: placed at 38 of 38 stamps' in sonar
     tf = got['tf']['values']
     assert tf['pairs'] == 84 and tf['roots'] == ['odom'] and tf['second_publishers'] == [], tf
     assert tf['head_compared'] > 100 and tf['odom_compared'] > 20, tf
@@ -69,6 +80,8 @@ def test_without_neck_to_head_the_four_head_cameras_fail_by_name(tmp_path):
         assert [r for r in s['reasons'] if words in r], s['reasons']
         assert s['frame']['missing_above'] == 'Head' and s['frame']['placed'] == 0, s['frame']
     assert 'CameraTop_optical_frame has no path' in got['frontCamera']['reasons'][0]
+    dat = (tmp_path / results.OUTPUT_FILE).read_text()
+    assert '[FRAME] frame CameraTop_optical_frame: no path to base_footprint (/tf has nothing above Head)' in dat
     assert 'CameraBottom_optical_frame has no path' in got['bottomCamera']['reasons'][0]
     for name in SENSORS:
         if name not in HEAD_CAMERAS:
@@ -77,7 +90,13 @@ def test_without_neck_to_head_the_four_head_cameras_fail_by_name(tmp_path):
 
 
 def test_without_any_tf_one_clear_reason(tmp_path):
-    p, got = judge(GOLDEN, tmp_path)
+    import rosbag
+    bag = str(tmp_path / 'no_tf.bag')
+    with rosbag.Bag(GOLDEN) as src, rosbag.Bag(bag, 'w') as out:
+        for topic, raw, t, conn in src.read_messages(raw=True, return_connection_header=True):
+            if topic != '/tf':
+                out.write(topic, raw, t, raw=True, connection_header=conn)
+    p, got = judge(bag, tmp_path)
     tf = got['tf']
     assert tf['verdict'] == 'FAIL' and len(tf['reasons']) == 1 and '/tf' in tf['reasons'][0], tf['reasons']
     for name in SENSORS:

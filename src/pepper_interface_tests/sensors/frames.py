@@ -61,8 +61,8 @@ class FramePlacer:
 
     def add(self, frame_id: str, stamp: float, t_recv: float) -> None:
         """One message's header (called under the window's lock)."""
-        if self.tree is None or not frame_id:
-            return
+        if self.tree is None or not frame_id or self.tree.record.first_stamp is None:
+            return      # before the run's first /tf: not judged
         frame_id = frame_id.lstrip('/')
         if frame_id not in self.frame_ids and len(self.frame_ids) < 8:
             self.frame_ids.append(frame_id)

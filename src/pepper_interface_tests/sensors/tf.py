@@ -23,8 +23,10 @@ run's tree witness saw from the start of the run to the end of this window (docs
   pepper.urdf joint HeadYaw): more than `head_tolerance` apart fails. With --move the head
   turns, so this holds the chain to the measured yaw while it moves.
 """
+import struct
 from typing import TYPE_CHECKING, Any, List, Optional
 
+from ..sources import messages
 from .base import Check, fmt
 from .values.tf import TfLink, TfValues
 
@@ -38,6 +40,15 @@ if TYPE_CHECKING:
 LINKS_SHOWN = 120       # links kept for the report's drawing (naoqi_driver: 84)
 
 
+class _Count:
+    """A TFMessage after the first, as the tf row's window needs it: how many transforms."""
+
+    __slots__ = ('n',)
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+
+
 class TfCheck(Check):
     family = 'tf'
     expect: 'TfExpect'
@@ -46,6 +57,15 @@ class TfCheck(Check):
         super().__init__(plan, ctx)
         self.found: Optional[TfValues] = None
         self.transforms = 0
+        self._cls = messages.message_class(plan.sensor.msg_type)
+
+    def decode(self, buff: bytes) -> Any:
+        """The first message in full (its fields for the outputs); after it only the number of
+        transforms, read from the array's length (the first uint32 of a serialized TFMessage):
+        the run's tree witness decodes every message already (sensors/tree.py)."""
+        if self.first_fields is None:
+            return self._cls().deserialize(buff)
+        return _Count(struct.unpack_from('<I', buff, 0)[0] if len(buff) >= 4 else 0)
 
     def fields(self, msg: 'genpy.Message') -> List[Any]:
         first = msg.transforms[0] if msg.transforms else None
@@ -56,7 +76,7 @@ class TfCheck(Check):
         return out
 
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
-        self.transforms += len(msg.transforms)
+        self.transforms += msg.n if isinstance(msg, _Count) else len(msg.transforms)
 
     def finish(self) -> None:
         tree = self.ctx.services.tree

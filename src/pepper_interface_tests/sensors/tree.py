@@ -39,6 +39,10 @@ DEFAULT_TF = '/tf'
 # thousandth of a radian is far above float rounding and far below any real mounting error.
 SAME_M = 1e-3
 SAME_RAD = 1e-3
+# A node's tree is read into the record (parents, publishers) once per this many seconds of
+# stamps when its messages keep their size: the structure of a tree does not change at 50 Hz,
+# and tf2's buffer gets every transform regardless
+RECORD_EVERY = 0.5
 
 
 class Link:
@@ -73,33 +77,27 @@ class TreeRecord:
         self.lags: Deque[float] = deque(maxlen=2000)  # arrival - newest stamp, the latest messages
         self.nodes: Set[str] = set()
         self.known: Set[str] = set()                  # every frame named so far
+        self._recorded: Dict[Tuple[str, bool, int], float] = {}   # (node, static, size) -> stamp
 
     def add(self, msg: Any, static: bool, node: str, ros_now: float) -> None:
-        transforms = list(msg.transforms)
+        transforms = msg.transforms
         refused = self.buffer.add(transforms, static, node)
-        newest = None
-        earliest = None
+        stamps = [t.header.stamp for t in transforms]
+        newest = max(stamps).to_sec() if stamps else None
+        earliest = min(stamps).to_sec() if stamps else None
         with self._lock:
             self.nodes.add(node)
             self.messages += 1
             self.static_messages += int(static)
             self.transforms += len(transforms)
             self.refused += refused
-            for t in transforms:
-                child, parent = t.child_frame_id.lstrip('/'), t.header.frame_id.lstrip('/')
-                self.known.add(child)
-                self.known.add(parent)
-                link = self.links.get(child)
-                if link is None:
-                    link = self.links[child] = Link()
-                link.count += 1
-                link.static = link.static or static
-                link.parents[parent] = link.parents.get(parent, 0) + 1
-                p, q = t.transform.translation, t.transform.rotation
-                link.publishers[node] = ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
-                s = t.header.stamp.to_sec()
-                newest = s if newest is None else max(newest, s)
-                earliest = s if earliest is None else min(earliest, s)
+            # the links (parents, publishers and their latest transforms) of a node's message
+            # like its last one are read every RECORD_EVERY s of stamps, not every message
+            key = (node, static, len(transforms))
+            last = self._recorded.get(key)
+            if static or last is None or newest is None or abs(newest - last) >= RECORD_EVERY:
+                self._recorded[key] = newest if newest is not None else 0.0
+                self._record_links(transforms, static, node)
             if newest is None or static:
                 return      # a static transform holds at every time: its stamp is no lag
             if self.first_stamp is None:
@@ -109,6 +107,20 @@ class TreeRecord:
             self.lags.append(-ahead)
             self.max_ahead = ahead if self.max_ahead is None else max(self.max_ahead, ahead)
             self.max_behind = -ahead if self.max_behind is None else max(self.max_behind, -ahead)
+
+    def _record_links(self, transforms: Any, static: bool, node: str) -> None:
+        for t in transforms:
+            child, parent = t.child_frame_id.lstrip('/'), t.header.frame_id.lstrip('/')
+            self.known.add(child)
+            self.known.add(parent)
+            link = self.links.get(child)
+            if link is None:
+                link = self.links[child] = Link()
+            link.count += 1
+            link.static = link.static or static
+            link.parents[parent] = link.parents.get(parent, 0) + 1
+            p, q = t.transform.translation, t.transform.rotation
+            link.publishers[node] = ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
 
     # --- the tree ----------------------------------------------------------------------------
     def parent_map(self) -> Dict[str, str]:
@@ -245,6 +257,12 @@ class Agreement(TopicWitness):
         self.worst: Optional[float] = None
         self.worst_at: Optional[float] = None
         self.worst_what = ''
+
+    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+                 conn: Optional[Dict[str, Any]] = None) -> None:
+        if self.record.first_stamp is None:
+            return      # before the run's first /tf nothing is compared: not even decoded
+        super().feed_raw(type_name, buff, t_recv, ros_now, conn)
 
     def take(self, msg: Any, t_recv: float) -> None:
         value = self.value(msg)
