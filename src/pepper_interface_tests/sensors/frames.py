@@ -9,9 +9,10 @@ Rules (docs/tf.md; the driver's tree: sensors/tree.py):
 - target: `base_footprint`, the frame naoqi_driver's laser and base IMU are in
   (src/converters/laser.cpp:213, src/converters/imu.cpp:45) and the root of a mobile base's
   footprint (REP 120);
-- a message waits until /tf has carried data at or past its stamp (the driver publishes /tf at
-  50 Hz, a camera's picture may be newer than the latest tree), at most WAIT seconds of
-  arrival; one message per SPACING seconds of stamps is looked up (20 lookups a second at
+- a message waits until tf2's latest common time along its chain is at or past its stamp (the
+  driver publishes /tf at 50 Hz, a camera's picture may be newer than the latest tree), at most
+  WAIT seconds of arrival (UNLINKED seconds for a frame with no chain yet: a tree being
+  assembled); one message per SPACING seconds of stamps is looked up (20 lookups a second at
   most per sensor: the tree changes slowly against that);
 - a message stamped before the run's first /tf is not judged (nothing was listening then), nor
   one still waiting when the window ends with no /tf newer than it (the tree has not caught up
