@@ -103,3 +103,26 @@ def test_without_any_tf_one_clear_reason(tmp_path):
         if name != 'tf':
             assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'])
             assert not frame_words(got[name]) and got[name]['frame'] is None, (name, got[name]['warnings'])
+
+
+def test_a_tree_that_does_not_follow_the_head_fails_the_tf_row_only(tmp_path):
+    """The real driver's recorded motion (move.bag: the head yaws +0.5 rad and back, then the
+    base turns): the tree with HeadYaw held at its first angle while /joint_states moves fails
+    the tf row, naming HeadYaw; the head cameras are still placed (in the wrong direction,
+    which only the tree's own row can tell)."""
+    move = os.path.join(os.path.dirname(GOLDEN), 'move.bag')
+    bag = str(tmp_path / 'held.bag')
+    add_tf(move, bag, hold=['HeadYaw'])
+    names = ['frontCamera', 'bottomCamera', 'depthCamera', 'jointState', 'tf']
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(names),
+                                  '--output-dir', str(tmp_path), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(tmp_path / 'sensorTestResults.json')) as f:
+        got = {s['name']: s for s in json.load(f)['sensors']}
+    tf = got['tf']
+    hits = [r for r in tf['reasons'] if "torso -> Neck does not follow /joint_states's HeadYaw" in r]
+    assert tf['verdict'] == 'FAIL' and hits, (tf['reasons'], p.stdout[-1500:])
+    assert tf['values']['head_moved_rad'] > 0.4 and tf['values']['head_worst_rad'] > 0.4, tf['values']
+    for name in names[:-1]:
+        assert not frame_words(got[name]), (name, got[name]['reasons'], got[name]['warnings'])

@@ -6,7 +6,8 @@ src/publishers/joint_state.cpp:33-42; `odom -> base_link` from the odometry's po
 interpolated at that stamp, the pose the driver reads from the same ALMotion call,
 joint_state.cpp:162-185 and odom.cpp:56-93). The connection names the joint states' node.
 
-`drop`: (parent, child) pairs left out of every message (a recording with a broken tree)."""
+`drop`: (parent, child) pairs left out of every message (a recording with a broken tree);
+`hold`: joints frozen in the tree (a tree that does not follow the head)."""
 import bisect
 import math
 from typing import Any, Iterable, List, Optional, Tuple
@@ -32,13 +33,15 @@ def _odom_at(poses: List[Tuple[float, float, float, float]], stamp: float) -> Op
 
 
 def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoqi_driver/odom',
-           drop: Iterable[Tuple[str, str]] = ()) -> int:
+           drop: Iterable[Tuple[str, str]] = (), hold: Iterable[str] = ()) -> int:
     """Copy recording `src` to `dst` with /tf added (any /tf in `src` left out); returns the
-    TFMessages written."""
+    TFMessages written. `hold`: joints whose transform keeps their first position (a tree that
+    does not follow the joint states)."""
     import rosbag
     from geometry_msgs.msg import TransformStamped
     from tf2_msgs.msg import TFMessage
     dropped = set(drop)
+    held: dict = {j: None for j in hold}
     poses = []
     with rosbag.Bag(src) as bag:
         for _, m, _ in bag.read_messages(topics=[odom]):
@@ -56,7 +59,13 @@ def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoq
                 continue
             msg = _decode(m)
             stamp = msg.header.stamp
-            tree: List[Transform] = driver_tree(dict(zip(msg.name, msg.position)))
+            positions = dict(zip(msg.name, msg.position))
+            for j in held:
+                if held[j] is None:
+                    held[j] = positions.get(j)
+                if held[j] is not None:
+                    positions[j] = held[j]
+            tree: List[Transform] = driver_tree(positions)
             pose = _odom_at(poses, stamp.to_sec())
             if pose is not None:
                 tree.append(('odom', 'base_link', (pose[0], pose[1], 0.0), quat_axis((0.0, 0.0, 1.0), pose[2])))
