@@ -83,6 +83,21 @@ class Drift:
     text: str = ''          # the whole warning, as SensorResult.warnings holds it
 
 
+@dataclass(frozen=True)
+class FramePlacement:
+    """Where a sensor's data sits on the robot (sensors/frames.py): its messages' frame looked
+    up in /tf into `target` at their own stamps."""
+    frame_id: str = ''
+    target: str = ''
+    judged: int = 0             # stamps looked up
+    placed: int = 0             # of which tf2 could transform
+    # the frames tf2 walked from frame_id to target (placed), or the walk up to the first
+    # missing link (never placed)
+    chain: List[str] = field(default_factory=list)
+    missing_above: str = ''     # never placed: the highest frame reached, nothing above it
+    worst_gap_s: Optional[float] = None     # the largest extrapolation tf2 refused (s; + future)
+
+
 @dataclass
 class SensorResult:
     name: str
@@ -113,6 +128,8 @@ class SensorResult:
     family: str = ''                     # the check family (sensors/families.py), '' when unknown
     rate_series: Optional[List[Tuple[float, float]]] = None   # messages per second over the window
     drift: List[Drift] = field(default_factory=list)   # values beyond their margin since the baseline
+    # its frame in the robot's transform tree (sensors/frames.py); None: not judged
+    frame: Optional[FramePlacement] = None
 
     @property
     def ok(self) -> bool:
@@ -227,6 +244,19 @@ def robot_line(run: RunResult) -> str:
             if why else '')
 
 
+def frame_line(r: SensorResult) -> str:
+    """Where the sensor's data sits on the robot ('' when its frame was not judged): the chain
+    tf2 walked to the target, or the missing link (sensors/frames.py)."""
+    f = r.frame
+    if f is None or not f.judged:
+        return ''
+    if f.placed == 0:
+        return 'frame %s: no path to %s (/tf has nothing above %s)' % (
+            printable(f.frame_id, 200), f.target, printable(f.missing_above or f.frame_id, 200))
+    chain = ' -> '.join(printable(x, 200) for x in f.chain) or printable(f.frame_id, 200)
+    return 'frame %s: placed at %d of %d stamps' % (chain, f.placed, f.judged)
+
+
 def count_line(c: Dict[Verdict, int]) -> str:
     text = '%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED])
     return text + (', %d interrupted' % c[INTERRUPTED] if c.get(INTERRUPTED) else '')
@@ -307,6 +337,11 @@ def _read_sensor(s, values_of, family_of):
             r.values = codec.join(cls, s.get('values'), s.get('series'))
         except codec.CodecError:
             r.values = None          # values of another version that do not fit: the verdict stays
+    if isinstance(s.get('frame'), dict):
+        try:
+            r.frame = codec.from_json(FramePlacement, s['frame'])
+        except codec.CodecError:
+            pass                 # a frame of another version: its reason stays in reasons
     for d in s.get('drift') if isinstance(s.get('drift'), list) else []:
         try:
             r.drift.append(codec.from_json(Drift, d))

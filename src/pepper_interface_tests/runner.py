@@ -22,7 +22,7 @@ from .motion.record import Recording
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
 from .results import FAIL, SKIPPED, RunResult, SensorResult
-from .sensors import cross
+from .sensors import cross, tree
 from .sensors.base import RunContext
 from .sensors.families import traits
 from .sensors.stiffness import witnesses
@@ -162,7 +162,7 @@ class Runner:
             interrupts.pause('run-started')
             self._nothing_published()
             # before the first window: a bag then reads their topics from its start
-            self.witnesses = list(witnesses(self.plan, self.ctx))
+            self.witnesses = list(witnesses(self.plan, self.ctx)) + tree.witnesses(self.plan, self.ctx)
             if not self.source.live:   # a recording's own motion (sensors/cross.py)
                 self.motion_rec = Recording()
                 self.witnesses += recorded.listeners(self.ctx.topics, self.motion_rec,
@@ -253,6 +253,7 @@ class Runner:
         for witness in self.witnesses:
             self.source.detach(witness)     # never waits for the master (sources/live.py)
         self.ctx.services.stiffness = None
+        self.ctx.services.tree = None
         self.witnesses = []
         for lane in self.lanes:
             for plan in lane:

@@ -68,7 +68,7 @@ def test_cameras_realsense_tests_the_realsense_with_the_shipped_input_file(modul
     lines = proc.stdout.splitlines()
     first_start = next(i for i, line in enumerate(lines) if line.strip().startswith('start '))
     header = lines[:first_start]
-    assert header[0].startswith('sensorTest: 18 sensors') and len(said) >= 2
+    assert header[0].startswith('sensorTest: 19 sensors') and len(said) >= 2
     # each line fits, or is one unbreakable word (the results folder's path on its own line)
     assert all(len(line) <= 80 or len(line.split()) == 1 for line in header[1:]), header
 

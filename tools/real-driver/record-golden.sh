@@ -21,7 +21,8 @@ NS=/naoqi_driver
 # as Raw (src/event/audio.cpp:182), which a Python NAOqi cannot send as an argument (qi 3.1.5
 # hands a bytes argument over as its str() text), so relay/audio_relay.cpp calls it
 CAMERAS="$NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw $NS/camera/stereo/image_raw $NS/camera/ir/image_raw"
-BODY="$NS/sonar/front $NS/sonar/back $NS/laser $NS/odom $NS/imu/base $NS/imu/torso /joint_states /diagnostics"
+# /tf: the driver's tree with every joint state (src/converters/joint_state.cpp:147-201; docs/tf.md)
+BODY="$NS/sonar/front $NS/sonar/back $NS/laser $NS/odom $NS/imu/base $NS/imu/torso /joint_states /tf /diagnostics"
 TOUCH="$NS/head_touch $NS/hand_touch $NS/bumper"
 
 # name | fake NAOqi arguments | topics
@@ -38,7 +39,7 @@ VARIANTS=(
   "audio|--audio-relay|$NS/audio"
   # the robot moves while recorded (tools/real-driver/move.py: head +0.5 rad and back, then
   # the base +0.5 rad): the motion witnesses and the head cameras at the driver's defaults
-  "move||$NS/odom $NS/imu/base $NS/laser /joint_states $NS/sonar/front $NS/sonar/back $NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw"
+  "move||$NS/odom $NS/imu/base $NS/laser /joint_states /tf $NS/sonar/front $NS/sonar/back $NS/camera/front/image_raw $NS/camera/bottom/image_raw $NS/camera/depth/image_raw"
 )
 MOVE_SECONDS=10    # the move variant: its commands end ~8.5 s in (move.py PLAN)
 

@@ -65,11 +65,15 @@ EFFECTS = {
     'resting': 'stiffness 0 in /diagnostics, every motion command ignored',
     'base_blocked': 'awake, the head obeys, the base refuses to move',
     'obstacle': 'a box 0.35 m in front of the base (laser and sonars)',
+    'no_description': 'naoqi_driver without its robot description: /tf carries odom -> base_link alone',
+    'second_publisher': 'a second node publishes Head -> CameraTop_frame 1 cm off the driver\'s',
+    'stale': '/tf stamps 0.8 s behind their publication',
+    'future_stamps': '/tf stamps 1.0 s ahead of their publication',
 }
 KIND_NAMES = {'camera': 'cameras', 'depth': 'depth cameras', 'range': 'sonars', 'laser': 'laser',
               'audio': 'microphone', 'joints': 'jointState',
               'odometry': 'odometry', 'imu': 'imu', 'touch': 'touch, bumper',
-              'health': 'robotHealth', 'robot': 'robot (conditions)'}
+              'health': 'robotHealth', 'robot': 'robot (conditions)', 'tf': 'tf'}
 
 
 def applies_to(kinds: Optional[Sequence[str]]) -> str:

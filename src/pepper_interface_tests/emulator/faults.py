@@ -77,6 +77,11 @@ FAULTS: Dict[str, Tuple[bool, Optional[Tuple[str, ...]]]] = {
     'resting': (False, ('robot',)),
     'base_blocked': (False, ('robot',)),
     'obstacle': (False, ('robot',)),
+    # the robot's transform tree on /tf (emulator/urdf_tree.py, sensors/tf.py)
+    'no_description': (False, ('tf',)),
+    'second_publisher': (False, ('tf',)),
+    'stale': (False, ('tf',)),
+    'future_stamps': (False, ('tf',)),
 }
 # the pseudo-sensor of the robot's own conditions (`robot:resting`): no topic of its own
 ROBOT = 'robot'
@@ -147,6 +152,10 @@ class Faults:
     resting: bool = False           # robot: stiffness 0, every command ignored (ALMotion rest)
     base_blocked: bool = False      # robot: awake, the head moves, the base refuses to
     obstacle: bool = False          # robot: a box 0.35 m in front of the base
+    no_description: bool = False    # tf: naoqi_driver without share/urdf: odom -> base_link alone
+    second_publisher: bool = False  # tf: a second node publishes Head -> CameraTop_frame, 1 cm off
+    stale: bool = False             # tf: stamps 0.8 s behind their publication
+    future_stamps: bool = False     # tf: stamps 1.0 s ahead of their publication
 
     def describe(self) -> str:
         out = []

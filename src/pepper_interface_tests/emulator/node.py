@@ -57,8 +57,9 @@ from .events import EVENT_PUBLISHERS, EmulatedOperator
 from .faults import FaultError, parse_faults
 from .info import DEFAULT_BODY_ID, InfoPublisher, check_body_id
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
-from .publishers import AudioPublisher, Clock, ClockPublisher, StreamPublisher, publisher_class
+from .publishers import AudioPublisher, Clock, ClockPublisher, JointStatePublisher, StreamPublisher, publisher_class
 from .speech import DirectSpeech, NaoqiSpeech
+from .tf_publisher import TfPublisher
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource
@@ -259,7 +260,8 @@ class Emulator:
         for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
             pub: StreamPublisher
-            cls: Type[StreamPublisher] = EVENT_PUBLISHERS.get(spec.family) or publisher_class(spec)
+            cls: Type[StreamPublisher] = EVENT_PUBLISHERS.get(spec.family) or \
+                (TfPublisher if spec.family == TfPublisher.family else publisher_class(spec))
             seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource
@@ -273,6 +275,12 @@ class Emulator:
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed, cfg.condition)
             pub.body = self.body
             self.threads.append(pub)
+        # the tree goes out with every joint state, as naoqi_driver's loop sends it (tf_publisher.py)
+        trees = [t for t in self.threads if isinstance(t, TfPublisher)]
+        joints = [t for t in self.threads if isinstance(t, JointStatePublisher)]
+        if trees and joints:
+            trees[0].driven = True
+            joints[0].tree = trees[0]
         topic = cfg.profile_spec.speech_topic
         if topic:
             if self.source is not None:

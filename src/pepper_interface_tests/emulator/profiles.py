@@ -201,6 +201,8 @@ def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: st
         # imu.cpp:45-70: base_footprint (imu/base), base_link (imu/torso); 10 Hz (boot_config)
         SensorSpec('imu', 'imu', imu_topic, 10.0, 'base_footprint',
                    extra=((torso, 'base_link'),) if torso else ()),
+        # joint_state.cpp:147-201: the URDF's tree with every joint state (tf_publisher.py)
+        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0, layout='realsense' if realsense else ''),
     ]
     if realsense:
         # realsense2_camera (ros1-legacy) base_realsense_node.cpp: colour RGB8 (:116), depth 16UC1 (:95-96),
@@ -281,6 +283,8 @@ def simulator_profile(path: Optional[str] = None) -> Profile:
         # pepperGazeboCPU.xacro:741-765: odometryRate 20, odom -> robotBaseFrame base_footprint
         SensorSpec('odometry', 'odometry', t('odometry'), 20.0, 'odom',
                    child_frame_id='base_footprint'),
+        # robot_state_publisher and the planar-move plugin (tf_publisher.py, urdf_tree.py)
+        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0, layout='gazebo'),
     )
     return Profile('simulator', sensors, speech_topic=None, topics_file=path, sim_time=True)
 

@@ -217,7 +217,11 @@ class StreamPublisher(threading.Thread):
                         msg.header.stamp += rospy.Duration.from_sec(self.faults.clock_offset)
                     msg.header.frame_id = frame
             pub.publish(msg)
+            self.sent(index, msg)
         self.published += 1
+
+    def sent(self, index: int, msg: 'genpy.Message') -> None:
+        """Output `index` has just published `msg` (the joint states hand it to the tree)."""
 
     def die(self) -> None:
         self.dead = True
@@ -548,7 +552,18 @@ _OUT_OF_RANGE = {'HeadYaw': 4.0, 'KneePitch': -3.0, 'LHand': 1.8}     # beyond P
 
 class JointStatePublisher(StreamPublisher):
     """joint_state.cpp:87-137: getAngles("Body", useSensors=true), in getBodyNames("Body")'s
-    order; the body's 17 joints and its three wheels (body.py)."""
+    order; the body's 17 joints and its three wheels (body.py). With `tree` set (the emulator's
+    /tf, tf_publisher.py) each message also goes out as the tree at its positions and stamp,
+    whoever listens, as the driver's loop does (joint_state.cpp:54-58, 199-202)."""
+
+    tree: Any = None
+
+    def wanted(self) -> bool:
+        return self.tree is not None or super().wanted()
+
+    def sent(self, index: int, msg: 'genpy.Message') -> None:
+        if self.tree is not None and index == 0:
+            self.tree.send(msg)
 
     def msg_class(self) -> type:
         return JointState

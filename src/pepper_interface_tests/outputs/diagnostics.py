@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence,
 
 from ..observer import RunObserver
 from ..progress import Progress
-from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult
+from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult, frame_line
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -129,6 +129,8 @@ def result_status(r: SensorResult) -> Status:
         ('reasons', '; '.join(r.reasons)), ('warnings', '; '.join(r.warnings))]
     if r.notes:     # what a check measured (the robot's battery and hottest joints, ...)
         pairs.append(('notes', '; '.join(r.notes)))
+    if frame_line(r):   # its frame in the robot's tree (sensors/frames.py)
+        pairs.append(('frame', frame_line(r)))
     pairs += [('file ' + kind, name) for kind, name in r.artifacts.items()]
     return Status(level, text, _values(pairs))
 

@@ -21,6 +21,7 @@ from ..results import (
     RunResult,
     SensorResult,
     count_line,
+    frame_line,
     param_lines,
     printable,
     robot_line,
@@ -99,6 +100,7 @@ def dat_block(r: SensorResult) -> str:
     if r.verdict != SKIPPED:
         lines.append('[SUMMARY] ' + p(summary_line(r)))
         lines += ['[SUMMARY] ' + p(n) for n in r.notes]
+        lines += ['[FRAME] ' + line for line in [frame_line(r)] if line]
         for kind, name in r.artifacts.items():
             lines.append('[FILE] %s: %s' % (kind, p(name)))
         lines += ['[WARNING] ' + p(w) for w in r.warnings]
@@ -161,6 +163,7 @@ def junit_text(run: RunResult) -> str:
         case = ET.SubElement(suite, 'testcase', classname='pepper_interface_tests.sensorTest',
                              name=_xml(s.name), time='%.3f' % s.window_s)
         detail = _xml('\n'.join(['topic: %s' % s.topic, summary_line(s)] + s.notes
+                                 + [line for line in [frame_line(s)] if line]
                                  + ['WARNING: ' + w for w in s.warnings]),
                       one_line=False)
         if s.verdict == FAIL:

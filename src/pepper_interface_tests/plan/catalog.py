@@ -69,6 +69,10 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
     # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp; naoqi_driver.cpp:652)
     Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
            'diagnostic_msgs/DiagnosticArray', 'health', None, False, None, (), '/diagnostics'),
+    # the robot's transform tree on /tf (sensors/tf.py, sensors/tree.py): naoqi_driver publishes
+    # it with every joint state (src/converters/joint_state.cpp:147-201)
+    Sensor('tf', 'TRANSFORMS', ('TF', 'transforms', 'tfTree'), 'tf2_msgs/TFMessage', 'tf', None,
+           True, None, (), '/tf'),
     # the motion check (--move, sensors/motion.py, motion/): its topic is the command it sends,
     # naoqi_driver's bounded moveTo (src/subscribers/moveto.cpp; naoqi_driver.cpp:938)
     Sensor('motion', 'MOTION', ('Motion', 'move'), 'geometry_msgs/PoseStamped', 'motion', None,

@@ -356,10 +356,28 @@ class MotionExpect(Expect):
     witness_wait: float = _field(number(0.5, 30, example='3.0'), 3.0)
 
 
+@dataclass(frozen=True)
+class TfExpect(Expect):
+    """The robot's transform tree (sensors/tf.py; reasons in config/sensorExpectations.yaml)."""
+    # the frame at the tree's root (naoqi_driver: odom, joint_state.cpp:176)
+    root: Optional[str] = _field(text('odom'))
+    # frames the tree must hold (sensors' frames are looked up on their own rows)
+    frames: Tuple[str, ...] = _field(names('base_link, base_footprint'), ())
+    # a stamp this far ahead of its arrival is in the future (s)
+    future: float = _field(number(0, example='0.1'), 0.1)
+    # a stamp this far behind its arrival is stale (s)
+    stale: float = _field(number(0, lo_open=True, example='0.5'), 0.5)
+    # /naoqi_driver/odom's pose against odom -> base_link at its stamp (m, with 0.3 m per rad)
+    odom_tolerance: float = _field(number(0, lo_open=True, example='0.05'), 0.05)
+    # /joint_states' HeadYaw against torso -> Neck's turn at its stamp (rad)
+    head_tolerance: float = _field(number(0, lo_open=True, example='0.02'), 0.02)
+
+
 FAMILIES: Dict[str, Type[Expect]] = {'range': RangeExpect, 'laser': LaserExpect, 'camera': CameraExpect,
             'depth': DepthExpect, 'audio': AudioExpect, 'joints': JointsExpect,
             'odometry': OdometryExpect, 'imu': ImuExpect, 'speech': SpeechExpect,
-            'touch': TouchExpect, 'health': HealthExpect, 'motion': MotionExpect}
+            'touch': TouchExpect, 'health': HealthExpect, 'motion': MotionExpect,
+            'tf': TfExpect}
 
 
 def family_of(name: str) -> Type[Expect]:

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from ..media.viewer import Viewer
     from ..plan.options import Options
     from ..plan.settings import SensorPlan
+    from .tree import Tree
 
 
 def fmt(value: Any, nd: int = 4) -> str:
@@ -176,6 +177,7 @@ class Services:
     debug: Optional[Callable[[str], None]] = None      # --debug: one line per received message
     operator: Optional[Operator] = None                # guided mode: a person who touches the robot
     stiffness: Optional[RestWitness] = None            # the joints' stiffness: is the robot resting?
+    tree: Optional['Tree'] = None                      # the run's /tf (sensors/tree.py)
 
 
 class Findings:

@@ -58,6 +58,7 @@ from .values.motion import MotionValues
 from .values.odometry import OdometryValues
 from .values.range import RangeValues
 from .values.speech import SpeechValues
+from .values.tf import TfValues
 from .values.touch import TouchValues
 
 if TYPE_CHECKING:
@@ -133,6 +134,8 @@ FAMILIES: Dict[str, Family] = {f.name: f for f in [
            Traits(periodic=False, shared_topic=True, headline=True), HealthValues),
     Family('motion', 'motion:MotionCheck', 'motion',
            Traits(periodic=False, drives_itself=True, live_only=True, leads=True), MotionValues),
+    # the robot's transform tree: /tf is shared (naoqi_driver, static publishers, others)
+    Family('tf', 'tf:TfCheck', 'tf', Traits(shared_topic=True), TfValues),
 ]}
 
 

@@ -21,6 +21,7 @@ from ..sources import messages
 from .base import Check, RunContext, fmt
 from .clock import WindowClock
 from .families import Traits, of, traits
+from .frames import FramePlacer
 from .stream import Lookup, StreamCheck
 
 
@@ -42,6 +43,8 @@ class SensorRun:
         self.lock = threading.Lock()
         self.clock = WindowClock()
         self.stream = StreamCheck(plan.sensor, plan.topic, plan.expect, self.traits, self.clock)
+        # its messages' frame in the run's transform tree (sensors/frames.py)
+        self.frames = FramePlacer(ctx.services.tree)
         # type name -> class (audio: several)
         self.classes: Dict[str, Type[Any]] = {self.sensor.msg_type: messages.message_class(self.sensor.msg_type)}
         # a check may decode its messages itself (images: no copy of the pixels)
@@ -101,6 +104,8 @@ class SensorRun:
                 return
             header = getattr(msg, 'header', None)
             self.stream.add(t_recv, ros_now, header)
+            if header is not None:
+                self.frames.add(header.frame_id, header.stamp.to_sec(), t_recv)
             try:
                 self.check.feed(msg, t_recv - self.clock.began)
             except Exception as e:  # a message the check cannot handle fails the sensor, by name
@@ -207,6 +212,7 @@ class SensorRun:
         subscriber callbacks take: the check sees one thread at a time."""
         with self.lock:
             if self.stopped_at is None:
+                self.frames.resolve(now)
                 try:
                     self.check.poll(now - self.began)
                 except Exception as e:  # a check that cannot go on fails its sensor, by name
@@ -234,6 +240,8 @@ class SensorRun:
             self.check.close()
         except Exception as e:  # a writer failing must not lose the verdict
             self.check.fail('could not finish the check: %s' % e)
+        with self.lock:
+            self.frames.close()
         assert self.stopped_at is not None
         self.result = self._judge(self.stopped_at, self.end_reason, lookup)
         return self.result
@@ -248,6 +256,8 @@ class SensorRun:
                                       drives).merged(check.judgement())
         # what another check found about this sensor (the motion check: RunContext.findings)
         judgement = judgement.merged(self.ctx.findings.of(self.sensor.name))
+        if reason != 'interrupted':
+            judgement = judgement.merged(self.frames.judgement())
         reasons, warnings, verdict = judgement.reasons, judgement.warnings, judgement.verdict
         if verdict == SKIPPED:
             reasons = [judgement.skip or 'not judged']
@@ -286,7 +296,8 @@ class SensorRun:
             started_at=round(self.began - self.run_start, 3), ended_at=round(now - self.run_start, 3),
             fields=[[str(k), str(v)] for k, v in (check.first_fields or [])],
             stats=summary, values=values, family=self.sensor.family,
-            rate_series=stats.rate_series(end=clock_end), artifacts=dict(check.artifacts))
+            rate_series=stats.rate_series(end=clock_end), artifacts=dict(check.artifacts),
+            frame=self.frames.placement())
 
 def skipped_result(plan: SensorPlan, run_start: float, now: float, verdict: Verdict = SKIPPED,
                    reasons: Optional[List[str]] = None) -> SensorResult:

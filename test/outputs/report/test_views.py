@@ -77,3 +77,36 @@ def test_the_motion_view_tables_each_step_and_plots_commanded_against_measured()
     table = next(b for b in blocks if isinstance(b, Table))
     assert table.head[-3:] == ['odometry', 'gyro_z', 'laser'] and table.rows[0][-3:] == ['+0.00', '+0.01', '-']
     assert any(isinstance(b, Image) for b in blocks)
+
+
+def test_the_tree_view_draws_the_sensors_frames_and_marks_the_unplaceable():
+    """The tf view: the tree from its root down to each sensor's frame, the sensor named at
+    its frame, a frame that could not be placed in the failure colour, a frame /tf never named
+    listed under the tree."""
+    from pepper_interface_tests.outputs.report.blocks import Details, Table
+    from pepper_interface_tests.outputs.report.context import View
+    from pepper_interface_tests.outputs.report.views import tf
+    from pepper_interface_tests.results import PASS, FramePlacement, RunResult
+    from pepper_interface_tests.sensors.values.tf import TfLink, TfValues
+    links = [TfLink('base_link', 'odom'), TfLink('torso', 'base_link'), TfLink('Neck', 'torso'),
+             TfLink('CameraTop_frame', 'Head'), TfLink('CameraTop_optical_frame', 'CameraTop_frame'),
+             TfLink('Tibia', 'torso'), TfLink('base_footprint', 'Tibia'), TfLink('LHand', 'torso')]
+    values = TfValues(messages=10, pairs=len(links), roots=['Head', 'odom'], links=links)
+    run = RunResult(platform='robot', mode='parallel', start=0.0)
+    for name, frame, placed in [('frontCamera', 'CameraTop_optical_frame', 0), ('laser', 'base_footprint', 5),
+                                ('rs', 'camera_color_optical_frame', 0)]:
+        r = result(name)
+        r.verdict = PASS if placed else FAIL
+        r.frame = FramePlacement(frame_id=frame, target='base_footprint', judged=5, placed=placed)
+        run.sensors.append(r)
+    blocks = tf.render(result('tf'), values, View(files=None, run=run))  # type: ignore[arg-type]
+    table = [b for b in blocks if isinstance(b, Table)][0]
+    frames = [text(row[0]).replace('\u00a0', ' ') for row in table.rows]
+    assert frames[:3] == ['Head', '  \u2514 CameraTop_frame', '    \u2514 CameraTop_optical_frame']
+    assert 'LHand' not in ''.join(frames)             # not on a sensor's path: only in the whole tree
+    marks = {text(row[0]).strip('\u00a0\u2514 '): row[1] for row in table.rows}
+    assert marked(marks['CameraTop_optical_frame']) == ['frontCamera']
+    assert text(marks['base_footprint']) == 'laser' and not marked(marks['base_footprint'])
+    assert marked(table.rows[-1][0]) == ['camera_color_optical_frame (not in /tf)']
+    whole = [b for b in blocks if isinstance(b, Details)][0]
+    assert any('LHand' in text(row[0]) for row in whole.blocks[0].rows)

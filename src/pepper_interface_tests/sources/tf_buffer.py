@@ -1,0 +1,126 @@
+"""The robot's transform tree as tf2 keeps it: a `tf2_ros.Buffer` fed from /tf and /tf_static.
+
+This is the package's only module that imports tf2 (tf2_ros and its compiled tf2_py): a Python
+whose tf2 is built elsewhere replaces this one module. Every question the checks ask of the tree
+goes through `TfBuffer`, so the answers are tf2's own, the ones every consumer of /tf (RViz,
+navigation, a perception node) gets: tf2 interpolates between stamps, refuses to extrapolate,
+and names unconnected trees (geometry2 tf2/src/buffer_core.cpp canTransform/lookupTransform).
+
+Memory is bounded by the buffer's cache time: tf2 keeps, per frame, the transforms of the last
+`cache_time` seconds of stamps (buffer_core.cpp: TimeCache::pruneList drops what is older than
+the newest stamp minus the cache time), so a long recording costs no more than a short one.
+"""
+import math
+import re
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import rospy
+import tf2_ros
+
+# tf2's default: BufferCore::DEFAULT_CACHE_TIME, 10 s (tf2/include/tf2/buffer_core.h)
+CACHE_TIME = 10.0
+
+# "Lookup would require extrapolation 0.300000000s into the future." (buffer_core.cpp,
+# createExtrapolationException1..3); older tf2 wording says "at time X, but only time Y is
+# in the buffer", from which the gap is the difference
+_EXTRAPOLATION = re.compile(r'extrapolation ([0-9.]+)s? into the (future|past)')
+_ONLY_TIME = re.compile(r'at time ([0-9.]+), but only time ([0-9.]+)')
+
+Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]
+
+
+class Lookup:
+    """tf2's answer to "can `frame` be transformed to the target at `stamp`?"."""
+
+    __slots__ = ('ok', 'error', 'kind', 'gap')
+
+    def __init__(self, ok: bool, error: str = '') -> None:
+        self.ok = ok
+        self.error = error
+        # '' (ok) | 'extrapolation' (the chain exists, not at this stamp) | 'missing' (a frame
+        # tf2 has never heard of) | 'unconnected' (two trees)
+        self.kind = '' if ok else classify(error)
+        # extrapolation: seconds beyond the data, + into the future, - into the past
+        self.gap = extrapolation_gap(error) if self.kind == 'extrapolation' else None
+
+
+def classify(error: str) -> str:
+    text = error.lower()
+    if 'extrapolation' in text:
+        return 'extrapolation'
+    if 'does not exist' in text or 'frame does not exist' in text:
+        return 'missing'
+    return 'unconnected'
+
+
+def extrapolation_gap(error: str) -> Optional[float]:
+    """Seconds by which a lookup would extrapolate: positive into the future, negative into
+    the past; None when tf2's text gives no number."""
+    m = _EXTRAPOLATION.search(error)
+    if m:
+        return float(m.group(1)) * (1.0 if m.group(2) == 'future' else -1.0)
+    m = _ONLY_TIME.search(error)
+    if m:
+        return float(m.group(1)) - float(m.group(2))
+    return None
+
+
+class TfBuffer:
+    """A tf2 buffer of `cache_time` seconds; thread-safe as tf2's BufferCore is (one mutex)."""
+
+    def __init__(self, cache_time: float = CACHE_TIME) -> None:
+        # debug=False: no ~tf2_frames service (a bag run has no master)
+        self._buffer = tf2_ros.Buffer(cache_time=rospy.Duration.from_sec(cache_time), debug=False)
+        self.cache_time = cache_time
+
+    def add(self, transforms: Sequence[Any], static: bool, authority: str) -> int:
+        """A TFMessage's transforms (geometry_msgs/TransformStamped); returns how many tf2
+        refused (tf2 rejects NaN, empty or self-parented frames and says why on its log)."""
+        refused = 0
+        put = self._buffer.set_transform_static if static else self._buffer.set_transform
+        for t in transforms:
+            try:
+                put(t, authority)
+            except Exception:
+                refused += 1
+        return refused
+
+    def lookup(self, frame: str, target: str, stamp: float) -> Lookup:
+        """Can `frame` be transformed into `target` at `stamp` (seconds)?"""
+        ok, error = self._buffer.can_transform_core(target, frame, rospy.Time.from_sec(stamp))
+        return Lookup(bool(ok), error or '')
+
+    def latest(self, frame: str, target: str) -> Optional[float]:
+        """The newest stamp at which the whole chain from `frame` to `target` is known (tf2's
+        getLatestCommonTime; 0.0: static all along, any time), None when there is no chain."""
+        try:
+            t = self._buffer.get_latest_common_time(target, frame)
+        except Exception:
+            return None
+        return t.to_sec() if hasattr(t, 'to_sec') else float(t) * 1e-9
+
+    def pose(self, target: str, frame: str, stamp: float) -> Optional[Pose]:
+        """`frame`'s pose in `target` at `stamp`: ((x, y, z), (qx, qy, qz, qw)), or None."""
+        try:
+            t = self._buffer.lookup_transform_core(target, frame, rospy.Time.from_sec(stamp))
+        except Exception:
+            return None
+        p, q = t.transform.translation, t.transform.rotation
+        return (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)
+
+    def frames(self) -> List[str]:
+        """Every frame tf2 knows."""
+        return [str(f) for f in self._buffer._getFrameStrings()]
+
+    def parents(self) -> Dict[str, str]:
+        """child -> parent, as tf2 holds them now (its own YAML dump of the tree)."""
+        import yaml
+        data = yaml.safe_load(self._buffer.all_frames_as_yaml()) or {}
+        return {str(child): str(info.get('parent', ''))
+                for child, info in data.items() if isinstance(info, dict)}
+
+
+def yaw_of(q: Sequence[float]) -> float:
+    """The rotation about z of a quaternion (x, y, z, w)."""
+    x, y, z, w = q
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))

@@ -1,0 +1,128 @@
+"""Frames and the tree from recordings: the real driver's golden recording (healthy_stereo,
+test/fixtures/real-driver/) with the driver's /tf derived from its own joint states and
+odometry (emulator/tf_bag.py), read by the real sensorTest --bag.
+
+The recording's own /tf (derived the same way, test/fixtures/real-driver/manifest.json) is
+replaced by a fresh one in each test, so each test says which tree it judges.
+
+* with /tf, every frame is placed and every row passes;
+* with every Neck -> Head transform removed, the four head cameras fail by name ("/tf has
+  nothing above Head") and no other row fails;
+* without any /tf, the tf row says so once and no sensor row speaks of frames.
+"""
+import json
+import os
+import subprocess
+import xml.etree.ElementTree as ET
+
+import pytest
+
+from pepper_interface_tests import results
+from pepper_interface_tests.emulator.tf_bag import add_tf
+from rosmaster import script
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+GOLDEN = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver', 'healthy_stereo.bag')
+SENSORS = ['frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera', 'laser', 'imu', 'odometry',
+           'frontSonar', 'backSonar', 'jointState', 'tf']
+HEAD_CAMERAS = ['frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera']
+
+
+def judge(bag, out):
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(SENSORS),
+                                  '--output-dir', str(out), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(out / 'sensorTestResults.json')) as f:
+        return p, {s['name']: s for s in json.load(f)['sensors']}
+
+
+def frame_words(s):
+    return [r for r in s['reasons'] + s['warnings'] if 'base_footprint' in r]
+
+
+@pytest.fixture(scope='module')
+def with_tf(tmp_path_factory):
+    path = str(tmp_path_factory.mktemp('tf') / 'healthy_stereo_tf.bag')      # /tf derived afresh
+    assert add_tf(GOLDEN, path) > 100
+    return path
+
+
+def test_the_real_driver_with_its_tf_places_every_frame(with_tf, tmp_path):
+    p, got = judge(with_tf, tmp_path)
+    for name in SENSORS:
+        assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'], p.stdout[-2000:])
+        assert not frame_words(got[name]), (name, got[name]['warnings'])
+    for name in HEAD_CAMERAS:
+        frame = got[name]['frame']
+        assert frame['placed'] == frame['judged'] > 10, (name, frame)
+        assert frame['chain'][:1] + frame['chain'][-1:] == [frame['frame_id'], 'base_footprint'], frame
+        assert ['Head', 'Neck', 'torso'] == [f for f in frame['chain'] if f in ('Head', 'Neck', 'torso')]
+    dat = (tmp_path / results.OUTPUT_FILE).read_text()
+    assert ('[FRAME] frame CameraTop_optical_frame -> CameraTop_frame -> Head -> Neck -> torso -> Hip -> '
+            'Pelvis -> Tibia -> base_footprint: placed at') in dat
+    cases = ET.parse(str(tmp_path / results.JUNIT_FILE)).getroot().findall('testcase')
+    sonar = [c for c in cases if c.get('name') == 'frontSonar'][0].find('system-out').text
+    assert 'frame SonarFront_frame -> Tibia -> base_footprint: placed at 38 of 38 stamps' in sonar
+    tf = got['tf']['values']
+    assert tf['pairs'] == 84 and tf['roots'] == ['odom'] and tf['second_publishers'] == [], tf
+    assert tf['head_compared'] > 100 and tf['odom_compared'] > 20, tf
+
+
+def test_without_neck_to_head_the_four_head_cameras_fail_by_name(tmp_path):
+    bag = str(tmp_path / 'no_head.bag')
+    add_tf(GOLDEN, bag, drop=[('Neck', 'Head')])
+    p, got = judge(bag, tmp_path)
+    for name in HEAD_CAMERAS:
+        s = got[name]
+        assert s['verdict'] == 'FAIL', (name, s['reasons'])
+        words = 'has no path to base_footprint: /tf has nothing above Head'
+        assert [r for r in s['reasons'] if words in r], s['reasons']
+        assert s['frame']['missing_above'] == 'Head' and s['frame']['placed'] == 0, s['frame']
+    assert 'CameraTop_optical_frame has no path' in got['frontCamera']['reasons'][0]
+    dat = (tmp_path / results.OUTPUT_FILE).read_text()
+    assert '[FRAME] frame CameraTop_optical_frame: no path to base_footprint (/tf has nothing above Head)' in dat
+    assert 'CameraBottom_optical_frame has no path' in got['bottomCamera']['reasons'][0]
+    for name in SENSORS:
+        if name not in HEAD_CAMERAS:
+            assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'])
+    assert any('second tree with its root Head' in w for w in got['tf']['warnings']), got['tf']['warnings']
+
+
+def test_without_any_tf_one_clear_reason(tmp_path):
+    import rosbag
+    bag = str(tmp_path / 'no_tf.bag')
+    with rosbag.Bag(GOLDEN) as src, rosbag.Bag(bag, 'w') as out:
+        for topic, raw, t, conn in src.read_messages(raw=True, return_connection_header=True):
+            if topic != '/tf':
+                out.write(topic, raw, t, raw=True, connection_header=conn)
+    p, got = judge(bag, tmp_path)
+    tf = got['tf']
+    assert tf['verdict'] == 'FAIL' and len(tf['reasons']) == 1 and '/tf' in tf['reasons'][0], tf['reasons']
+    for name in SENSORS:
+        if name != 'tf':
+            assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'])
+            assert not frame_words(got[name]) and got[name]['frame'] is None, (name, got[name]['warnings'])
+
+
+def test_a_tree_that_does_not_follow_the_head_fails_the_tf_row_only(tmp_path):
+    """The real driver's recorded motion (move.bag: the head yaws +0.5 rad and back, then the
+    base turns): the tree with HeadYaw held at its first angle while /joint_states moves fails
+    the tf row, naming HeadYaw; the head cameras are still placed (in the wrong direction,
+    which only the tree's own row can tell)."""
+    move = os.path.join(os.path.dirname(GOLDEN), 'move.bag')
+    bag = str(tmp_path / 'held.bag')
+    add_tf(move, bag, hold=['HeadYaw'])
+    names = ['frontCamera', 'bottomCamera', 'depthCamera', 'jointState', 'tf']
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(names),
+                                  '--output-dir', str(tmp_path), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(tmp_path / 'sensorTestResults.json')) as f:
+        got = {s['name']: s for s in json.load(f)['sensors']}
+    tf = got['tf']
+    hits = [r for r in tf['reasons'] if "torso -> Neck does not follow /joint_states's HeadYaw" in r]
+    assert tf['verdict'] == 'FAIL' and hits, (tf['reasons'], p.stdout[-1500:])
+    assert tf['values']['head_moved_rad'] > 0.4 and tf['values']['head_worst_rad'] > 0.4, tf['values']
+    for name in names[:-1]:
+        assert not frame_words(got[name]), (name, got[name]['reasons'], got[name]['warnings'])
