@@ -31,7 +31,7 @@ OWNERS = {
                    'sensors/guide.py', 'sensors/motion.py', 'sensors/speech.py', 'motion/commands.py',
                    'motion/witnesses.py', 'outputs/diagnostics.py'),
     'pepperEmulator': ('emulator/node.py', 'emulator/commands.py', 'emulator/events.py', 'emulator/info.py',
-                       'emulator/publishers.py'),
+                       'emulator/publishers.py', 'emulator/tf_publisher.py', 'emulator/second_publisher.py'),
     'naoqiAudioPublisher': ('audio_bridge/publisher.py',),
 }
 # the programs and the modules whose parsers declare their command lines
@@ -92,7 +92,8 @@ def _table_params(module: str, table: str, skip: Tuple[str, ...] = ()) -> Callab
 
 # (module, the call's first argument as written) -> what it can be, from the code's own tables
 DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
-    ('sources/live.py', 'run.topic'): lambda: _sensor_topics(False),            # every listened-to sensor
+    # every listened-to sensor, and /tf's static companion (sensors/tree.py TreeWitness)
+    ('sources/live.py', 'run.topic'): lambda: _sensor_topics(False) | {('/tf_static', 'tf2_msgs/TFMessage')},
     ('motion/witnesses.py', 'topic'): lambda: {(t, None) for t, _ in _sensor_topics(False)},   # a subset
     ('sensors/audio.py', 'self.topic'): lambda: {(t, None) for t, ty in _sensor_topics(False) if 'Audio' in ty},
     ('sources/identity.py', 'topic'): lambda: {('/naoqi_driver/info', 'naoqi_bridge_msgs/StringStamped')},
@@ -104,6 +105,8 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('node.py', 'other'): lambda: {('/sensorTest/<param>', None)},
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
+    ('emulator/second_publisher.py', 'topic'): lambda: {('/tf', 'tf2_msgs/TFMessage')},   # tf:second_publisher
+    ('emulator/tf_publisher.py', "self.spec.topic + '_static'"): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
     ('audio_bridge/publisher.py', "opts['topic']"):
         lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
