@@ -106,15 +106,17 @@ def scan_turn(a: np.ndarray, b: np.ndarray, increment: float, max_turn: float = 
         return None
     kmax = min(n // 3, int(abs(max_turn / increment)) + 1)
     errors = {}
-    for k in range(-kmax, kmax + 1):
+    fa, fb = np.isfinite(a[:n]), np.isfinite(b[:n])
+    least = max(5, n // 6)
+    for k in range(-kmax, kmax + 1):    # called on every pair of scans: numpy's reductions direct
         if k >= 0:
-            x, y = a[k:n], b[:n - k]
+            x, y, ok = a[k:n], b[:n - k], fa[k:] & fb[:n - k]
         else:
-            x, y = a[:n + k], b[-k:n]
-        ok = np.isfinite(x) & np.isfinite(y)
-        if ok.sum() < max(5, n // 6):
+            x, y, ok = a[:n + k], b[-k:n], fa[:n + k] & fb[-k:]
+        count = int(np.count_nonzero(ok))
+        if count < least:
             continue
-        errors[k] = float(np.mean(np.abs(x[ok] - y[ok])))
+        errors[k] = float(np.add.reduce(np.abs(x[ok] - y[ok])) / count)    # the mean, as np.mean
     if not errors:
         return None
     return best_offset(errors) * increment
