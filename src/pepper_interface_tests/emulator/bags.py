@@ -28,6 +28,7 @@ import rosgraph
 from ..rosmaster import MasterError, PrivateMaster, stop_group
 from .faults import parse_faults
 from .profiles import RESOLUTIONS, build_profile
+from .tf_publisher import static_topic
 
 # name -> (profile, faults, extra emulator params)
 VARIANTS = OrderedDict([
@@ -69,6 +70,8 @@ def record_variant(name: str, out_dir: str, env: Mapping[str, str], seconds: flo
                             head=extra.get('head', 'stereo'))
     topics = [t for s in profile.sensors for t in [s.topic] + [e[0] for e in s.extra]
               if t not in EXCLUDED]
+    # the tree's latched /tf_static (the simulator's fixed joints, the RealSense's frames)
+    topics += [t for t in map(static_topic, profile.sensors) if t]
     if profile.sim_time:
         topics.append('/clock')
     path = os.path.join(out_dir, name + '.bag')

@@ -44,6 +44,14 @@ REALSENSE_TREE: List[Transform] = [
 ]
 
 
+def static_topic(spec: Any) -> Optional[str]:
+    """The latched /tf_static this stream publishes besides /tf (the simulator's fixed joints,
+    the RealSense's frames), or None."""
+    if spec.family == TfPublisher.family and spec.layout in ('gazebo', 'realsense'):
+        return spec.topic + '_static'
+    return None
+
+
 def _msg(transforms: List[Transform], stamp: rospy.Time) -> TFMessage:
     out = TFMessage()
     for parent, child, p, q in transforms:
@@ -77,7 +85,7 @@ class TfPublisher(StreamPublisher):
         elif self.spec.layout == 'realsense':
             fixed = list(REALSENSE_TREE)
         if fixed:
-            self._static = rospy.Publisher(self.spec.topic + '_static', TFMessage, queue_size=1, latch=True)
+            self._static = rospy.Publisher(static_topic(self.spec), TFMessage, queue_size=1, latch=True)
             self._static.publish(_msg(fixed, rospy.Time.now()))
         if self.faults.second_publisher:
             self._second = subprocess.Popen(
