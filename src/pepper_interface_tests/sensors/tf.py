@@ -27,6 +27,7 @@ import struct
 from typing import TYPE_CHECKING, Any, List, Optional
 
 from ..sources import messages
+from ..sources.tf_buffer import TF2_MISSING
 from .base import Check, fmt
 from .values.tf import TfLink, TfValues
 
@@ -80,6 +81,9 @@ class TfCheck(Check):
 
     def finish(self) -> None:
         tree = self.ctx.services.tree
+        if tree is None and TF2_MISSING:
+            self.warn(TF2_MISSING)
+            return
         if tree is None:
             self.notes.append('the run kept no transform tree: only the stream rules were applied')
             return

@@ -26,7 +26,7 @@ from collections import OrderedDict, deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Set, Tuple
 
 from ..sources import messages
-from ..sources.tf_buffer import Pose, TfBuffer, yaw_of
+from ..sources.tf_buffer import TF2_MISSING, Pose, TfBuffer, yaw_of
 from ..sources.witness import TopicWitness
 
 if TYPE_CHECKING:
@@ -427,8 +427,8 @@ def witnesses(plan: 'TestPlan', ctx: Any) -> List[Any]:
     first window), offered to the checks as ctx.services.tree (ctx: the run's
     sensors.base.RunContext, which names this module's Tree)."""
     topic = tf_topic(plan, dict(ctx.topics))
-    if topic is None:
-        return []
+    if topic is None or TF2_MISSING:
+        return []       # no tree: the tf row says why (sensors/tf.py)
     tree = Tree(topic)
     ctx.services.tree = tree
     return tree.listeners(dict(ctx.topics))

@@ -15,7 +15,18 @@ import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import rospy
-import tf2_ros
+
+try:
+    import tf2_ros
+    TF2_MISSING = ''
+except ImportError as exc:          # tf2_ros imports the compiled tf2_py, built for one Python
+    tf2_ros = None
+    # what the tf row says instead of judging the tree (sensors/tf.py, sensors/tree.py): on
+    # Noetic rosdep installs ros-noetic-tf2-ros for the system's Python 3.8; Debian's
+    # python3-tf2 is built for its python3 alone (docs/platforms.md)
+    TF2_MISSING = ('tf2_ros cannot be imported on this Python (%s): no sensor\'s frame and no tree '
+                   'was judged; fix: install tf2_ros for this Python (Noetic: ros-noetic-tf2-ros, '
+                   'which rosdep installs; Debian: python3-tf2-ros, for /usr/bin/python3)' % exc)
 
 # tf2's default: BufferCore::DEFAULT_CACHE_TIME, 10 s (tf2/include/tf2/buffer_core.h)
 CACHE_TIME = 10.0
