@@ -417,7 +417,7 @@ def test_files_older_than_the_new_sensors_keep_working(tmp_path):
     plan = settings.load_plan(settings.Options(platform='robot', topics=str(old_topics), input=str(old_input),
                                                output_dir=str(tmp_path / 'out')))
     assert [s.name for s in plan.sensors] == ['backSonar', 'laser']
-    assert 'headTouch, handTouch, bumper, robotHealth (not in oldInput.ini)' in plan.notes[0]
+    assert 'headTouch, handTouch, bumper, robotHealth, tf (not in oldInput.ini)' in plan.notes[0]
     plan = settings.load_plan(settings.Options(platform='robot', topics=str(old_topics), output_dir=str(tmp_path),
                                                sensors=('laser', 'headTouch', 'robotHealth')))
     assert {s.name: s.topic for s in plan.sensors} == {
