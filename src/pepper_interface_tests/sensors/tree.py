@@ -108,6 +108,13 @@ class TreeRecord:
             self.max_ahead = ahead if self.max_ahead is None else max(self.max_ahead, ahead)
             self.max_behind = -ahead if self.max_behind is None else max(self.max_behind, -ahead)
 
+    def typical_lag(self) -> Optional[float]:
+        """The median of arrival - newest stamp over the latest messages (s; < 0: in the
+        future), or None before the first timed message."""
+        with self._lock:
+            lags = sorted(self.lags)
+        return lags[len(lags) // 2] if lags else None
+
     def _record_links(self, transforms: Any, static: bool, node: str) -> None:
         for t in transforms:
             child, parent = t.child_frame_id.lstrip('/'), t.header.frame_id.lstrip('/')
