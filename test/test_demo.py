@@ -1,9 +1,9 @@
 """The demo as a user runs it (tools/demo.sh: the emulator, the NAOqi endpoint and the audio
 bridge from pepperEmulator.launch, then sensorTest --guided --move --yes over every robot
 sensor), and what it leaves: every row PASS with no warning (but tf2's absence, where so),
-six playable mp4 files, the WAV of the four microphones and the HTML report with its plots. The Noetic tier runs it with every
-node on Python 3.8 and focal's libraries (tools/platform/noetic-tests.sh), where the audio
-bridge, the videos and the report once failed.
+six playable mp4 files, the WAV of the four microphones and the HTML report with its plots.
+The Noetic tier runs it with every node on Python 3.8 and focal's libraries
+(tools/platform/noetic-tests.sh), where the audio bridge, the videos and the report once failed.
 
 Real parts: the real demo script, roslaunch, the emulator, libqi, websockets, ffmpeg; the
 videos read back by ffprobe, the WAV by soundfile."""
