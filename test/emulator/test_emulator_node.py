@@ -294,7 +294,7 @@ def test_robot_profile_all_topics(module_master, tmp_path):
     cpu = (cpu1.user + cpu1.system - cpu0.user - cpu0.system) / (t1 - t0)
     print('emulator CPU with every robot topic subscribed: %.0f%% of one core' % (100 * cpu))
     # /diagnostics too (emulator/events.py); no touch topics: the CSSR fork's boot_config.json
-    assert 'all 14 publishers up (15 topics, robot profile' in log
+    assert 'all 15 publishers up (16 topics, robot profile' in log     # the tree's /tf too
     problems = [p for topic, exp in ROBOT.items() for p in check_stream(topic, got.get(topic), exp)]
     assert not problems, '\n'.join(problems)
     assert got[NS + '/odom']['publishers'] == ['/' + emu.name]
@@ -649,11 +649,17 @@ def test_record_test_bags(recorded_bags):
         'simulator_good.bag': (set(sim), sim),
         'simulator_no_returns.bag': (set(sim), sim),
     }
+    # every variant's tree: /tf with each joint state, /tf_static latched (the RealSense's frames;
+    # the simulator's fixed joints), emulator/tf_publisher.py
+    tree = {'/tf': ('tf2_msgs/TFMessage', 10, None, {}), '/tf_static': ('tf2_msgs/TFMessage', 0, None, {})}
+    expected = {name: (topics | set(tree), dict(table, **tree)) for name, (topics, table) in expected.items()}
     for name, (topics, table) in expected.items():
         assert name in names, names
         path = out_dir / name
         size = path.stat().st_size
-        assert size < 8e6, '%s is %.1f MB' % (name, size / 1e6)
+        # small: 7-8 MB of cameras, laser and audio over a few seconds, plus the tree's /tf (84
+        # transforms with each joint state, about 1 MB): 10 MB
+        assert size < 10e6, '%s is %.1f MB' % (name, size / 1e6)
         with rosbag.Bag(str(path)) as bag:
             info = bag.get_type_and_topic_info().topics
             assert set(info) == topics, '%s: %s' % (name, sorted(set(info) ^ topics))

@@ -331,7 +331,7 @@ def test_emulator_launch_runs(emulator_launch_run):
         assert got[topic]['type'] == type_name
         if topic != NS + '/audio':
             assert got[topic]['count'] > 10, (topic, got[topic]['count'])
-    assert 'pepperEmulator: all 11 publishers up' in text, re.findall('pepperEmulator: all .*', text)     # 10 sensors' + the driver's /diagnostics
+    assert 'pepperEmulator: all 12 publishers up' in text, re.findall('pepperEmulator: all .*', text)     # 10 sensors' + the driver's /diagnostics + /tf
     assert code == 0
 
 
