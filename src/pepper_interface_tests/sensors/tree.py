@@ -25,7 +25,6 @@ import threading
 from collections import OrderedDict, deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Set, Tuple
 
-from ..sources import messages
 from ..sources.tf_buffer import TF2_MISSING, Pose, TfBuffer, yaw_of
 from ..sources.witness import TopicWitness
 
@@ -202,7 +201,7 @@ def _differ(a: Pose, b: Pose) -> bool:
     return dist > SAME_M or angle > SAME_RAD
 
 
-class TfTopic:
+class TfTopic(TopicWitness):
     """A sources.Listener of /tf (or /tf_static) that feeds the run's TreeRecord, naming the
     node of each message (its connection's callerid: a live subscriber's header, a bag's
     connection record)."""
@@ -211,33 +210,14 @@ class TfTopic:
     buff_size = 1 << 20
 
     def __init__(self, record: TreeRecord, topic: str, static: bool) -> None:
+        super().__init__(topic, TF_TYPE)      # another type: the tf row says so
         self.record = record
-        self._topic = topic
         self.static = static
-        self._cls = messages.message_class(TF_TYPE)
 
-    @property
-    def topic(self) -> str:
-        return self._topic
-
-    @property
-    def listens(self) -> bool:
-        return True
-
-    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
-        if type_name != TF_TYPE:
-            return      # the tf row says so
-        try:
-            msg = self._cls().deserialize(buff)
-        except Exception:
-            return
+    def take_full(self, msg: Any, t_recv: float, ros_now: float, conn: Optional[Dict[str, Any]]) -> None:
         caller = (conn or {}).get('callerid') or '?'
         node = caller.decode('utf-8', 'replace') if isinstance(caller, bytes) else str(caller)
         self.record.add(msg, self.static, node, ros_now)
-
-    def use_sim_clock(self, sim_clock: Any) -> None:
-        pass
 
     def use_record_clock(self) -> None:
         pass

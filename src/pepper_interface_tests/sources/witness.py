@@ -33,6 +33,10 @@ class TopicWitness:
             msg = messages.message_class(type_name)().deserialize(buff)
         except Exception:   # a broken message: that sensor's own row says so
             return
+        self.take_full(msg, t_recv, ros_now, conn)
+
+    def take_full(self, msg: Any, t_recv: float, ros_now: float, conn: Optional[Dict[str, Any]]) -> None:
+        """A decoded message with its clock and connection; most witnesses need take()'s two."""
         self.take(msg, t_recv)
 
     def take(self, msg: Any, t_recv: float) -> None:
