@@ -206,3 +206,14 @@ def assert_outputs_complete(r, names):
         plain = '; '.join(s['reasons'])
         if failure is not None and plain.isprintable() and len(plain) < 2000:   # else: escaped, cut
             assert failure.get('message') == '; '.join(s['reasons'])
+
+
+def judge_bag(bag, out, sensors, timeout=180):
+    """sensorTest --bag on the robot platform over `sensors`, with no master (a bag run needs
+    none): (the finished process, {sensor name: its JSON result})."""
+    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(sensors),
+                                  '--output-dir', str(out), '--no-history', '--no-report']
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout,
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+    with open(str(out / JSON_FILE)) as f:
+        return p, {s['name']: s for s in json.load(f)['sensors']}

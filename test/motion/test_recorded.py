@@ -16,6 +16,7 @@ from pepper_interface_tests.motion import recorded
 from pepper_interface_tests.motion.record import Recording
 from rosbags_support import reads_ros2
 from rosmaster import NODES, kill_group, script, spawn, wait_until
+from sensor_test_runs import judge_bag
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver')
@@ -30,12 +31,7 @@ TOLERANCE = 0.35     # MotionExpect.turn_tolerance
 
 
 def run_sensor_test(bag, out):
-    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(SENSORS),
-                                  '--output-dir', str(out), '--no-history', '--no-report']
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120,
-                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
-    with open(str(out / 'sensorTestResults.json')) as f:
-        return p, {s['name']: s for s in json.load(f)['sensors']}
+    return judge_bag(bag, out, SENSORS, timeout=120)
 
 
 def read(bag):

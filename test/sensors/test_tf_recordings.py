@@ -21,6 +21,7 @@ from pepper_interface_tests import results
 from pepper_interface_tests.emulator.tf_bag import add_tf
 from pepper_interface_tests.sources.tf_buffer import TF2_MISSING
 from rosmaster import script
+from sensor_test_runs import judge_bag
 
 # tf2_py is compiled for one Python: the Noetic tier's 3.8 here has none (docs/platforms.md);
 # there the last test holds what a run says instead
@@ -34,12 +35,7 @@ HEAD_CAMERAS = ['frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera']
 
 
 def judge(bag, out):
-    cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(SENSORS),
-                                  '--output-dir', str(out), '--no-history', '--no-report']
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=180,
-                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
-    with open(str(out / 'sensorTestResults.json')) as f:
-        return p, {s['name']: s for s in json.load(f)['sensors']}
+    return judge_bag(bag, out, SENSORS, timeout=180)
 
 
 def frame_words(s):
