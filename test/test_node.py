@@ -126,7 +126,8 @@ def test_a_master_stalled_for_3_seconds_does_not_end_the_run(master, tmp_path):
             for pid in stalled:
                 os.kill(pid, signal.SIGCONT)
         result = r.finish(60)
-    assert result.rc == 0, result
+    assert result.rc == 0, (result, result.json and [(x['name'], x['verdict'], x['reasons'])
+                                                     for x in result.json['sensors']])
     assert result.json['interrupted'] is False
     s = result.sensors['backSonar']
     assert s['verdict'] == 'PASS' and s['messages'] >= 60, s
