@@ -11,6 +11,8 @@ import sys
 import time
 import xmlrpc.client
 
+import rosgraph
+
 from pepper_interface_tests.rosmaster import PrivateMaster, free_port, stop_group
 
 TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))   # test/ (this file: test/helpers/)
@@ -80,6 +82,23 @@ def wait_registered(master, published=(), subscribed=(), subscriber='', timeout=
         left[:] = unregistered(master, published, subscribed, subscriber)
         return not left
     wait_until(done, timeout, lambda: 'not registered on the master: %s' % ', '.join(map(str, left)))
+
+
+def wait_connected(master, node_prefix, topic, timeout=30.0):
+    """Return once the node whose name starts with `node_prefix` has an inbound connection on
+    `topic` (its own bus information, the slave API's getBusInfo): registered on the master is
+    not yet connected to the publisher."""
+    m = rosgraph.Master('/test_wait', master_uri=master.uri)
+
+    def connected():
+        _, subs, _ = m.getSystemState()
+        nodes = [n for t, ns in subs if t == topic for n in ns if n.startswith(node_prefix)]
+        for node in nodes:
+            code, _, info = xmlrpc.client.ServerProxy(m.lookupNode(node)).getBusInfo('/test_wait')
+            if code == 1 and any(c[2] == 'i' and c[4] == topic and (len(c) < 6 or c[5]) for c in info):
+                return True
+        return False
+    wait_until(connected, timeout, lambda: '%s* has no connection on %s' % (node_prefix, topic))
 
 
 def wait_for_publishers(master, topics, timeout=30.0):
