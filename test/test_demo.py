@@ -1,6 +1,6 @@
 """The demo as a user runs it (tools/demo.sh: the emulator, the NAOqi endpoint and the audio
 bridge from pepperEmulator.launch, then sensorTest --guided --move --yes over every robot
-sensor), and what it leaves: every row PASS with no warning (but tf2's absence, where so),
+sensor), and what it leaves: every row PASS with no warning,
 six playable mp4 files, the WAV of the four microphones and the HTML report with its plots.
 The Noetic tier runs it with every node on Python 3.8 and focal's libraries
 (tools/platform/noetic-tests.sh), where the audio bridge, the videos and the report once failed.
@@ -14,7 +14,6 @@ import subprocess
 
 import soundfile
 
-from pepper_interface_tests.sources.tf_buffer import TF2_MISSING
 from rosmaster import ROOT
 
 VIDEOS = ('frontCameraOutput.mp4', 'bottomCameraOutput.mp4', 'depthCameraOutput.mp4',
@@ -45,10 +44,7 @@ def test_the_demo_passes_every_row_and_leaves_videos_wav_and_report(tmp_path):
     rows = {s['name']: s for s in results['sensors']}
     assert len(rows) == 20, sorted(rows)          # 18 sensors, speech, motion, tf
     assert {n: s['verdict'] for n, s in rows.items() if s['verdict'] != 'PASS'} == {}, said
-    # where tf2_ros cannot be imported (the Noetic tier's 3.8 here: docs/platforms.md) the tf
-    # row's one warning says so and names the fix; nothing else warns anywhere
-    expected = {'tf': [TF2_MISSING]} if TF2_MISSING else {}
-    assert {n: s['warnings'] for n, s in rows.items() if s['warnings']} == expected, said
+    assert {n: s['warnings'] for n, s in rows.items() if s['warnings']} == {}, said
     assert '20 passed, 0 failed, 0 skipped' in said, said
     for name in VIDEOS:
         codec, frames, seconds = ffprobe(str(out_dir / name))

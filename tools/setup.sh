@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent set-up: Debian packages, the venv, the catkin workspace.
 # Usage: tools/setup.sh [--test]   (--test also installs what the test suite needs: chromium,
-#                                    liblz4-dev for the Noetic tier's roslz4, and builds
+#                                    the Noetic tier's compilers and headers, and builds
 #                                    CPython 2.7.12 for the capture side's test)
 # Each step is skipped when already done, so a second run takes a few seconds.
 set -euo pipefail
@@ -14,8 +14,10 @@ say() { printf '[setup] %s\n' "$*"; }
 
 # 1. Debian packages (ROS 1 from Debian's own archive).
 pkgs=$(grep -v '^#' tools/debian-packages.txt | xargs)
-# --test: chromium for the report test; liblz4-dev for the Noetic tier's roslz4 (tools/platform/noetic.sh)
-if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium liblz4-dev"; fi
+# --test: chromium for the report test; for the Noetic tier's roslz4 and tf2_py extensions
+# (tools/platform/noetic.sh): g++, liblz4-dev, libtf2-dev, and curl and xz-utils to fetch a
+# source tarball the archive serves only in a later suite (tools/platform/debian-source.sh)
+if [ "${1:-}" = "--test" ]; then pkgs="$pkgs chromium g++ liblz4-dev libtf2-dev curl xz-utils"; fi
 missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

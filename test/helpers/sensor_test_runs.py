@@ -208,12 +208,12 @@ def assert_outputs_complete(r, names):
             assert failure.get('message') == '; '.join(s['reasons'])
 
 
-def judge_bag(bag, out, sensors, timeout=180):
+def judge_bag(bag, out, sensors, timeout=180, env=None):
     """sensorTest --bag on the robot platform over `sensors`, with no master (a bag run needs
-    none): (the finished process, {sensor name: its JSON result})."""
+    none): (the finished process, {sensor name: its JSON result}); `env` adds variables."""
     cmd = script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', ','.join(sensors),
                                   '--output-dir', str(out), '--no-history', '--no-report']
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout,
-                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'))
+                       env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1', **(env or {})))
     with open(str(out / JSON_FILE)) as f:
         return p, {s['name']: s for s in json.load(f)['sensors']}

@@ -8,10 +8,13 @@ replaced by a fresh one in each test, so each test says which tree it judges.
 * with /tf, every frame is placed and every row passes;
 * with every Neck -> Head transform removed, the four head cameras fail by name ("/tf has
   nothing above Head") and no other row fails;
-* without any /tf, the tf row says so once and no sensor row speaks of frames.
+* without any /tf, the tf row says so once and no sensor row speaks of frames;
+* without tf2_ros (installed for another Python), the tf row says why and how to fix it.
 """
+import importlib.util
 import json
 import os
+import shutil
 import subprocess
 import xml.etree.ElementTree as ET
 
@@ -23,8 +26,7 @@ from pepper_interface_tests.sources.tf_buffer import TF2_MISSING
 from rosmaster import script
 from sensor_test_runs import judge_bag
 
-# tf2_py is compiled for one Python: the Noetic tier's 3.8 here has none (docs/platforms.md);
-# there the last test holds what a run says instead
+# tf2_py is compiled for one Python (the Noetic tier builds it for 3.8: tools/platform/noetic.sh)
 needs_tf2 = pytest.mark.skipif(bool(TF2_MISSING), reason='tf2_ros is not importable on this Python')
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -133,12 +135,20 @@ def test_a_tree_that_does_not_follow_the_head_fails_the_tf_row_only(tmp_path):
         assert not frame_words(got[name]), (name, got[name]['reasons'], got[name]['warnings'])
 
 
-@pytest.mark.skipif(not TF2_MISSING, reason='tf2_ros is importable on this Python')
+@needs_tf2
 def test_without_tf2_the_tf_row_says_why_and_nothing_is_placed(with_tf, tmp_path):
-    """Where tf2_ros cannot be imported (the Noetic tier's Python 3.8 here), the run still
-    starts and reads the recording: the tf row warns with the import error and the fix, and no
-    sensor row judges a frame."""
-    p, got = judge(with_tf, tmp_path)
+    """Where tf2_ros cannot be imported, the run still starts and reads the recording: the tf
+    row warns with the import error and the fix, and no sensor row judges a frame. The case
+    made as it happens: tf2_py installed for another Python (Debian's package on a Python it
+    was not built for: its __init__.py without a _tf2 extension this Python loads), first on
+    the path."""
+    spec = importlib.util.find_spec('tf2_py')
+    assert spec is not None and spec.origin
+    other = tmp_path / 'other-python' / 'tf2_py'
+    other.mkdir(parents=True)
+    shutil.copy(spec.origin, str(other / '__init__.py'))
+    path = os.pathsep.join([str(other.parent)] + [x for x in [os.environ.get('PYTHONPATH')] if x])
+    p, got = judge_bag(with_tf, tmp_path / 'out', SENSORS, env={'PYTHONPATH': path})
     assert p.returncode == 0, p.stdout[-2000:]
     tf = got['tf']
     assert tf['verdict'] == 'PASS' and len(tf['warnings']) == 1, tf

@@ -6,6 +6,9 @@
 # Used by the Noetic tier to build Debian's compiled ROS modules for another Python. When apt
 # has no deb-src entry, one is added for the same archive and suites as the deb entries
 # (/etc/apt/sources.list.d/pepper-interface-tests-src.sources) and apt's lists are updated.
+# When the archive no longer serves the installed version's source files, the upstream tarball
+# of the same source package in trixie (else sid) is used, checked against that suite's Sources
+# index (its sha256); the folder then holds that upstream tree.
 set -euo pipefail
 binary="${1:?usage: tools/platform/debian-source.sh BINARY_PACKAGE}"
 cache="${PEPPER_PLATFORM_CACHE:-$HOME/.cache/pepper_interface_tests}/debian-src"
@@ -30,8 +33,27 @@ if [ ! -f "$dir/.fetched" ]; then
   fi
   echo "[source] fetching Debian's $source $version into $cache" >&2
   rm -rf "$dir"
-  (cd "$cache" && apt-get source -qq "$source=$version" >/dev/null 2>&1) \
-    || { echo "[source] apt-get source $source=$version failed" >&2; exit 1; }
+  if ! (cd "$cache" && apt-get source -qq "$source=$version" >/dev/null 2>&1); then
+    # the archive may no longer serve an old version's files (bookworm's ros-geometry2 0.7.6
+    # answers 404): the same source's upstream tarball from the next suite that serves it,
+    # checked against that suite's Sources index
+    found=""
+    for suite in trixie sid; do
+      base=http://deb.debian.org/debian
+      entry=$(curl -fsS -m 60 "$base/dists/$suite/main/source/Sources.xz" | xz -dc \
+        | awk -v p="$source" '$0 == "Package: " p {on=1} /^$/ {on=0} on') || continue
+      pool=$(printf '%s\n' "$entry" | awk '/^Directory:/ {print $2}')
+      read -r sum _ orig < <(printf '%s\n' "$entry" | awk '/^Checksums-Sha256:/ {on=1; next} /^[^ ]/ {on=0} on && /orig\.tar/ {print $1, $2, $3}') || true
+      [ -n "$pool" ] && [ -n "${orig:-}" ] || continue
+      curl -fsS -m 120 "$base/$pool/$orig" -o "$cache/$orig" 2>/dev/null || continue
+      echo "[source] $source $version is not served; using $suite's upstream tarball $orig" >&2
+      echo "$sum  $cache/$orig" | sha256sum -c --quiet - >&2 || { rm -f "$cache/$orig"; continue; }
+      found="$cache/$orig"; break
+    done
+    [ -n "$found" ] || { echo "[source] apt-get source $source=$version failed, and no later suite serves $source" >&2; exit 1; }
+    mkdir -p "$dir.tmp" && tar xf "$found" -C "$dir.tmp" --strip-components=1 && mv "$dir.tmp" "$dir"
+    echo "$found" > "$dir/.upstream-tarball"
+  fi
   touch "$dir/.fetched"
 fi
 echo "$dir"

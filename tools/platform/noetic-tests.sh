@@ -9,8 +9,8 @@
 #      the audio bridge both ways (websockets 8.1, libqi), recording (videos, WAV), sensorTest
 #      --bag on ROS 1 bags and on ROS 2 recordings (refused with rosbags 0.9.23, exit 2), the
 #      run history (sensorTestHistory), the report's plots (matplotlib 3.1) and template
-#      (Jinja2 2.10) in a headless browser, a recording's frames without tf2 (no tf2_py for
-#      3.8 here: docs/platforms.md).
+#      (Jinja2 2.10) in a headless browser, a recording's frames placed by tf2 (tf2_py built
+#      for 3.8 by tools/platform/noetic.sh).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 tools/platform/noetic.sh

@@ -14,13 +14,14 @@
 #      those packages are built for 3.11, which 3.8 does not load: roslz4's (rosbag's LZ4) is
 #      built here for 3.8 from Debian's source (tools/platform/debian-source.sh) against
 #      Debian's libroslz4; cv_bridge converts without its boost module (sensorTest reads images
-#      without it); tf2_py is not built;
+#      without it); tf2_py (tf2_ros's core) is built the same way against Debian's libtf2;
 #   4. the ROS commands written in Python (roslaunch, roscore, rosmaster, rostest, rosbag,
 #      rostopic, catkin_make, ...) run by the venv's python through one-line wrappers in its
 #      bin/, so the master and the launcher run on 3.8 too;
 #   5. build/noetic/ws: the catkin workspace built with -DPYTHON_EXECUTABLE= the venv's python
 #      (tools/workspace.sh), so every node of a launch file and sensorTest run on 3.8.
-# Needs what `tools/setup.sh --test` installs (liblz4-dev for roslz4's extension).
+# Needs what `tools/setup.sh --test` installs (liblz4-dev for roslz4's extension, g++ and
+# libtf2-dev for tf2_py's).
 # Use it with PEPPER_PLATFORM=noetic (tools/env.sh); tools/platform/noetic-tests.sh runs the tier.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -79,6 +80,22 @@ rm "$TIER/ros1.new/roslz4"
 mkdir "$TIER/ros1.new/roslz4"
 ln -s "$DIST/roslz4/__init__.py" "$TIER/ros1.new/roslz4/__init__.py"
 ln -s "$lz4so" "$TIER/ros1.new/roslz4/"
+# tf2_py's extension (tf2_ros's BufferCore, sensorTest's frame checks) the same way, against
+# Debian's libtf2 and its headers (libtf2-dev); its source is Debian's ros-geometry2
+tf2so="$TIER/compiled/_tf2$suffix"
+if [ ! -f "$tf2so" ]; then
+  src="$(tools/platform/debian-source.sh python3-tf2)/tf2_py"
+  say "building tf2_py's extension for $("$VENV/bin/python" -V 2>&1) from $src"
+  mkdir -p "$TIER/compiled"
+  g++ -shared -fPIC -O2 -std=c++14 -I"$src/src" \
+    -I"$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["include"])')" \
+    "$src/src/tf2_py.cpp" -ltf2 -o "$tf2so.tmp"
+  mv "$tf2so.tmp" "$tf2so"
+fi
+rm "$TIER/ros1.new/tf2_py"
+mkdir "$TIER/ros1.new/tf2_py"
+ln -s "$DIST/tf2_py/__init__.py" "$TIER/ros1.new/tf2_py/__init__.py"
+ln -s "$tf2so" "$TIER/ros1.new/tf2_py/"
 rm -rf "$TIER/ros1"; mv "$TIER/ros1.new" "$TIER/ros1"
 site=$("$VENV/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 echo "$TIER/ros1" > "$site/debian-ros1.pth"
