@@ -70,3 +70,25 @@ def test_every_topic_starts_at_the_same_nanosecond_and_keeps_its_rate():
         first.setdefault(sensor, ns)
     assert set(first.values()) == {recording.T0_NS} and set(first) == set(recording.STREAMS)
     assert sum(1 for _, s, _ in sched if s == 'jointState') == 100
+
+
+@pytest.mark.integration
+def test_the_recording_carries_the_drivers_tree_in_every_form(tmp_path):
+    """/tf with every joint state (the driver's tree, its transforms stamped at their record
+    time) and /tf_static once, the same in the bag and the two ROS 2 folders."""
+    import rosbag
+    from rosbags.highlevel import AnyReader
+    from pathlib import Path
+    paths = recording.write(str(tmp_path), 0.5, log=lambda _: None)
+    with rosbag.Bag(paths['ros1']) as bag:
+        tf = [(m, t) for _, m, t in bag.read_messages(topics=['/tf'])]
+        static = [m for _, m, _ in bag.read_messages(topics=['/tf_static'])]
+        joints = bag.get_message_count('/joint_states')
+    assert len(tf) == joints == 25 and len(static) == 1
+    for m, t in tf:
+        assert len(m.transforms) > 80 and {x.header.stamp for x in m.transforms} == {t}
+    assert {x.child_frame_id for x in static[0].transforms} >= {'camera_link', 'camera_color_optical_frame'}
+    for form in ('sqlite3', 'mcap'):
+        with AnyReader([Path(paths[form])]) as r:
+            counts = {c.topic: c.msgcount for c in r.connections}
+        assert counts['/tf'] == 25 and counts['/tf_static'] == 1, (form, counts)

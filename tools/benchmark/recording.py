@@ -4,10 +4,11 @@ ways in one pass, the same messages at the same record times (integer nanosecond
   a rosbag2 sqlite3 folder and a rosbag2 MCAP folder (rosbags' writer, naoqi_driver2's root
   names, data/naoqi_driver2Topics.dat; each message turned into CDR by rosbags' ros1_to_cdr).
 
-The streams are those of issue 24: four 640x480 cameras at 10 Hz (front and bottom rgb8,
-RealSense colour rgb8 and aligned depth 16UC1), the depth camera 320x240 16UC1, laser, both
-sonars and the IMU at 10 Hz, odometry at 15 Hz, joints at 50 Hz, and stock naoqi_driver's
-AudioBuffer (4 x 8192 samples at 48 kHz, 5.9 Hz): 60 s is about 2.1 GB per form. The messages are
+The streams: four 640x480 cameras at 10 Hz (front and bottom rgb8, RealSense colour rgb8 and
+aligned depth 16UC1), the depth camera 320x240 16UC1, laser, both sonars and the IMU at 10 Hz,
+odometry at 15 Hz, joints at 50 Hz, the driver's /tf with every joint state (its tree from
+naoqi_driver's URDF, emulator/urdf_tree.py: about 84 transforms a message), and stock
+naoqi_driver's AudioBuffer (4 x 8192 samples at 48 kHz, 5.9 Hz): 60 s is about 2.1 GB per form. The messages are
 the tests' made-up healthy Pepper messages (test/helpers/fake_pepper.py, built from the emulator's
 profiles); the pixels of each camera cycle through RING distinct frames (serialized once, the
 stamp patched into the bytes), so that writing 2 GB costs seconds, not minutes."""
@@ -40,8 +41,10 @@ STREAMS: Dict[str, Tuple[str, str, float]] = {
     'odometry': ('/naoqi_driver/odom', '/odom', 15.0),
     'jointState': ('/joint_states', '/joint_states', 50.0),
     'microphone': ('/naoqi_driver/audio', '/audio', 48000.0 / 8192),
+    'tf': ('/tf', '/tf', 50.0),       # with every joint state (naoqi_driver joint_state.cpp)
+    'tf_static': ('/tf_static', '/tf_static', 0.0),    # once: the RealSense's frames and mount
 }
-SENSORS = ','.join(STREAMS)
+SENSORS = ','.join(s for s in STREAMS if s != 'tf_static')
 
 
 def _frame(sensor: str, i: int) -> Any:
@@ -69,6 +72,27 @@ def _frame(sensor: str, i: int) -> Any:
     if sensor == 'microphone':
         return fake.stock_audio_buffer(i)
     raise ValueError(sensor)
+
+
+def _tf(i: int, ns: int) -> Any:
+    """The i-th /tf message: the tree at the i-th joint state's positions, stamped `ns` (its
+    transforms carry their stamps: built whole, not patched), the base 0.15 m/s ahead."""
+    import genpy
+
+    from pepper_interface_tests.emulator.tf_publisher import tf_message
+    from pepper_interface_tests.emulator.urdf_tree import driver_tree
+    js = fake.joints(i)
+    tree = driver_tree(dict(zip(js.name, js.position)))
+    tree.append(('odom', 'base_link', (0.15 * (ns - T0_NS) / NS, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)))
+    return tf_message(tree, genpy.Time(ns // NS, ns % NS))
+
+
+def _tf_static(ns: int) -> Any:
+    """/tf_static: the RealSense's own frames and its mount on the head, as the emulator's."""
+    import genpy
+
+    from pepper_interface_tests.emulator.tf_publisher import REALSENSE_TREE, tf_message
+    return tf_message(list(REALSENSE_TREE), genpy.Time(ns // NS, ns % NS))
 
 
 def _typestore() -> Any:
@@ -103,8 +127,8 @@ def _schedule(seconds: float) -> Iterator[Tuple[int, str, int]]:
     """(record time ns, sensor, index) of every message, in record-time order."""
     out = []
     for sensor, (_, _, rate) in STREAMS.items():
-        for i in range(int(seconds * rate)):
-            out.append((T0_NS + int(round(i * NS / rate)), sensor, i))
+        for i in range(int(seconds * rate) if rate else 1):
+            out.append((T0_NS + (int(round(i * NS / rate)) if rate else 0), sensor, i))
     out.sort()
     return iter(out)
 
@@ -128,13 +152,17 @@ def write(folder: str, seconds: float, log: Callable[[str], None] = print) -> Di
             for ns, sensor, i in _schedule(seconds):
                 ring = rings.setdefault(sensor, [])
                 camera = 'Camera' in sensor
-                if camera and len(ring) >= RING:
-                    m = ring[i % RING]
+                if sensor in ('tf', 'tf_static'):
+                    m = _Message(_tf(i, ns) if sensor == 'tf' else _tf_static(ns), ts)
+                    ros1, cdr = bytes(m.ros1), bytes(m.cdr)
                 else:
-                    m = _Message(_frame(sensor, i), ts)
-                    if camera:
-                        ring.append(m)
-                ros1, cdr = m.stamped(ns)
+                    if camera and len(ring) >= RING:
+                        m = ring[i % RING]
+                    else:
+                        m = _Message(_frame(sensor, i), ts)
+                        if camera:
+                            ring.append(m)
+                    ros1, cdr = m.stamped(ns)
                 topic1, topic2, _ = STREAMS[sensor]
                 bag.write(topic1, (m.ros1_info[0], ros1, m.ros1_info[1], m.ros1_info[2]),
                           genpy.Time(ns // NS, ns % NS), raw=True)

@@ -38,8 +38,9 @@ def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoq
     TFMessages written. `hold`: joints whose transform keeps their first position (a tree that
     does not follow the joint states)."""
     import rosbag
-    from geometry_msgs.msg import TransformStamped
     from tf2_msgs.msg import TFMessage
+
+    from .tf_publisher import tf_message
     dropped = set(drop)
     held: dict = {j: None for j in hold}
     poses = []
@@ -69,16 +70,7 @@ def add_tf(src: str, dst: str, joints: str = '/joint_states', odom: str = '/naoq
             pose = _odom_at(poses, stamp.to_sec())
             if pose is not None:
                 tree.append(('odom', 'base_link', (pose[0], pose[1], 0.0), quat_axis((0.0, 0.0, 1.0), pose[2])))
-            tf = TFMessage()
-            for parent, child, p, q in tree:
-                if (parent, child) in dropped:
-                    continue
-                ts = TransformStamped()
-                ts.header.stamp, ts.header.frame_id, ts.child_frame_id = stamp, parent, child
-                ts.transform.translation.x, ts.transform.translation.y, ts.transform.translation.z = p
-                (ts.transform.rotation.x, ts.transform.rotation.y, ts.transform.rotation.z,
-                 ts.transform.rotation.w) = q
-                tf.transforms.append(ts)
+            tf = tf_message([x for x in tree if (x[0], x[1]) not in dropped], stamp)
             caller = conn.get('callerid', b'/naoqi_driver')
             header = {'callerid': caller.decode() if isinstance(caller, bytes) else caller, 'topic': TF_TOPIC,
                       'type': 'tf2_msgs/TFMessage', 'md5sum': TFMessage._md5sum,

@@ -52,7 +52,8 @@ def static_topic(spec: Any) -> Optional[str]:
     return None
 
 
-def _msg(transforms: List[Transform], stamp: rospy.Time) -> TFMessage:
+def tf_message(transforms: List[Transform], stamp: rospy.Time) -> TFMessage:
+    """A TFMessage of (parent, child, translation, rotation) transforms, all at `stamp`."""
     out = TFMessage()
     for parent, child, p, q in transforms:
         t = TransformStamped()
@@ -86,7 +87,7 @@ class TfPublisher(StreamPublisher):
             fixed = list(REALSENSE_TREE)
         if fixed:
             self._static = rospy.Publisher(static_topic(self.spec), TFMessage, queue_size=1, latch=True)
-            self._static.publish(_msg(fixed, rospy.Time.now()))
+            self._static.publish(tf_message(fixed, rospy.Time.now()))
         if self.faults.second_publisher:
             self._second = subprocess.Popen(
                 [sys.executable, '-m', 'pepper_interface_tests.emulator.second_publisher', self.spec.topic],
@@ -136,7 +137,7 @@ class TfPublisher(StreamPublisher):
             stamp = stamp - rospy.Duration.from_sec(STALE_S)
         if f.future_stamps:
             stamp = stamp + rospy.Duration.from_sec(FUTURE_S)
-        return _msg(below + [odom], stamp)
+        return tf_message(below + [odom], stamp)
 
     def close(self) -> None:
         super().close()
