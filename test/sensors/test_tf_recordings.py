@@ -70,7 +70,8 @@ def test_the_real_driver_with_its_tf_places_every_frame(with_tf, tmp_path):
     assert 'frame SonarFront_frame -> Tibia -> base_footprint: placed at 38 of 38 stamps' in sonar
     tf = got['tf']['values']
     assert tf['pairs'] == 84 and tf['roots'] == ['odom'] and tf['second_publishers'] == [], tf
-    assert tf['head_compared'] > 100 and tf['odom_compared'] > 20, tf
+    # 4 s of joint states at 50 Hz, one compared per THIN_S of stamps (every third): about 65
+    assert tf['head_compared'] > 50 and tf['odom_compared'] > 20, tf
 
 
 @needs_tf2

@@ -1,4 +1,4 @@
-"""cdr_fast: the one-copy CDR -> ROS 1 conversion of camera frames and microphone buffers gives
+"""cdr_fast: the one-copy CDR -> ROS 1 conversion of camera frames, microphone buffers and /tf gives
 byte for byte what rosbags' cdr_to_ros1 gives, over the alignments a frame id, an encoding, a
 width and a channel map of any length produce; anything unusual falls back to rosbags. Pure: no
 master, no recording."""
@@ -15,7 +15,7 @@ pytestmark = reads_ros2
 
 STORE = get_typestore(Stores.ROS2_HUMBLE)
 STORE.register(get_types_from_msg(ros2types.AUDIO_BUFFER_DEFINITION_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))
-IMAGE, AUDIO = 'sensor_msgs/msg/Image', 'naoqi_bridge_msgs/msg/AudioBuffer'
+IMAGE, AUDIO, TF = 'sensor_msgs/msg/Image', 'naoqi_bridge_msgs/msg/AudioBuffer', 'tf2_msgs/msg/TFMessage'
 NONE = SimpleNamespace(format=SimpleNamespace(name='NONE'), data='')
 
 
@@ -38,6 +38,20 @@ def audio(frame_id='', channel_map=(3, 5, 0, 2), samples=5):
                              channel_map=np.array(channel_map, np.uint8),
                              data=(np.arange(samples * max(1, len(channel_map))) * 37 - 400).astype(np.int16))
     return bytes(STORE.serialize_cdr(msg, AUDIO))
+
+
+def tf(frames, nanosec=123456700):
+    """A TFMessage of (parent, child) pairs, each with its own translation and rotation."""
+    import numpy as np
+    t = STORE.types
+    out = []
+    for k, (parent, child) in enumerate(frames):
+        out.append(t['geometry_msgs/msg/TransformStamped'](
+            header=header(parent, nanosec + k), child_frame_id=child,
+            transform=t['geometry_msgs/msg/Transform'](
+                translation=t['geometry_msgs/msg/Vector3'](x=0.1 * k, y=-2.5, z=np.pi),
+                rotation=t['geometry_msgs/msg/Quaternion'](x=0.0, y=0.5, z=-0.5, w=0.7071))))
+    return bytes(STORE.serialize_cdr(t[TF](transforms=out), TF))
 
 
 def slow(raw, msgtype):
@@ -63,6 +77,14 @@ def test_an_audio_buffer_converts_as_rosbags_converts_it(frame_id, channel_map):
     assert cdr_fast.audio_buffer(raw) == slow(raw, AUDIO)
 
 
+@pytest.mark.parametrize('frames', [[], [('a', 'b')], [('odom', 'base_link'), ('ab', 'abc')],
+                                    [('torso', 'Neck'), ('Neck', 'Head'), ('Head', 'CameraTop_frame'),
+                                     ('abcd', 'abcde')]])
+def test_a_tf_message_converts_as_rosbags_converts_it(frames):
+    raw = tf(frames)
+    assert cdr_fast.tf_message(raw) == slow(raw, TF)
+
+
 def test_the_ros1_bytes_decode_with_the_checks_classes():
     """The converted frame decodes as the camera check decodes a ROS 1 frame: seq 0, the stamp
     to the nanosecond, the pixels."""
@@ -73,7 +95,8 @@ def test_the_ros1_bytes_decode_with_the_checks_classes():
     assert (m.width, m.height, m.encoding, m.step, bytes(m.data)[:4]) == (3, 2, 'rgb8', 9, bytes([0, 1, 2, 3]))
 
 
-@pytest.mark.parametrize('msgtype,raw', [(IMAGE, image()), (AUDIO, audio())])
+@pytest.mark.parametrize('msgtype,raw', [(IMAGE, image()), (AUDIO, audio()),
+                                         (TF, tf([('CameraTop_optical_frame', 'x')]))])
 def test_unusual_bytes_are_left_to_rosbags(msgtype, raw):
     convert = cdr_fast.CONVERTERS[msgtype]
     big_endian = b'\x00\x00' + raw[2:]
@@ -82,7 +105,8 @@ def test_unusual_bytes_are_left_to_rosbags(msgtype, raw):
             convert(bad)
     # a string whose NUL is missing
     no_nul = bytearray(raw)
-    no_nul[16 + len('CameraTop_optical_frame') if msgtype == IMAGE else 16] = 1
+    name = len('CameraTop_optical_frame')
+    no_nul[{IMAGE: 16 + name, AUDIO: 16, TF: 20 + name}[msgtype]] = 1
     with pytest.raises(ValueError):
         convert(bytes(no_nul))
     # and the converter then answers as rosbags does: b'' for what cannot be converted

@@ -76,9 +76,10 @@ def test_every_topic_starts_at_the_same_nanosecond_and_keeps_its_rate():
 def test_the_recording_carries_the_drivers_tree_in_every_form(tmp_path):
     """/tf with every joint state (the driver's tree, its transforms stamped at their record
     time) and /tf_static once, the same in the bag and the two ROS 2 folders."""
+    from pathlib import Path
+
     import rosbag
     from rosbags.highlevel import AnyReader
-    from pathlib import Path
     paths = recording.write(str(tmp_path), 0.5, log=lambda _: None)
     with rosbag.Bag(paths['ros1']) as bag:
         tf = [(m, t) for _, m, t in bag.read_messages(topics=['/tf'])]

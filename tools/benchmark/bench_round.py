@@ -175,7 +175,8 @@ def _measurements(rnd: Round, end: Ended, usage: Usage, hz_usage: Usage, peak: D
             'user': usage.ru_utime, 'system': usage.ru_stime, 'hz_cpu': hz_cpu,
             'hz_user': hz_usage.ru_utime, 'hz_system': hz_usage.ru_stime,
             'ratio': cpu / hz_cpu if hz_cpu else float('inf'),
-            'rss': max(peak.get('rss', 0), usage.ru_maxrss * 1024) / 1e6,
+            # sampled only: ru_maxrss carries the forking parent's high-water mark over exec
+            'rss': peak.get('rss', 0) / 1e6,
             'rss_children': peak.get('rss_children', 0) / 1e6, 'rss_tree': peak.get('rss_tree', 0) / 1e6,
             'pss_tree': peak.get('pss_tree', 0) / 1e6, 'uss_tree': peak.get('uss_tree', 0) / 1e6,
             'late': end.published['finished_late_s'], 'publish_s': end.published['seconds']}

@@ -33,7 +33,7 @@ import time
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 import recording
-from probes import byte_compiled, wait4
+from probes import byte_compiled, wait4_peak
 
 from pepper_interface_tests.outputs.terminal import HelpFormatter
 from pepper_interface_tests.plan.settings import package_dir
@@ -46,16 +46,16 @@ FLOOR = {'ros1': 'rosbag', 'sqlite3': 'rosbags', 'mcap': 'rosbags'}
 
 def _measure(cmd: Sequence[str], log: str, env: Dict[str, str]) -> Tuple[Optional[int], float, float, float]:
     """(exit code, CPU seconds user + system, wall seconds, peak RSS in MB) of one process (its
-    peak RSS: the kernel's high-water mark, wait4's ru_maxrss, in KiB on Linux)."""
+    peak RSS: the kernel's high-water mark of its memory, probes.wait4_peak)."""
     t0 = time.monotonic()
     with open(log, 'w') as f:
         p = subprocess.Popen(list(cmd), stdout=f, stderr=subprocess.STDOUT, env=env)
-        code, usage = wait4(p.pid, 1800.0)
+        code, usage, peak = wait4_peak(p.pid, 1800.0)
     if usage is None:
         p.kill()
         p.wait()
         return None, 0.0, time.monotonic() - t0, 0.0
-    return code, usage.ru_utime + usage.ru_stime, time.monotonic() - t0, usage.ru_maxrss / 1024.0
+    return code, usage.ru_utime + usage.ru_stime, time.monotonic() - t0, peak
 
 
 def _verdicts(out: str) -> Dict[str, Tuple[str, int]]:

@@ -151,7 +151,7 @@ class TfCheck(Check):
             self.notes.append('the head turned %.2f rad in the run; torso -> Neck followed HeadYaw '
                               'within %s rad' % (head.moved, fmt(head.worst, 3)))
         self.found = TfValues(
-            messages=record.messages, static_messages=record.static_messages,
+            messages=record.messages + record.thinned, static_messages=record.static_messages,
             pairs=record.count_pairs(), roots=roots, loops=loops, publishers=sorted(record.nodes),
             second_publishers=second,
             max_ahead_s=None if record.max_ahead is None else round(record.max_ahead, 4),

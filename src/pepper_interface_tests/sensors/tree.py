@@ -21,6 +21,7 @@ recorded /tf, in record order), next to the sensors' windows, like the stiffness
 buffer for its cache time only.
 """
 import math
+import struct
 import threading
 from collections import OrderedDict, deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Set, Tuple
@@ -42,6 +43,18 @@ SAME_RAD = 1e-3
 # stamps when its messages keep their size: the structure of a tree does not change at 50 Hz,
 # and tf2's buffer gets every transform regardless
 RECORD_EVERY = 0.5
+# A node's /tf messages of one layout (their count of transforms and first parent and child)
+# are decoded and put into tf2's buffer at most once per THIN_S s of stamps; the others are
+# counted (the tf row's window counts every message) and not decoded. naoqi_driver sends its 84
+# transforms at 50 Hz (joint_state.cpp), and decoding them and tf2's set_transform were the
+# tree's whole cost (docs/tf.md, "Memory and cost"). Kept messages are at most THIN_S plus one
+# period apart (0.06 s at 50 Hz: every third) and lookups between them interpolate: a joint
+# whose speed changes by dv within one gap is off by at most dv * gap / 4, 0.011 rad for a head
+# starting or stopping a 0.7 rad/s turn, about half of head_tolerance (0.02 rad); a base
+# stopping from 0.55 m/s, 8 mm against odom_tolerance's 0.05 m.
+THIN_S = 0.05
+_U32 = struct.Struct('<I')
+_STAMP = struct.Struct('<II')
 
 
 class Link:
@@ -63,7 +76,8 @@ class TreeRecord:
         self.buffer = TfBuffer(cache_time)
         self._lock = threading.Lock()
         self.links: Dict[str, Link] = OrderedDict()
-        self.messages = 0
+        self.messages = 0           # decoded into the buffer
+        self.thinned = 0            # seen and not decoded (THIN_S)
         self.static_messages = 0
         self.transforms = 0
         self.refused = 0
@@ -106,6 +120,10 @@ class TreeRecord:
             self.lags.append(-ahead)
             self.max_ahead = ahead if self.max_ahead is None else max(self.max_ahead, ahead)
             self.max_behind = -ahead if self.max_behind is None else max(self.max_behind, -ahead)
+
+    def count_thinned(self) -> None:
+        with self._lock:
+            self.thinned += 1
 
     def typical_lag(self) -> Optional[float]:
         """The median of arrival - newest stamp over the latest messages (s; < 0: in the
@@ -213,6 +231,25 @@ class TfTopic(TopicWitness):
         super().__init__(topic, TF_TYPE)      # another type: the tf row says so
         self.record = record
         self.static = static
+        self._kept: Dict[Tuple[str, bytes], float] = {}     # layout -> stamp of its last kept message
+
+    def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+                 conn: Optional[Dict[str, Any]] = None) -> None:
+        """Every /tf_static message; a /tf message unless its layout's last kept message is less
+        than THIN_S s of stamps older (read from the ROS 1 bytes before anything is decoded)."""
+        if not self.static and type_name == self.type_name:
+            peeked = _peek(buff)
+            if peeked is not None:
+                caller = (conn or {}).get('callerid') or '?'
+                key = (str(caller), peeked[0])
+                last = self._kept.get(key)
+                if last is not None and 0.0 <= peeked[1] - last < THIN_S:
+                    self.record.count_thinned()
+                    return
+                if len(self._kept) > 1000:      # bounded: layouts of a run are a handful
+                    self._kept.clear()
+                self._kept[key] = peeked[1]
+        super().feed_raw(type_name, buff, t_recv, ros_now, conn)
 
     def take_full(self, msg: Any, t_recv: float, ros_now: float, conn: Optional[Dict[str, Any]]) -> None:
         caller = (conn or {}).get('callerid') or '?'
@@ -226,11 +263,31 @@ class TfTopic(TopicWitness):
         pass
 
 
+def _peek(buff: bytes) -> Optional[Tuple[bytes, float]]:
+    """(layout: the count of transforms and the first transform's parent and child, as bytes;
+    the first transform's stamp in s) of a ROS 1 TFMessage, or None when it is empty or too
+    short (then it is decoded as any other: a broken one is the tf row's to report)."""
+    try:
+        (n,) = _U32.unpack_from(buff, 0)
+        if n == 0:
+            return None
+        secs, nsecs = _STAMP.unpack_from(buff, 8)
+        (parent,) = _U32.unpack_from(buff, 16)
+        (child,) = _U32.unpack_from(buff, 20 + parent)
+        end = 24 + parent + child
+        if end > len(buff):
+            return None
+        return bytes(buff[0:4]) + bytes(buff[16:end]), secs + nsecs * 1e-9
+    except struct.error:
+        return None
+
+
 class Agreement(TopicWitness):
     """A witness of another topic whose value tf must agree with at the message's stamp:
     /naoqi_driver/odom's pose against `odom -> base_link`, /joint_states' HeadYaw against
     `torso -> Neck`'s turn about z. Each message waits until /tf has data past its stamp (the
-    driver publishes both from one loop, joint_state.cpp:94-201), then is compared once."""
+    driver publishes both from one loop, joint_state.cpp:94-201), then is compared once; one
+    message per THIN_S s of stamps is decoded and compared."""
 
     WAIT = 5.0      # s of arrival a message waits for /tf before it is compared anyway
 
@@ -238,6 +295,7 @@ class Agreement(TopicWitness):
         super().__init__(topic, type_name)
         self.record = record
         self._pending: Deque[Tuple[float, float, Any]] = deque(maxlen=500)
+        self._taken: Optional[float] = None      # the stamp of the last message decoded
         self._lock = threading.Lock()
         self.compared = 0
         self.unplaced = 0
@@ -249,6 +307,16 @@ class Agreement(TopicWitness):
                  conn: Optional[Dict[str, Any]] = None) -> None:
         if self.record.first_stamp is None:
             return      # before the run's first /tf nothing is compared: not even decoded
+        # one message per THIN_S s of stamps (the header's, read before decoding): the tree is
+        # kept at that pace too, and a tree that does not follow stays wrong for many of them
+        try:
+            secs, nsecs = _STAMP.unpack_from(buff, 4)
+        except struct.error:
+            secs, nsecs = 0, 0
+        stamp = secs + nsecs * 1e-9
+        if self._taken is not None and 0.0 <= stamp - self._taken < THIN_S:
+            return
+        self._taken = stamp
         super().feed_raw(type_name, buff, t_recv, ros_now, conn)
 
     def take(self, msg: Any, t_recv: float) -> None:

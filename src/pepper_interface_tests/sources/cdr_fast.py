@@ -1,4 +1,4 @@
-"""CDR -> ROS 1 wire bytes for the heavy messages (camera frames, microphone buffers) in one copy.
+"""CDR -> ROS 1 wire bytes for the heavy messages (camera frames, microphone buffers, /tf) in one copy.
 
 rosbags' cdr_to_ros1 (ros2types.Converter) sizes the message, allocates a zeroed buffer, copies
 every field into it, and the result is copied once more into bytes: three passes over a 1 MB
@@ -13,6 +13,10 @@ which the ROS 2 Header does not have and is written as 0, as cdr_to_ros1 writes 
                                      uint8 is_bigendian, uint32 step, uint8[] data
   naoqi_bridge_msgs/msg/AudioBuffer  header, uint16 frequency, uint8[] channel_map, int16[] data
                                      (ros-naoqi/naoqi_bridge_msgs2 msg/AudioBuffer.msg)
+  tf2_msgs/msg/TFMessage             geometry_msgs/TransformStamped[] transforms: each a header,
+                                     string child_frame_id, float64 x 3 (translation), x 4
+                                     (rotation); 84 a message at 50 Hz from naoqi_driver, where
+                                     rosbags' generic conversion cost twice the tree's own work
 
 Anything unusual (big-endian CDR, a length that runs past the buffer, a string without its NUL)
 raises ValueError and the caller converts with rosbags instead, so a damaged message is judged
@@ -93,8 +97,36 @@ def audio_buffer(raw: bytes) -> bytes:
     return b''.join(out)
 
 
+def tf_message(raw: bytes) -> bytes:
+    """/tf: per transform its stamp, frame_id and child_frame_id, then its seven float64 (the
+    translation and rotation, aligned to 8 in CDR, packed in ROS 1: the same bytes)."""
+    if len(raw) < 8 or raw[0:2] != b'\x00\x01':
+        raise ValueError('not little-endian CDR')
+    (n,) = _U32.unpack_from(raw, 4)
+    out: List[Chunk] = [raw[4:8]]
+    pos = 8
+    for _ in range(n):
+        pos = _align(pos, 4)
+        stamp = raw[pos:pos + 8]
+        parent, pos = _string(raw, pos + 8)
+        child, pos = _string(raw, pos)
+        pos = _align(pos, 8)
+        end = pos + 56
+        if end > len(raw) or len(stamp) != 8:
+            raise ValueError('short message')
+        out += [_SEQ0, stamp, _U32.pack(len(parent)), parent, _U32.pack(len(child)), child, raw[pos:end]]
+        pos = end
+    return b''.join(out)
+
+
 # ROS 2 type -> its direct conversion
 CONVERTERS: Dict[str, Callable[[bytes], bytes]] = {
     'sensor_msgs/msg/Image': image,
     'naoqi_bridge_msgs/msg/AudioBuffer': audio_buffer,
+    'tf2_msgs/msg/TFMessage': tf_message,
+}
+# the types each conversion reads besides its own (their layouts must be the ones read here)
+NESTED: Dict[str, Tuple[str, ...]] = {
+    'tf2_msgs/msg/TFMessage': ('geometry_msgs/msg/TransformStamped', 'geometry_msgs/msg/Transform',
+                               'geometry_msgs/msg/Vector3', 'geometry_msgs/msg/Quaternion'),
 }

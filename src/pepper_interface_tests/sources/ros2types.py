@@ -182,12 +182,16 @@ class Converter:
 
 @functools.lru_cache(maxsize=None)
 def fast_layouts() -> Mapping[str, Any]:
-    """The field definitions cdr_fast.py reads: Image and Header of the standard types (the same
-    in every ROS 2 release), naoqi_driver2's AudioBuffer (AUDIO_BUFFER_DEFINITION_ROS2)."""
+    """The field definitions cdr_fast.py reads: Image, TFMessage and the types in them of the
+    standard types (the same in every ROS 2 release), naoqi_driver2's AudioBuffer
+    (AUDIO_BUFFER_DEFINITION_ROS2)."""
     from rosbags.typesys import get_types_from_msg
     std = _store_fields(DISTROS[DEFAULT_DISTRO])
     layouts: Dict[str, Any] = {name: std[name] for name in
-                               ('sensor_msgs/msg/Image', 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time')}
+                               ('sensor_msgs/msg/Image', 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time',
+                                'tf2_msgs/msg/TFMessage', 'geometry_msgs/msg/TransformStamped',
+                                'geometry_msgs/msg/Transform', 'geometry_msgs/msg/Vector3',
+                                'geometry_msgs/msg/Quaternion')}
     layouts.update(get_types_from_msg(AUDIO_BUFFER_DEFINITION_ROS2, 'naoqi_bridge_msgs/msg/AudioBuffer'))
     return MappingProxyType(layouts)
 
@@ -201,8 +205,10 @@ def _same_layout(types: Mapping[str, Any], name: str) -> bool:
 
     def kinds(fields: Any) -> str:
         return repr([desc for _name, desc in fields[1]]) if fields else ''
+    from .cdr_fast import NESTED
     return name in ref and all(kinds(types.get(t)) == kinds(ref[t])
-                               for t in (name, 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time'))
+                               for t in (name, 'std_msgs/msg/Header', 'builtin_interfaces/msg/Time')
+                               + NESTED.get(name, ()))
 
 
 def _closure(msgtype: str, types: Mapping[str, Any], into: Set[str]) -> Optional[str]:
