@@ -124,3 +124,17 @@ def test_another_layout_under_the_same_name_is_converted_by_rosbags():
     c = ros2types.Converter([SimpleNamespace(topic='/audio', msgtype=AUDIO, msgdef=msgdef),
                              SimpleNamespace(topic='/image', msgtype=IMAGE, msgdef=NONE)], '/nonexistent')
     assert AUDIO not in c.fast and IMAGE in c.fast
+
+
+def test_a_tf_layout_seen_before_converts_as_rosbags_converts_it_and_a_new_name_is_not_mixed_up():
+    """The second message of a layout (other stamps and numbers) goes through the layout's byte
+    map; a message of the same size whose frame name differs is converted field by field."""
+    frames = [('odom', 'base_link'), ('torso', 'Neck'), ('Neck', 'Head')]
+    first, second = tf(frames, nanosec=1), tf(frames, nanosec=999)
+    assert cdr_fast.tf_message(first) == slow(first, TF)
+    assert len(first) in cdr_fast._TF_LAYOUTS
+    assert cdr_fast._TF_LAYOUTS[len(first)].apply(second) is not None
+    assert cdr_fast.tf_message(second) == slow(second, TF)
+    renamed = tf([('odom', 'base_link'), ('torso', 'Nock'), ('Neck', 'Head')], nanosec=5)
+    assert len(renamed) == len(first) and cdr_fast._TF_LAYOUTS[len(first)].apply(renamed) is None
+    assert cdr_fast.tf_message(renamed) == slow(renamed, TF)

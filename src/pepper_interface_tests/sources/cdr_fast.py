@@ -23,7 +23,7 @@ raises ValueError and the caller converts with rosbags instead, so a damaged mes
 exactly as before. test/sources/test_cdr_fast.py checks the bytes against cdr_to_ros1's.
 """
 import struct
-from typing import Callable, Dict, List, Tuple, Union
+from typing import Callable, Dict, List, Optional, Tuple, Union
 
 Chunk = Union[bytes, memoryview]
 
@@ -99,24 +99,81 @@ def audio_buffer(raw: bytes) -> bytes:
 
 def tf_message(raw: bytes) -> bytes:
     """/tf: per transform its stamp, frame_id and child_frame_id, then its seven float64 (the
-    translation and rotation, aligned to 8 in CDR, packed in ROS 1: the same bytes)."""
+    translation and rotation, aligned to 8 in CDR, packed in ROS 1: the same bytes). A
+    publisher sends the same frames in every message, only stamps and numbers change: the first
+    message of a layout is converted field by field and leaves a byte map (_TfLayout); the next
+    ones of the same size whose frame names are byte for byte the same are one numpy gather."""
+    layout = _TF_LAYOUTS.get(len(raw))
+    if layout is not None:
+        out = layout.apply(raw)
+        if out is not None:
+            return out
+    out, layout = _tf_fields(raw)
+    if len(_TF_LAYOUTS) >= 16:
+        _TF_LAYOUTS.clear()
+    _TF_LAYOUTS[len(raw)] = layout
+    return out
+
+
+class _TfLayout:
+    """A TFMessage layout: the first message's ROS 1 bytes as a template, where its stamps and
+    numbers come from in the CDR bytes, and the CDR bytes that must match for the template to
+    hold (the count, the frame names with their lengths and NULs)."""
+
+    def __init__(self, converted: bytes, dst: List[int], src: List[int], fixed: List[int], raw: bytes) -> None:
+        import numpy as np
+        self.template = np.frombuffer(converted, np.uint8)
+        self.dst = np.array(dst, np.int64)
+        self.src = np.array(src, np.int64)
+        self.fixed = np.array(fixed, np.int64)
+        self.fixed_bytes = np.frombuffer(raw, np.uint8)[self.fixed].copy()
+
+    def apply(self, raw: bytes) -> Optional[bytes]:
+        import numpy as np
+        data = np.frombuffer(raw, np.uint8)
+        if raw[0:2] != b'\x00\x01' or not np.array_equal(data[self.fixed], self.fixed_bytes):
+            return None
+        out = self.template.copy()
+        out[self.dst] = data[self.src]
+        return out.tobytes()
+
+
+_TF_LAYOUTS: Dict[int, _TfLayout] = {}
+
+
+def _tf_fields(raw: bytes) -> Tuple[bytes, _TfLayout]:
+    """The conversion field by field, and the layout it followed."""
     if len(raw) < 8 or raw[0:2] != b'\x00\x01':
         raise ValueError('not little-endian CDR')
     (n,) = _U32.unpack_from(raw, 4)
     out: List[Chunk] = [raw[4:8]]
-    pos = 8
+    dst: List[int] = []
+    src: List[int] = []
+    fixed = list(range(4, 8))
+    pos, o = 8, 4               # o: the offset in the ROS 1 bytes
     for _ in range(n):
-        pos = _align(pos, 4)
-        stamp = raw[pos:pos + 8]
-        parent, pos = _string(raw, pos + 8)
+        stamp_at = _align(pos, 4)
+        stamp = raw[stamp_at:stamp_at + 8]
+        parent_at = stamp_at + 8
+        parent, pos = _string(raw, parent_at)
+        child_at = _align(pos, 4)
         child, pos = _string(raw, pos)
-        pos = _align(pos, 8)
-        end = pos + 56
+        numbers_at = _align(pos, 8)
+        end = numbers_at + 56
         if end > len(raw) or len(stamp) != 8:
             raise ValueError('short message')
-        out += [_SEQ0, stamp, _U32.pack(len(parent)), parent, _U32.pack(len(child)), child, raw[pos:end]]
+        out += [_SEQ0, stamp, _U32.pack(len(parent)), parent, _U32.pack(len(child)), child, raw[numbers_at:end]]
+        fixed += list(range(parent_at, parent_at + 5 + len(parent)))     # length, name, NUL
+        fixed += list(range(child_at, child_at + 5 + len(child)))
+        dst += list(range(o + 4, o + 12))
+        src += list(range(stamp_at, stamp_at + 8))
+        o += 12 + 4 + len(parent) + 4 + len(child)
+        dst += list(range(o, o + 56))
+        src += list(range(numbers_at, end))
+        o += 56
         pos = end
-    return b''.join(out)
+    converted = b''.join(out)
+    return converted, _TfLayout(converted, dst, src, fixed, raw)
 
 
 # ROS 2 type -> its direct conversion
