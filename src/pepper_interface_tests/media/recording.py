@@ -351,9 +351,14 @@ class VideoRecorder:
         odd = self.size[0] % 2 or self.size[1] % 2
         pad = ['-vf', 'pad=ceil(iw/2)*2:ceil(ih/2)*2'] if odd else []
         # own session: a Ctrl-C to sensorTest's process group must not end ffmpeg before the
-        # queued frames are in; it ends when its input pipe is closed
+        # queued frames are in; it ends when its input pipe is closed. Niced (nice 10, `nice`
+        # then execs ffmpeg: the same process): an encoder starts with the frames of its first
+        # seconds queued, and six such bursts at once took both cores of a 2-core machine from
+        # the audio chain for 0.29 s, a gap this node then reported in the microphones' stream;
+        # the encoders' work waits in their queues instead
+        nice = ['nice', '-n', '10'] if shutil.which('nice') else []
         self._proc = subprocess.Popen(
-            ['ffmpeg', '-v', 'error', '-y', '-f', 'rawvideo', '-pix_fmt', pix_fmt,
+            nice + ['ffmpeg', '-v', 'error', '-y', '-f', 'rawvideo', '-pix_fmt', pix_fmt,
              '-s', '%dx%d' % self.size, '-r', '%.6f' % self.fps, '-i', 'pipe:0', '-an'] + pad +
             ['-c:v', 'libx264', '-preset', PRESET, '-crf', CRF, '-threads', '1', '-sws_flags', 'neighbor',
              '-pix_fmt', 'yuv420p',
