@@ -21,10 +21,7 @@ import threading
 import time
 from typing import TYPE_CHECKING, Any, Dict, List, Tuple, Type
 
-import rospy
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from std_msgs.msg import String
-
+from .. import rosapi
 from ..sensors import guide, joint_limits, touch
 from ..sources import naoqi_msgs
 from .fake_memory import joint_temperature
@@ -33,6 +30,11 @@ from .publishers import StreamPublisher
 
 if TYPE_CHECKING:
     import genpy
+
+DiagnosticArray = rosapi.msg('diagnostic_msgs/DiagnosticArray')
+DiagnosticStatus = rosapi.msg('diagnostic_msgs/DiagnosticStatus')
+KeyValue = rosapi.msg('diagnostic_msgs/KeyValue')
+String = rosapi.msg('std_msgs/String')
 
 PROMPT_TOPIC = '/sensorTest/prompt'
 PRESS_S = 0.4           # how long the emulated operator presses
@@ -179,7 +181,7 @@ class EmulatedOperator:
     def __init__(self, publishers: List[StreamPublisher]) -> None:
         self.touch = {p.spec.name: p for p in publishers if isinstance(p, TouchPublisher)}
         self.timers: List[threading.Timer] = []
-        self.sub = rospy.Subscriber(PROMPT_TOPIC, String, self._on_prompt, queue_size=10)
+        self.sub = rosapi.subscriber(PROMPT_TOPIC, 'std_msgs/String', self._on_prompt, queue_size=10)
 
     def _on_prompt(self, msg: String) -> None:
         zone_id = guide.asked_zone(msg.data)    # None for "[done]" and the guide's "moved on" notes
@@ -189,7 +191,7 @@ class EmulatedOperator:
         pub = self.touch.get(sensor)
         if pub is None:
             return
-        rospy.loginfo('pepperEmulator: operator touches %s', zone_id)
+        rosapi.loginfo('pepperEmulator: operator touches %s', zone_id)
         timer = threading.Timer(REACTION_S, pub.touch, args=(zone,))
         timer.daemon = True
         timer.start()
