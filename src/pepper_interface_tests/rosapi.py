@@ -13,7 +13,7 @@ default reliable profile); `latch` is transient-local, as a ROS 1 latched topic.
 """
 import os
 from collections import namedtuple
-from typing import Any, Callable, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from .sources.live2 import current, ros_version
 
@@ -142,3 +142,109 @@ def is_shutdown() -> bool:
         return graph is None or not graph.ok
     import rospy
     return rospy.is_shutdown()
+
+
+def subscriber_nodes(topic: str) -> List[str]:
+    """The nodes other than this one subscribed to `topic` ([] when the graph cannot tell)."""
+    try:
+        if ros_version() == 2:
+            graph = _graph()
+            from .sources.live2 import node_label
+            return sorted(node_label(i) for i in graph.node.get_subscriptions_info_by_topic(topic)
+                          if node_label(i) != graph.name)
+        import rosgraph
+        import rospy
+        me = rospy.get_name()
+        _, subs, _ = rosgraph.Master(me).getSystemState()
+        return sorted(n for t, nodes in subs if t == topic for n in nodes if n != me)
+    except Exception:  # noqa: BLE001  (the master may be gone)
+        return []
+
+
+def published_topics() -> Optional[List[Tuple[str, str]]]:
+    """[(topic, type)] of every topic with a publisher, or None when the graph cannot tell."""
+    try:
+        if ros_version() == 2:
+            from .sources.ros2types import ros1_name
+            return [(t, ros1_name(types[0])) for t, types in _graph().topic_types().items() if types]
+        import rosgraph
+        import rospy
+        return [tuple(x) for x in rosgraph.Master(rospy.get_name()).getPublishedTopics('')]
+    except Exception:  # noqa: BLE001  (the master may be gone)
+        return None
+
+
+class _AnySubscription:
+    """ROS 2: a raw subscription to whatever type the graph advertises for `topic` (looked up
+    every 0.25 s until a publisher appears), each message handed on as ROS 1 bytes."""
+
+    def __init__(self, topic: str, callback: Callable[[str, bytes, Dict[str, Any]], None], queue_size: int) -> None:
+        import threading
+        self.graph = _graph()
+        self.topic, self.callback, self.queue_size = topic, callback, queue_size
+        self.sub: Any = None
+        self.closed = threading.Event()
+        self._thread = threading.Thread(target=self._find, daemon=True, name='any-' + topic)
+        self._thread.start()
+
+    def _find(self) -> None:
+        from .plan.settings import package_dir
+        from .sources import ros2types
+        from .sources.ros2wire import is_own, msg_class
+        while not self.closed.is_set():
+            types = self.graph.topic_types().get(self.topic) if self.graph.ok else None
+            if types:
+                break
+            self.closed.wait(0.25)
+        else:
+            return
+        ros2 = types[0]
+        try:
+            cls = msg_class(ros2)
+        except ImportError:
+            return
+        converter = ros2types.Converter([_Conn(self.topic, ros2, None)], os.path.join(package_dir(), 'msg'),
+                                        os.environ.get('ROS_DISTRO') or None)
+        header = dict(converter.header(ros2))
+        topic = self.topic
+
+        def on_raw(raw: bytes) -> None:
+            if not is_own(topic, raw):
+                self.callback(header['type'], converter.to_ros1(raw, ros2), header)
+        if not self.closed.is_set():
+            self.sub = self.graph.node.create_subscription(cls, topic, on_raw, _qos_any(self.graph, topic,
+                                                                                          self.queue_size), raw=True)
+
+    def unregister(self) -> None:
+        self.closed.set()
+        if self.sub is not None:
+            try:
+                self.graph.node.destroy_subscription(self.sub)
+            except Exception:  # noqa: BLE001  (the context is already gone)
+                pass
+
+
+def _qos_any(graph: Any, topic: str, depth: int) -> Any:
+    """Reliable when every publisher of `topic` is, else best effort (sources/live2.py)."""
+    from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+    pubs = graph.publishers(topic)
+    reliable = bool(pubs) and all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in pubs)
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=max(1, depth),
+                      reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                      durability=DurabilityPolicy.VOLATILE)
+
+
+def any_subscriber(topic: str, callback: Callable[[str, bytes, Dict[str, Any]], None], queue_size: int = 10,
+                   buff_size: int = 65536) -> Any:
+    """A subscription to `topic` whatever type it carries: callback(type, ROS 1 bytes, connection
+    header) per message (rospy.AnyMsg on ROS 1; this node's own messages are left out on both)."""
+    if ros_version() == 2:
+        return _AnySubscription(topic, callback, queue_size)
+    import rospy
+    own = rospy.get_name()
+
+    def on_any(msg: Any) -> None:
+        conn = msg._connection_header
+        if conn.get('callerid') != own:
+            callback(conn.get('type', '?'), msg._buff, conn)
+    return rospy.Subscriber(topic, rospy.AnyMsg, on_any, queue_size=queue_size, buff_size=buff_size)

@@ -26,7 +26,7 @@ TOPIC_CALLS = {'Publisher': 'published', 'Subscriber': 'subscribed', 'Service': 
 # rosapi.py, the ROS seam (rospy on ROS 1, rclpy on ROS 2): its publisher() and subscriber()
 # count as rospy's, with the type named by its second argument ('pkg/Type'); the seam's own
 # forwarding calls are no node's
-SEAM_CALLS = {'publisher': 'published', 'subscriber': 'subscribed'}
+SEAM_CALLS = {'publisher': 'published', 'subscriber': 'subscribed', 'any_subscriber': 'subscribed'}
 SEAM = {'rosapi.py'}
 PARAM_CALLS = ('get_param', 'has_param', 'search_param', 'set_param')
 

@@ -14,8 +14,9 @@ from rosmaster import kill_group, script, spawn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIVE = [sys.executable, os.path.join(HERE, '..', 'helpers', 'ros2_live.py')]
+# a topic missing from a bag is, live, a topic nobody publishes
+LIVE_WORDS = {'backSonar': 'no publisher on /sonar/back'}
 QUIET = ['--no-history', '--no-report', '--no-record', '--no-show']
-NO_MASTER = dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1')
 
 
 def domain_env(n):
@@ -28,9 +29,20 @@ def results(out):
         return {s['name']: s for s in json.load(f)['sensors']}
 
 
+def ros1_env():
+    """The ROS 1 environment the tier saved before it sourced ROS 2 (tools/ros2/tests.sh)."""
+    with open(os.environ['PEPPER_ROS1_ENV'], 'rb') as f:
+        pairs = [e.split(b'=', 1) for e in f.read().split(b'\0') if b'=' in e]
+    return dict((k.decode(), v.decode()) for k, v in pairs)
+
+
 def bag_verdicts(tmp, faulty):
-    bag = rr.write_ros1(tmp / 'pepper.bag', rr.records(faulty=faulty))
-    env = {k: v for k, v in NO_MASTER.items() if k != 'ROS_VERSION'}
+    """sensorTest --bag on ROS 1 (rospy cannot import next to ROS 2's messages: its own process)."""
+    env = dict(ros1_env(), ROS_MASTER_URI='http://127.0.0.1:1')
+    bag = str(tmp / 'pepper.bag')
+    subprocess.run([sys.executable, '-c', 'import sys; sys.path.insert(0, %r); import ros2_recordings as rr; '
+                    'rr.write_ros1(%r, rr.records(faulty=%r))' % (os.path.join(HERE, '..', 'helpers'), bag, faulty)],
+                   env=env, check=True, timeout=120)
     p = subprocess.run(script('sensorTest') + ['--bag', bag, '--sensors', rr.SENSORS, '--output-dir',
                        str(tmp / 'bag')] + QUIET + ['--no-diagnostics'], env=env, capture_output=True,
                        text=True, timeout=120)
@@ -64,6 +76,7 @@ def test_live_on_ros2_same_verdicts_as_the_same_data_in_a_ros1_bag(tmp_path, fau
         p.stdout
     for name, s in got.items():
         if faulty and name in rr.FAULTS:     # each fault fails by its name, as in the bag
-            assert any(rr.FAULTS[name] in r for r in s['reasons']), s
+            words = LIVE_WORDS.get(name, rr.FAULTS[name])
+            assert any(words in r for r in s['reasons']), s
         else:
             assert s['verdict'] == 'PASS' and s['messages'] > 0, s

@@ -7,6 +7,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ws=$(tools/ros2/workspace.sh)
+# the ROS 1 environment, for the tests' side-by-side runs of the same data on ROS 1
+mkdir -p build/ros2
+( source tools/env.sh; env -0 ) > build/ros2/ros1.env
+export PEPPER_ROS1_ENV="$PWD/build/ros2/ros1.env"
 set +u
 source "$ws"
 set -u
