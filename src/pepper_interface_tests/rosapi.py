@@ -78,6 +78,7 @@ class _Subscription:
         from .sources import ros2types
         from .sources.ros2wire import msg_class, ros2_type
         self.graph = _graph()
+        self.topic = topic
         ros2 = ros2_type(type_name)
         converter = ros2types.Converter([_Conn(topic, ros2, None)], os.path.join(package_dir(), 'msg'),
                                         os.environ.get('ROS_DISTRO') or None)
@@ -92,6 +93,13 @@ class _Subscription:
             callback(m)
         self.sub = self.graph.node.create_subscription(msg_class(ros2), topic, on_raw,
                                                        _qos(queue_size, False), raw=True)
+
+    def get_num_connections(self) -> int:
+        """Publishers of the topic other than this node (rospy's count of connections)."""
+        try:
+            return len(self.graph.publishers(self.topic))
+        except Exception:  # noqa: BLE001  (the context is already gone)
+            return 0
 
     def unregister(self) -> None:
         try:
@@ -118,7 +126,14 @@ def _log(level: str, text: str, *args: Any) -> None:
             import sys
             sys.stderr.write('[%s] %s\n' % (level.upper(), message))
             return
-        getattr(graph.node.get_logger(), 'warning' if level == 'warn' else level)(message)
+        logger = graph.node.get_logger()
+        # one call site per severity: rclpy refuses a call site whose severity changes
+        if level == 'info':
+            logger.info(message)
+        elif level == 'warn':
+            logger.warning(message)
+        else:
+            logger.error(message)
         return
     import rospy
     getattr(rospy, 'log' + level)(text, *args)

@@ -14,13 +14,13 @@ msg/HeadTouch.msg). Field order and types are unchanged, so the CDR layout is th
 naoqi_driver2 publishes.
 """
 import os
-import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', '..', 'src'))
 
 from pepper_interface_tests.sources import naoqi_msgs  # noqa: E402
+from pepper_interface_tests.sources.ros2defs import ros2_text  # noqa: E402
 from pepper_interface_tests.sources.ros2types import AUDIO_BUFFER_DEFINITION_ROS2  # noqa: E402
 
 PACKAGE_XML = """<?xml version="1.0"?>
@@ -49,28 +49,6 @@ rosidl_generate_interfaces(${PROJECT_NAME} %s DEPENDENCIES std_msgs)
 ament_export_dependencies(rosidl_default_runtime)
 ament_package()
 """
-
-
-def snake(name):
-    return re.sub(r'(?<=[a-z0-9])([A-Z])', r'_\1', name).lower()
-
-
-def ros2_text(ros1):
-    """The ROS 2 form of the top-level part of a ROS 1 definition."""
-    out = []
-    for line in ros1.split('=' * 80)[0].splitlines():
-        text = line.split('#', 1)[0].strip()
-        if not text:
-            continue
-        kind, rest = text.split(None, 1)
-        if kind == 'Header':
-            kind = 'std_msgs/Header'
-        if '=' in rest:
-            name, value = (s.strip() for s in rest.split('=', 1))
-            out.append('%s %s=%s' % (kind, snake(name).upper(), value))
-        else:
-            out.append('%s %s' % (kind, snake(rest)))
-    return '\n'.join(out) + '\n'
 
 
 def definitions():

@@ -317,7 +317,8 @@ class Emulator:
     def stop(self) -> None:
         self.stop_event.set()
         for t in self.threads:
-            t.join(2.0)
+            if t.ident is not None:      # started (a start that failed half-way leaves some not)
+                t.join(2.0)
         for t in self.threads:
             try:
                 t.close()

@@ -14,7 +14,6 @@ differs is naoqi_driver2's side of things:
 Ends on SIGINT or SIGTERM (exit 0), as rospy.spin() does on ROS 1.
 """
 import dataclasses
-import importlib.util
 import os
 import signal
 import sys
@@ -34,6 +33,15 @@ def _own_args(argv: Sequence[str]) -> List[str]:
     return split_ros_args(list(argv))[0]
 
 
+def _has_ros2_type(name: str) -> bool:
+    from ..sources.ros2wire import msg_class
+    try:
+        msg_class(name)
+        return True
+    except ImportError:
+        return False
+
+
 def main2(argv: Optional[Sequence[str]] = None) -> int:
     from ..sources.live2 import Ros2Graph
     from .node import NODE_NAME, Emulator, EmulatorConfig, _parser
@@ -44,7 +52,9 @@ def main2(argv: Optional[Sequence[str]] = None) -> int:
         from .fault_table import table
         print(table(max(60, shutil.get_terminal_size((80, 20)).columns - 1)))
         return 0
-    values = dict(profile='robot-stock',
+    # no /naoqi_driver/info: naoqi_driver2 names it /info (src/naoqi_driver.cpp:685), and
+    # sensorTest reads no robot identity on ROS 2 yet
+    values = dict(profile='robot-stock', robot_id='none',
                   topics_file=os.path.join(settings.package_dir(), 'data', TOPICS_FILE))
     values.update({k: v for k, v in vars(args).items() if v is not None and k != 'list_faults'})
     try:
@@ -53,7 +63,7 @@ def main2(argv: Optional[Sequence[str]] = None) -> int:
         print('%s: error: %s' % (NODE_NAME, e), file=sys.stderr)
         return 2
     notes = []
-    if importlib.util.find_spec('tf2_msgs') is None:
+    if not _has_ros2_type('tf2_msgs/msg/TFMessage'):
         sensors = tuple(s for s in config.profile_spec.sensors if s.family != 'tf')
         if len(sensors) != len(config.profile_spec.sensors):
             config.profile_spec = dataclasses.replace(config.profile_spec, sensors=sensors)

@@ -2,6 +2,7 @@
 (ros2types.py), and the ROS 2 releases whose standard types rosbags ships. A leaf: messages.py
 builds a genpy class from it where no ROS 1 package is importable (a ROS 2 environment)."""
 import functools
+import re
 from typing import Optional
 
 from . import naoqi_msgs
@@ -42,3 +43,28 @@ def ros1_definition(type_name: str, distro: Optional[str] = None) -> Optional[st
     if ros2 not in store.fielddefs:
         return None
     return ROS1_DEFINITIONS.get(type_name) or ros1_text(store.generate_msgdef(ros2, ros_version=1)[0])
+
+
+def _snake(name: str) -> str:
+    return re.sub(r'(?<=[a-z0-9])([A-Z])', r'_\1', name).lower()
+
+
+def ros2_text(ros1: str) -> str:
+    """The ROS 2 form of the top-level part of a ROS 1 definition, as naoqi_bridge_msgs2 writes
+    its messages: `std_msgs/Header`, snake_case fields (channelMap -> channel_map), UPPER_CASE
+    constants (buttonFront -> BUTTON_FRONT; its msg/HeadTouch.msg). Field order and types are
+    unchanged, so the wire layout is the same."""
+    out = []
+    for line in ros1.split('=' * 80)[0].splitlines():
+        text = line.split('#', 1)[0].strip()
+        if not text:
+            continue
+        kind, rest = text.split(None, 1)
+        if kind == 'Header':
+            kind = 'std_msgs/Header'
+        if '=' in rest:
+            name, value = (part.strip() for part in rest.split('=', 1))
+            out.append('%s %s=%s' % (kind, _snake(name).upper(), value))
+        else:
+            out.append('%s %s' % (kind, _snake(rest)))
+    return '\n'.join(out) + '\n'

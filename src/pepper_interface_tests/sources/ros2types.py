@@ -22,7 +22,7 @@ from types import MappingProxyType
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple
 
 from . import naoqi_msgs
-from .ros2defs import DEFAULT_DISTRO, DISTROS, ROS1_DEFINITIONS, ros1_definition, ros1_text  # noqa: F401  (their home is ros2defs.py)
+from .ros2defs import DEFAULT_DISTRO, DISTROS, ROS1_DEFINITIONS, ros1_definition, ros1_text, ros2_text  # noqa: F401  (home: ros2defs.py)
 
 # naoqi_bridge_msgs/msg/AudioBuffer.msg of ros-naoqi/naoqi_bridge_msgs2 (ROS 2: the field is
 # `channel_map`; naoqi_driver2 src/event/audio.cpp:173-176 fills it). Same layout as the ROS 1
@@ -58,9 +58,21 @@ def package_msg_types(msg_dir: str) -> Dict[str, Any]:
             continue
         for pkg in MSG_PACKAGES:
             try:
-                types.update(get_types_from_msg(text, '%s/msg/%s' % (pkg, name[:-4])))
+                try:
+                    types.update(get_types_from_msg(text, '%s/msg/%s' % (pkg, name[:-4])))
+                except Exception:  # noqa: BLE001  (ROS 1 spelling rosbags refuses: its ROS 2 form)
+                    types.update(get_types_from_msg(ros2_text(text), '%s/msg/%s' % (pkg, name[:-4])))
             except Exception:  # noqa: BLE001  (a malformed .msg: that type stays unknown)
                 break
+    # the naoqi_bridge_msgs types this package knows without a file (StringStamped, ...)
+    for type_name, text in naoqi_msgs.DEFINITIONS.items():
+        pkg, name = type_name.split('/')
+        key = '%s/msg/%s' % (pkg, name)
+        if key not in types:
+            try:
+                types.update(get_types_from_msg(ros2_text(text), key))
+            except Exception:  # noqa: BLE001  (cannot happen for the shipped texts: tested)
+                pass
     return types
 
 
