@@ -15,6 +15,7 @@ set +u
 source "$ws"
 set -u
 export ROS_VERSION=2
+export PEPPER_ROS2_PREFIX="${ws%/setup.bash}"     # the tests run the installed programs
 export RMW_IMPLEMENTATION=${RMW_IMPLEMENTATION:-rmw_cyclonedds_cpp}
 export ROS_LOCALHOST_ONLY=${ROS_LOCALHOST_ONLY:-1}
 export PATH="$PWD/.venv/bin:$PATH"

@@ -103,7 +103,7 @@ class TouchPublisher(StreamPublisher):
 
 
 def _status(name: str, hardware_id: str, level: int, message: str,
-            values: List[Tuple[str, str]]) -> DiagnosticStatus:
+            values: List[Tuple[str, str]]) -> Any:
     return DiagnosticStatus(level=level, name=name, message=message, hardware_id=hardware_id,
                             values=[KeyValue(key=k, value=v) for k, v in values])
 
@@ -133,7 +133,7 @@ class HealthPublisher(StreamPublisher):
 
 
 def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
-                 fully_charged: bool = False, stiffness: float = 1.0) -> DiagnosticArray:
+                 fully_charged: bool = False, stiffness: float = 1.0) -> Any:
     """The DiagnosticArray naoqi_driver builds (diagnostics.cpp:134-313) from joint temperatures
     (°C), every joint's stiffness (0 motor off .. 1) and the battery's charge (%) and flags."""
     msg = DiagnosticArray()
@@ -183,7 +183,7 @@ class EmulatedOperator:
         self.timers: List[threading.Timer] = []
         self.sub = rosapi.subscriber(PROMPT_TOPIC, 'std_msgs/String', self._on_prompt, queue_size=10)
 
-    def _on_prompt(self, msg: String) -> None:
+    def _on_prompt(self, msg: Any) -> None:
         zone_id = guide.asked_zone(msg.data)    # None for "[done]" and the guide's "moved on" notes
         if zone_id is None:
             return

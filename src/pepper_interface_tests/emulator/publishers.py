@@ -159,8 +159,9 @@ class StreamPublisher(threading.Thread):
         self.first_wanted: Optional[float] = None    # scene time of the first tick with a subscriber
         self.stuck_msgs: Dict[int, genpy.Message] = {}   # output index -> the message republished by the fault stuck
         topics = [(spec.topic, spec.frame_id)] + list(spec.extra)
-        msg_class = String if self.faults.wrong_type else self.msg_class()
-        self.outputs = [(rosapi.publisher(topic, msg_class._type, queue_size=self.queue_size, cls=msg_class),
+        msg_class: Any = String if self.faults.wrong_type else self.msg_class()
+        self.outputs = [(rosapi.publisher(topic, msg_class._type, queue_size=self.queue_size,
+                                          cls=msg_class),
                          frame) for topic, frame in topics]
         self.body: Optional[Body] = None     # the robot's body, shared (node.py); own one if unset
         self.first: Optional[Snapshot] = None    # the body at this stream's first message
@@ -471,7 +472,7 @@ class SonarPublisher(StreamPublisher):
 
 # ---------------------------------------------------------------- body
 
-def _quaternion(yaw: float, broken: bool) -> Quaternion:
+def _quaternion(yaw: float, broken: bool) -> Any:
     x, y, z, w = scene.yaw_quaternion(yaw)
     k = BROKEN_QUATERNION_SCALE if broken else 1.0
     return Quaternion(x * k, y * k, z * k, w * k)

@@ -86,7 +86,7 @@ class TfPublisher(StreamPublisher):
         elif self.spec.layout == 'realsense':
             fixed = list(REALSENSE_TREE)
         if fixed:
-            self._static = rosapi.publisher(static_topic(self.spec), 'tf2_msgs/TFMessage', queue_size=1,
+            self._static = rosapi.publisher(static_topic(self.spec) or '/tf_static', 'tf2_msgs/TFMessage', queue_size=1,
                                             latch=True)
             self._static.publish(tf_message(fixed, rosapi.now()))
         if self.faults.second_publisher:

@@ -133,9 +133,13 @@ class Witnesses(Recorder):
         self.closed = False
         for role, topic in self.topics.items():
             cls = self.handlers[role][0]
-            self.subs.append(rosapi.any_subscriber(
-                topic, lambda _type, buff, _conn, role=role, cls=cls: self._decode(buff, role, cls),
-                queue_size=5, buff_size=1 << 22))
+            self.subs.append(rosapi.any_subscriber(topic, self._decoder(role, cls), queue_size=5,
+                                                   buff_size=1 << 22))
+
+    def _decoder(self, role: str, cls: Any) -> Callable[[str, bytes, Dict[str, Any]], None]:
+        def decode(_type: str, buff: bytes, _conn: Dict[str, Any]) -> None:
+            self._decode(buff, role, cls)
+        return decode
 
     def _decode(self, buff: bytes, role: str, cls: Any) -> None:
         if self.closed:

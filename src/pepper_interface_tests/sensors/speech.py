@@ -45,7 +45,7 @@ class SpeechCheck(Check):
 
     def start(self) -> None:
         self.started = time.monotonic()
-        self.pub = rosapi.publisher(self.plan.topic, 'std_msgs/String', queue_size=1, latch=False)
+        self.pub = rosapi.publisher(self.plan.topic or '/speech', 'std_msgs/String', queue_size=1, latch=False)
 
     def _monitor(self):
         return self.ctx.services.microphone_levels

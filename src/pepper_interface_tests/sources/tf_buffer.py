@@ -10,6 +10,7 @@ Memory is bounded by the buffer's cache time: tf2 keeps, per frame, the transfor
 `cache_time` seconds of stamps (buffer_core.cpp: TimeCache::pruneList drops what is older than
 the newest stamp minus the cache time), so a long recording costs no more than a short one.
 """
+import importlib
 import math
 import os
 import re
@@ -17,18 +18,17 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import genpy
 
+tf2_ros: Any = None
 if os.environ.get('ROS_VERSION', '').strip() == '2':
     # ROS 2: ROS 1's tf2_ros (rospy, and tf2_py built against ROS 1's messages) cannot run next
     # to rclpy; tf2 for ROS 2 (tf2_ros_py) is not used yet
-    tf2_ros = None
     TF2_MISSING = ('on ROS 2 this package judges no frame and no tree yet (ROS 1\'s tf2_ros is '
                    'what it reads /tf with): no sensor\'s frame and no tree was judged')
 else:
     try:
-        import tf2_ros
+        tf2_ros = importlib.import_module('tf2_ros')
         TF2_MISSING = ''
     except ImportError as exc:          # tf2_ros imports the compiled tf2_py, built for one Python
-        tf2_ros = None
         # what the tf row says instead of judging the tree (sensors/tf.py, sensors/tree.py): on
         # Noetic rosdep installs ros-noetic-tf2-ros for the system's Python 3.8; Debian's
         # python3-tf2 is built for its python3 alone (docs/platforms.md)
