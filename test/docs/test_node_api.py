@@ -102,7 +102,7 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('motion/witnesses.py', 'topic'): lambda: {(t, None) for t, _ in _sensor_topics(False)},   # a subset
     ('sensors/audio.py', 'self.topic'): lambda: {(t, None) for t, ty in _sensor_topics(False) if 'Audio' in ty},
     ('sources/identity.py', 'topic'): lambda: {('/naoqi_driver/info', 'naoqi_bridge_msgs/StringStamped')},
-    ('sensors/speech.py', 'self.plan.topic'): _speech_topic,
+    ('sensors/speech.py', "self.plan.topic or '/speech'"): _speech_topic,
     ('sensors/motion.py', 'topic'): _speech_topic,
     ('sensors/guide.py', 'prompt_topic'): lambda: {('/sensorTest/prompt', 'std_msgs/String')},
     ('sensors/guide.py', 'speech_topic'): _speech_topic,
@@ -111,7 +111,7 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
     ('emulator/second_publisher.py', 'topic'): lambda: {('/tf', 'tf2_msgs/TFMessage')},   # tf:second_publisher
-    ('emulator/tf_publisher.py', 'static_topic(self.spec)'): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
+    ('emulator/tf_publisher.py', "static_topic(self.spec) or '/tf_static'"): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
     ('audio_bridge/publisher.py', "opts['topic']"):
         lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
