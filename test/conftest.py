@@ -56,6 +56,8 @@ def tier_of(item):
     if own:
         return own[0]
     name = tier_path(item.fspath)
+    if name.startswith('ros2/'):     # real rclpy processes on a DDS domain: the ROS 2 tier
+        return 'integration'
     if name in SLOW_FILES or item.originalname in SLOW_TESTS:
         return 'slow'
     words = INTEGRATION_TESTS.get(name, ())
@@ -67,8 +69,12 @@ def tier_of(item):
 
 def pytest_ignore_collect(collection_path, config):
     """`-m unit` does not even import the files whose every test is integration or slow (rosbag,
-    rospy, websockets and cv2 at their top would cost the unit tier a second of collection)."""
-    if config.getoption('markexpr') == 'unit' and tier_path(collection_path) in INTEGRATION_FILES | SLOW_FILES:
+    rospy, websockets and cv2 at their top would cost the unit tier a second of collection).
+    test/ros2/ is the ROS 2 tier's (tools/ros2/tests.sh): collected only in a ROS 2 environment."""
+    name = tier_path(collection_path)
+    if name.startswith('ros2/') and os.environ.get('ROS_VERSION') != '2':
+        return True
+    if config.getoption('markexpr') == 'unit' and name in INTEGRATION_FILES | SLOW_FILES:
         return True
     return None
 

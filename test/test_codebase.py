@@ -32,13 +32,13 @@ BASE = {'results', 'stats', 'interrupts', 'progress', 'codec',
         'msg'}    # pepper_interface_tests.msg: the generated message classes (msg/*.msg)
 LAYERS = [
     {'plan'},
-    {'sources'},
+    {'sources', 'rosapi'},   # rosapi: the ROS seam for publishers and subscriptions (rospy or rclpy)
     {'media'},
     {'motion'},     # the motion check's home (--move): below sensors/, whose motion Check drives it
     {'sensors'},
     {'runner', 'observer'},
     {'outputs'},
-    {'cli', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'rosmaster'},
+    {'cli', 'ros2run', 'history_cli', 'node', 'launch', 'emulator', 'audio_bridge', 'rosmaster'},
 ]
 
 

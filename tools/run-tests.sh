@@ -7,7 +7,8 @@
 #                (a targeted run: tools/run-tests.sh test/sensors/test_laser.py -n 0 -k something)
 # After the whole suite (no test files named, no --fast), the Noetic tier: the package again on
 # Python 3.8 with Ubuntu 20.04's libraries (tools/platform/noetic-tests.sh; NOETIC_TIER=0 leaves
-# it out). Exit 1 when either fails.
+# it out), then the ROS 2 tier: the package on ROS 2 Humble's core, colcon-built, through rclpy
+# (tools/ros2/tests.sh; ROS2_TIER=0 leaves it out). Exit 1 when any fails.
 # Test files run in 3 workers (pytest-xdist, one file per worker at a time): most tests wait on
 # real-time listening windows, not on the CPU, and each starts its own master on a free port;
 # in a whole-suite run the demo's test runs alone before them.
@@ -42,5 +43,8 @@ else
 fi
 if [ "$gates" = 1 ] && [ $# = 0 ] && [ "${NOETIC_TIER:-1}" != 0 ]; then
   tools/platform/noetic-tests.sh || rc=1
+fi
+if [ "$gates" = 1 ] && [ $# = 0 ] && [ "${ROS2_TIER:-1}" != 0 ]; then
+  tools/ros2/tests.sh || rc=1
 fi
 exit $rc

@@ -78,11 +78,16 @@ def main(argv: Optional[List[str]] = None) -> int:
     from .outputs.terminal import protect_std_streams
     protect_std_streams()
     interrupts.POLICY.install()
-    if argv is None:
+    ros_args: List[str] = []
+    from .sources.live2 import ros_version
+    if ros_version() == 2:      # ROS 2: `--ros-args ...` is rclpy's
+        from .ros2run import split_ros_args
+        argv, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
+    elif argv is None:
         import rospy
         argv = rospy.myargv(sys.argv)[1:]
     try:
-        code = _main(argv)
+        code = _main(argv, ros_args)
     except KeyboardInterrupt:
         sys.stderr.write('sensorTest: %s before listening began; nothing written\n'
                          % interrupts.POLICY.reason())
@@ -93,7 +98,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     return code
 
 
-def _main(argv):
+def _main(argv, ros_args=None):
     try:
         ns = build_parser().parse_args(argv)
         cli = options.from_args(ns)
@@ -114,6 +119,10 @@ def _main(argv):
         if cli.bag:
             assert plan is not None     # a bag's plan error ended the run above
             return run_bag(plan, cli.bag, cli)
+        from .sources.live2 import ros_version
+        if ros_version() == 2:
+            from .ros2run import run_live2
+            return run_live2(cli, ros_args, execute, check_output_dir)
         return run_live(plan, cli, plan_error, node_name=ns.node_name)
     except ConfigError as e:
         return _fatal(str(e))

@@ -23,6 +23,11 @@ SRC = os.path.join(ROOT, 'src', 'pepper_interface_tests')
 PAGE = os.path.join(ROOT, 'docs', 'node-api.md')
 
 TOPIC_CALLS = {'Publisher': 'published', 'Subscriber': 'subscribed', 'Service': 'services'}
+# rosapi.py, the ROS seam (rospy on ROS 1, rclpy on ROS 2): its publisher() and subscriber()
+# count as rospy's, with the type named by its second argument ('pkg/Type'); the seam's own
+# forwarding calls are no node's
+SEAM_CALLS = {'publisher': 'published', 'subscriber': 'subscribed', 'any_subscriber': 'subscribed'}
+SEAM = {'rosapi.py'}
 PARAM_CALLS = ('get_param', 'has_param', 'search_param', 'set_param')
 
 # the modules that make ROS calls, by the node that runs them
@@ -97,7 +102,7 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('motion/witnesses.py', 'topic'): lambda: {(t, None) for t, _ in _sensor_topics(False)},   # a subset
     ('sensors/audio.py', 'self.topic'): lambda: {(t, None) for t, ty in _sensor_topics(False) if 'Audio' in ty},
     ('sources/identity.py', 'topic'): lambda: {('/naoqi_driver/info', 'naoqi_bridge_msgs/StringStamped')},
-    ('sensors/speech.py', 'self.plan.topic'): _speech_topic,
+    ('sensors/speech.py', "self.plan.topic or '/speech'"): _speech_topic,
     ('sensors/motion.py', 'topic'): _speech_topic,
     ('sensors/guide.py', 'prompt_topic'): lambda: {('/sensorTest/prompt', 'std_msgs/String')},
     ('sensors/guide.py', 'speech_topic'): _speech_topic,
@@ -106,7 +111,7 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
     ('emulator/second_publisher.py', 'topic'): lambda: {('/tf', 'tf2_msgs/TFMessage')},   # tf:second_publisher
-    ('emulator/tf_publisher.py', 'static_topic(self.spec)'): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
+    ('emulator/tf_publisher.py', "static_topic(self.spec) or '/tf_static'"): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
     ('audio_bridge/publisher.py', "opts['topic']"):
         lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
@@ -167,12 +172,13 @@ def ros_calls(rel: str) -> List[Tuple[str, str, Set[Tuple[str, Optional[str]]]]]
         if isinstance(n, ast.ImportFrom) and n.module == 'diagnostic_updater':
             out.append(('published', '%s:%d' % (rel, n.lineno), {('/diagnostics', 'diagnostic_msgs/DiagnosticArray')}))
         if not (isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and isinstance(n.func.value, ast.Name)
-                and n.func.value.id == 'rospy' and n.args):
+                and n.func.value.id in ('rospy', 'rosapi') and n.args) or rel in SEAM:
             continue
         call = n.func.attr
-        if call not in TOPIC_CALLS and call not in PARAM_CALLS:
+        seam = n.func.value.id == 'rosapi'
+        if seam and call not in SEAM_CALLS or not seam and call not in TOPIC_CALLS and call not in PARAM_CALLS:
             continue
-        what = TOPIC_CALLS.get(call, 'param')
+        what = SEAM_CALLS[call] if seam else TOPIC_CALLS.get(call, 'param')
         arg = n.args[0]
         name = None
         if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
@@ -187,6 +193,8 @@ def ros_calls(rel: str) -> List[Tuple[str, str, Set[Tuple[str, Optional[str]]]]]
         if name is not None:
             type_arg = n.args[1] if len(n.args) > 1 and what != 'param' else None
             msg = msgs.get(type_arg.id) if isinstance(type_arg, ast.Name) else None
+            if seam and isinstance(type_arg, ast.Constant) and isinstance(type_arg.value, str):
+                msg = type_arg.value
             out.append((what, where, {(name, msg)}))
         else:
             key2 = (rel, _text(rel, arg))
@@ -293,7 +301,7 @@ def test_every_module_that_talks_to_ros_has_an_owner():
                 continue
             with open(os.path.join(root, fn), encoding='utf-8') as f:
                 text = f.read()
-            if ('rospy.' in text or 'diagnostic_updater' in text) and ros_calls(rel):
+            if ('rospy.' in text or 'rosapi.' in text or 'diagnostic_updater' in text) and ros_calls(rel):
                 unowned.append(rel)
     assert unowned == [], 'say in OWNERS which node runs these, and list their topics in docs/node-api.md'
     for rel in owned:

@@ -28,6 +28,13 @@ FAULTS = ('nan', 'out_of_range', 'broken_quaternion', 'zero_stamp', 'old_stamp',
 UNKNOWN_COVARIANCE = [-1.0] + [0.0] * 8     # naoqi_driver imu.cpp:123-126: "Covariances unknown"
 
 
+def _cls(type_name):
+    """The genpy class of a type, also in a ROS 2 environment (where `sensor_msgs.msg` is rclpy's):
+    the package's own look-up, sources/messages.py."""
+    from pepper_interface_tests.sources.messages import message_class
+    return message_class(type_name)
+
+
 def serialized(msg):
     """The message's bytes on the wire (what a subscriber's AnyMsg or a bag holds)."""
     buff = io.BytesIO()
@@ -60,7 +67,7 @@ def _fields(m, fields):
 def sonar(i=0, t=None, fault='', frame_id=None, platform='robot', sensor='backSonar', **fields):
     """A sonar Range with the profile's limits, field of view and frame id; the range swings
     between 0.5 and 1.5 m."""
-    from sensor_msgs.msg import Range
+    Range = _cls('sensor_msgs/Range')
     s = spec(sensor, platform)
     m = Range(radiation_type=Range.ULTRASOUND, field_of_view=s.field_of_view,
               min_range=s.range_min, max_range=s.range_max)
@@ -77,7 +84,7 @@ def laser(i=0, t=None, fault='', swing=0.2, distance=1.5, marked=False, frame_id
     """naoqi_driver's 61-slot scan: `distance` m +- `swing` moving from scan to scan, -1.0 in
     the `blind` slots; `marked` puts one NaN and one out-of-range beam in it; `n` keeps the
     first n ranges only."""
-    from sensor_msgs.msg import LaserScan
+    LaserScan = _cls('sensor_msgs/LaserScan')
     s = spec('laser')
     m = LaserScan(angle_min=-profiles.LASER_ANGLE, angle_max=profiles.LASER_ANGLE,
                   angle_increment=profiles.LASER_INCREMENT, range_min=s.range_min,
@@ -98,7 +105,7 @@ def sim_laser(i=0, t=None, returns=range(150, 190), beyond=(), distance=1.5):
     """The simulator's /pepper/laser_2 (laser_publisher.py:427-434): 488 slots of NaN over
     +-120 deg, filled where a point is (`returns`, `distance` m with the model's Gaussian noise,
     sd 0.01 m, moving them per scan); `beyond` slots hold 9 m, beyond range_max (real)."""
-    from sensor_msgs.msg import LaserScan
+    LaserScan = _cls('sensor_msgs/LaserScan')
     s = spec('laser', 'simulator')
     n, half = profiles.SIM_LASER_SLOTS, profiles.SIM_LASER_ANGLE
     m = LaserScan(angle_min=-half, angle_max=half, angle_increment=2 * half / n,
@@ -125,7 +132,7 @@ def joints(i=0, t=None, fault='', varied=False, frame_id='', names=None, positio
     """All 20 joints (or `names`), each swinging by 0.1 rad around the middle of its URDF limits,
     velocity 0.01 and effort 0.5 each; `varied` gives each joint its own position and velocity;
     `position`, `velocity`, `effort` replace the lists."""
-    from sensor_msgs.msg import JointState
+    JointState = _cls('sensor_msgs/JointState')
     names = list(JOINTS if names is None else names)
     if fault == 'missing_joint':
         names.remove('HeadYaw')
@@ -151,8 +158,8 @@ def odometry(i=0, t=None, fault='', circle=False, frame_id='odom', child_frame_i
              w=1.0, pose_covariance=None):
     """Driving forward at 0.1 m/s (or at `x`); `circle` moves the pose on a circle of 0.5 m;
     `w` is the orientation quaternion's w (0, 0, 0, w)."""
-    from geometry_msgs.msg import Quaternion
-    from nav_msgs.msg import Odometry
+    Quaternion = _cls('geometry_msgs/Quaternion')
+    Odometry = _cls('nav_msgs/Odometry')
     m = Odometry(child_frame_id=spec('odometry').child_frame_id if child_frame_id is None else child_frame_id)
     if circle:
         m.pose.pose.position.x = 0.5 * math.sin(i / 15.0)
@@ -173,8 +180,8 @@ def imu(i=0, t=None, fault='', moving=False, frame_id=None, orientation=(0, 0, 0
     """Upright and still (`orientation` x, y, z, w; gravity `acc_z`); `moving` adds a small
     wobble to acceleration and turn rate; `covariance` sets all three covariances at once
     (UNKNOWN_COVARIANCE: what naoqi_driver publishes), the other three one each."""
-    from geometry_msgs.msg import Quaternion
-    from sensor_msgs.msg import Imu
+    Quaternion = _cls('geometry_msgs/Quaternion')
+    Imu = _cls('sensor_msgs/Imu')
     m = Imu()
     m.orientation = Quaternion(*(orientation[:3] + (0.5,) if fault == 'broken_quaternion' else orientation))
     m.linear_acceleration.z = (float('nan') if fault == 'nan'
@@ -192,7 +199,7 @@ def imu(i=0, t=None, fault='', moving=False, frame_id=None, orientation=(0, 0, 0
 
 def image(pixels, encoding, step=None, width=None, height=None, t=None, frame_id=''):
     """A sensor_msgs/Image of a numpy array (step/width/height overridable to break the layout)."""
-    from sensor_msgs.msg import Image
+    Image = _cls('sensor_msgs/Image')
     h, w = pixels.shape[:2]
     row = pixels.strides[0] if pixels.flags['C_CONTIGUOUS'] else w * pixels.itemsize * (
         pixels.shape[2] if pixels.ndim == 3 else 1)
@@ -241,7 +248,7 @@ def audio_buffer(i=0, n=profiles.AUDIO_BUFFER, rate=profiles.AUDIO_RATE, tones=F
     one tone per channel, each 10 dB quieter than the one before; `tones` gives each microphone
     its MIC_TONES sine at `amplitude` (clipped to int16); `channels` gives the four channels'
     samples instead; the `silent` microphone is all zeros, the `short` one a sample short."""
-    from pepper_interface_tests.msg import AudioCustomMsg
+    AudioCustomMsg = _cls('pepper_interface_tests/AudioCustomMsg')
     tt = (np.arange(n) + i * n) / float(rate)
     if channels is None and tones:
         channels = [amplitude * np.sin(2 * np.pi * MIC_TONES[name] * tt) for name in profiles.MIC_CHANNELS]

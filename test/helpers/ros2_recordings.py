@@ -16,7 +16,6 @@ from collections import namedtuple
 
 import genpy
 import numpy as np
-import rosbag
 
 import fake_pepper as fake
 
@@ -131,6 +130,7 @@ def records(faulty=False, fork=False, seconds=SECONDS, leave_out=(), first_ns=No
 
 
 def write_ros1(path, recs):
+    import rosbag
     with rosbag.Bag(str(path), 'w') as bag:
         for r in recs:
             t = genpy.Time.from_sec(r.t) if r.ns is None else genpy.Time(r.ns // 10**9, r.ns % 10**9)

@@ -15,22 +15,10 @@ import time
 
 import pytest
 
+from motion_runs import GOAL, JOINTS, TWIST, assert_stopped_safely, expectations  # noqa: F401
 from rosmaster import NODES, Master, kill_group, script, spawn, wait_until
 
 PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-GOAL, TWIST, JOINTS = '/move_base_simple/goal', '/cmd_vel', '/joint_angles'
-
-
-def expectations(tmp_path, **motion):
-    """The shipped expectations file with the motion block's keys replaced (a quick plan)."""
-    text = open(os.path.join(PKG, 'config', 'sensorExpectations.yaml')).read()
-    keys = dict(dict(head_yaw=0.5, head_speed=0.1, base_turn=0.5, step_timeout=15.0), **motion)
-    block = '  motion:\n' + ''.join('    %s: %s\n' % kv for kv in keys.items())
-    start = text.index('  motion:\n')
-    end = text.index('\nsimulator:')
-    path = tmp_path / 'expect.yaml'
-    path.write_text(text[:start] + block + text[end:])
-    return str(path)
 
 
 class Robot:
@@ -106,25 +94,6 @@ def sensor_test(master, tmp_path, *args, sensors='jointState,odometry,imu,laser'
 def results(out):
     data = json.loads((out / 'sensorTestResults.json').read_text())
     return data, {s['name']: s for s in data['sensors']}
-
-
-def assert_stopped_safely(received, head_yaw=0.5):
-    """The last /cmd_vel is a zero twist, no goal after it, the head sent back to its start
-    (the first head command was start + head_yaw)."""
-    twists = [r for r in received if r['topic'] == TWIST]
-    goals = [r for r in received if r['topic'] == GOAL]
-    assert goals, 'no turn was ever commanded: %s' % received
-    assert twists, 'the base was never stopped: %s' % received
-    last = twists[-1]
-    assert (last['vx'], last['vy'], last['vth']) == (0.0, 0.0, 0.0), last
-    assert all(g['t'] <= last['t'] for g in goals), 'a goal after the stop: %s' % received
-    assert received.index(last) > received.index(goals[-1])
-    heads = [r for r in received if r['topic'] == JOINTS]
-    if not head_yaw:
-        assert not heads, heads
-        return
-    assert heads and heads[-1]['angles'] == [pytest.approx(heads[0]['angles'][0] - head_yaw, abs=1e-4)], heads
-    assert heads[-1]['t'] >= last['t'] - 0.5     # sent back as the motion stopped
 
 
 @pytest.mark.parametrize('sig, words, head_yaw', [(signal.SIGINT, 'Ctrl-C', 0.5), (signal.SIGTERM, 'SIGTERM', 0)],

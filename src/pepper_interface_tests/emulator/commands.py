@@ -21,9 +21,7 @@ nothing on ROS. The emulator says each command and each refusal on /rosout.
 import math
 from typing import Any, Callable, List
 
-import rospy
-from geometry_msgs.msg import PoseStamped, Twist
-
+from .. import rosapi
 from ..sources.naoqi_msgs import joint_angles_class
 from .body import Body, CommandError
 
@@ -50,11 +48,12 @@ class CommandSubscribers:
         self.why_base = 'the robot is resting (stiffness 0)' if resting else \
             'the base may not move (power hatch open or collision protection)' if base_blocked else ''
         self.why_joints = 'the robot is resting (stiffness 0)' if resting else ''
-        self.subs: List[rospy.Subscriber] = [
-            rospy.Subscriber(TOPICS['cmd_vel'], Twist, self.on_cmd_vel, queue_size=10),
-            rospy.Subscriber(TOPICS['joint_angles'], joint_angles_class(), self.on_joint_angles,
-                             queue_size=10),
-            rospy.Subscriber(TOPICS['goal'], PoseStamped, self.on_goal, queue_size=10)]
+        angles = joint_angles_class()
+        self.subs: List[Any] = [
+            rosapi.subscriber(TOPICS['cmd_vel'], 'geometry_msgs/Twist', self.on_cmd_vel, queue_size=10),
+            rosapi.subscriber(TOPICS['joint_angles'], angles._type, self.on_joint_angles, queue_size=10,
+                              cls=angles),
+            rosapi.subscriber(TOPICS['goal'], 'geometry_msgs/PoseStamped', self.on_goal, queue_size=10)]
         body.expected = self.expected
 
     def expected(self) -> bool:
@@ -62,17 +61,17 @@ class CommandSubscribers:
         return any(s.get_num_connections() > 0 for s in self.subs)
 
     def _refused(self, what: str, why: str) -> None:
-        rospy.logwarn('pepperEmulator: %s ignored: %s', what, why)
+        rosapi.logwarn('pepperEmulator: %s ignored: %s', what, why)
 
-    def on_cmd_vel(self, msg: Twist) -> None:
+    def on_cmd_vel(self, msg: Any) -> None:
         what = 'move(%.3f, %.3f, %.3f)' % (msg.linear.x, msg.linear.y, msg.angular.z)
         try:
             ok = self.body.move(self.now(), msg.linear.x, msg.linear.y, msg.angular.z)
         except CommandError as e:
-            rospy.logwarn('pepperEmulator: /cmd_vel: %s', e)
+            rosapi.logwarn('pepperEmulator: /cmd_vel: %s', e)
             return
         if ok:
-            rospy.loginfo('pepperEmulator: %s', what)
+            rosapi.loginfo('pepperEmulator: %s', what)
         else:
             self._refused(what, self.why_base)
 
@@ -85,18 +84,18 @@ class CommandSubscribers:
         try:
             ok = self.body.set_angles(self.now(), names, angles, speed, relative)
         except CommandError as e:
-            rospy.logwarn('pepperEmulator: /joint_angles: %s refused: %s', what, e)
+            rosapi.logwarn('pepperEmulator: /joint_angles: %s refused: %s', what, e)
             return
         if ok:
-            rospy.loginfo('pepperEmulator: %s', what)
+            rosapi.loginfo('pepperEmulator: %s', what)
         else:
             self._refused(what, self.why_joints)
 
-    def on_goal(self, msg: PoseStamped) -> None:
+    def on_goal(self, msg: Any) -> None:
         frame = msg.header.frame_id
         if frame not in ('base_footprint', 'odom'):
             # moveto.cpp:123-128: printed, nothing moves
-            rospy.logwarn('pepperEmulator: /move_base_simple/goal: cannot reach a position '
+            rosapi.logwarn('pepperEmulator: /move_base_simple/goal: cannot reach a position '
                           'expressed in the "%s" frame (base_footprint or odom)', frame)
             return
         yaw = quaternion_yaw(msg.pose.orientation)
@@ -107,10 +106,10 @@ class CommandSubscribers:
         try:
             ok = self.body.move_to(self.now(), p.x, p.y, yaw, frame)
         except CommandError as e:
-            rospy.logwarn('pepperEmulator: /move_base_simple/goal: %s', e)
+            rosapi.logwarn('pepperEmulator: /move_base_simple/goal: %s', e)
             return
         if ok:
-            rospy.loginfo('pepperEmulator: %s', what)
+            rosapi.loginfo('pepperEmulator: %s', what)
         else:
             self._refused(what, self.why_base)
 

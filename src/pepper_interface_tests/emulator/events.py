@@ -21,10 +21,7 @@ import threading
 import time
 from typing import TYPE_CHECKING, Any, Dict, List, Tuple, Type
 
-import rospy
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from std_msgs.msg import String
-
+from .. import rosapi
 from ..sensors import guide, joint_limits, touch
 from ..sources import naoqi_msgs
 from .fake_memory import joint_temperature
@@ -33,6 +30,11 @@ from .publishers import StreamPublisher
 
 if TYPE_CHECKING:
     import genpy
+
+DiagnosticArray = rosapi.msg('diagnostic_msgs/DiagnosticArray')
+DiagnosticStatus = rosapi.msg('diagnostic_msgs/DiagnosticStatus')
+KeyValue = rosapi.msg('diagnostic_msgs/KeyValue')
+String = rosapi.msg('std_msgs/String')
 
 PROMPT_TOPIC = '/sensorTest/prompt'
 PRESS_S = 0.4           # how long the emulated operator presses
@@ -101,7 +103,7 @@ class TouchPublisher(StreamPublisher):
 
 
 def _status(name: str, hardware_id: str, level: int, message: str,
-            values: List[Tuple[str, str]]) -> DiagnosticStatus:
+            values: List[Tuple[str, str]]) -> Any:
     return DiagnosticStatus(level=level, name=name, message=message, hardware_id=hardware_id,
                             values=[KeyValue(key=k, value=v) for k, v in values])
 
@@ -131,7 +133,7 @@ class HealthPublisher(StreamPublisher):
 
 
 def driver_array(temperatures: Dict[str, float], percent: int, charging: bool,
-                 fully_charged: bool = False, stiffness: float = 1.0) -> DiagnosticArray:
+                 fully_charged: bool = False, stiffness: float = 1.0) -> Any:
     """The DiagnosticArray naoqi_driver builds (diagnostics.cpp:134-313) from joint temperatures
     (°C), every joint's stiffness (0 motor off .. 1) and the battery's charge (%) and flags."""
     msg = DiagnosticArray()
@@ -179,9 +181,9 @@ class EmulatedOperator:
     def __init__(self, publishers: List[StreamPublisher]) -> None:
         self.touch = {p.spec.name: p for p in publishers if isinstance(p, TouchPublisher)}
         self.timers: List[threading.Timer] = []
-        self.sub = rospy.Subscriber(PROMPT_TOPIC, String, self._on_prompt, queue_size=10)
+        self.sub = rosapi.subscriber(PROMPT_TOPIC, 'std_msgs/String', self._on_prompt, queue_size=10)
 
-    def _on_prompt(self, msg: String) -> None:
+    def _on_prompt(self, msg: Any) -> None:
         zone_id = guide.asked_zone(msg.data)    # None for "[done]" and the guide's "moved on" notes
         if zone_id is None:
             return
@@ -189,7 +191,7 @@ class EmulatedOperator:
         pub = self.touch.get(sensor)
         if pub is None:
             return
-        rospy.loginfo('pepperEmulator: operator touches %s', zone_id)
+        rosapi.loginfo('pepperEmulator: operator touches %s', zone_id)
         timer = threading.Timer(REACTION_S, pub.touch, args=(zone,))
         timer.daemon = True
         timer.start()

@@ -68,13 +68,12 @@ class InfoPublisher:
     """The latched info message, published once (as the driver does)."""
 
     def __init__(self, head: str, body_id: str) -> None:
-        import rospy
-
+        from .. import rosapi
         from ..sources.naoqi_msgs import STRING_STAMPED_TYPE, known_class
         cls = known_class(STRING_STAMPED_TYPE)
-        self.pub = rospy.Publisher(INFO_TOPIC, cls, queue_size=1, latch=True)
+        self.pub = rosapi.publisher(INFO_TOPIC, STRING_STAMPED_TYPE, queue_size=1, latch=True, cls=cls)
         msg = cls()
-        msg.header.stamp = rospy.Time.now()
+        msg.header.stamp = rosapi.now()
         msg.data = info_text(identity_values(head, body_id))
         self.pub.publish(msg)
 

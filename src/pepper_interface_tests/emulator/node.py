@@ -46,10 +46,7 @@ import sys
 import threading
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Type, Union
 
-import rosgraph
-import rospy
-from std_msgs.msg import String
-
+from .. import rosapi
 from ..outputs.terminal import HelpFormatter
 from ..plan import settings
 from . import faults as faults_mod
@@ -152,6 +149,7 @@ class EmulatorConfig:
 
 
 def _params() -> Dict[str, Any]:
+    import rospy
     out = {}
     for key in DEFAULTS:
         if rospy.has_param('~' + key):
@@ -227,7 +225,7 @@ class Emulator:
         self.threads: List[StreamPublisher] = []
         self.source: Optional[AudioSource] = None
         self.speech: Optional[Union[DirectSpeech, NaoqiSpeech]] = None
-        self.speech_sub: Optional[rospy.Subscriber] = None
+        self.speech_sub: Any = None
         self.operator: Optional[EmulatedOperator] = None
         self.commands: Optional[CommandSubscribers] = None
         self.info: Optional[InfoPublisher] = None
@@ -242,7 +240,7 @@ class Emulator:
 
     def start(self) -> None:
         cfg = self.config
-        self.body.log = lambda text: rospy.loginfo('pepperEmulator: %s', text)
+        self.body.log = lambda text: rosapi.loginfo('pepperEmulator: %s', text)
         if not self.clock.sim:
             # naoqi_driver's subscribers (src/naoqi_driver.cpp:933-940); the simulator takes
             # /pepper/cmd_vel and trajectory actions instead (docs/drivers.md), not emulated
@@ -254,6 +252,7 @@ class Emulator:
         if self.clock.sim:
             # Gazebo's world publishes /clock; its launch sets /use_sim_time (empty_world.launch)
             self.clock_thread = ClockPublisher(self.clock, self.stop_event)
+            import rospy
             if rospy.get_param('/use_sim_time', False) is not True:
                 rospy.set_param('/use_sim_time', True)
                 self.set_sim_time = True
@@ -287,7 +286,7 @@ class Emulator:
                 self.speech = DirectSpeech(self.source)
             else:
                 self.speech = NaoqiSpeech(cfg.naoqi_url)
-            self.speech_sub = rospy.Subscriber(topic, String, self._on_speech, queue_size=10)
+            self.speech_sub = rosapi.subscriber(topic, 'std_msgs/String', self._on_speech, queue_size=10)
         if cfg.operator:
             self.operator = EmulatedOperator(self.threads)
         if self.clock_thread is not None:
@@ -295,8 +294,8 @@ class Emulator:
         for t in self.threads:
             t.start()
 
-    def _on_speech(self, msg: String) -> None:
-        rospy.loginfo('pepperEmulator: /speech "%s"', msg.data)
+    def _on_speech(self, msg: Any) -> None:
+        rosapi.loginfo('pepperEmulator: /speech "%s"', msg.data)
         self.speech.say(msg.data)  # type: ignore[union-attr]  # set in start() before any /speech
 
     def summary_line(self) -> str:
@@ -318,7 +317,8 @@ class Emulator:
     def stop(self) -> None:
         self.stop_event.set()
         for t in self.threads:
-            t.join(2.0)
+            if t.ident is not None:      # started (a start that failed half-way leaves some not)
+                t.join(2.0)
         for t in self.threads:
             try:
                 t.close()
@@ -340,12 +340,15 @@ class Emulator:
         if self.set_sim_time:
             # leave the master as it was: a later node on it must not wait for a /clock
             try:
+                import rosgraph
                 rosgraph.Master('/' + NODE_NAME).deleteParam('/use_sim_time')
             except Exception:
                 pass
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
+    import rosgraph
+    import rospy
     argv = rospy.myargv(sys.argv if argv is None else argv)
     args = _parser().parse_args(argv[1:])
     if args.list_faults:

@@ -15,13 +15,10 @@ import threading
 import time
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type
 
+import genpy
 import numpy as np
-import rospy
-from geometry_msgs.msg import Quaternion
-from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
-from std_msgs.msg import String
 
+from .. import rosapi
 from . import scene
 from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
@@ -39,9 +36,17 @@ from .profiles import (
 )
 
 if TYPE_CHECKING:
-    import genpy
-
     from .audio_source import AudioSource
+
+# the genpy classes (rosapi.msg: rospy's on ROS 1, built from the definitions on ROS 2)
+Quaternion = rosapi.msg('geometry_msgs/Quaternion')
+Odometry = rosapi.msg('nav_msgs/Odometry')
+Image = rosapi.msg('sensor_msgs/Image')
+Imu = rosapi.msg('sensor_msgs/Imu')
+JointState = rosapi.msg('sensor_msgs/JointState')
+LaserScan = rosapi.msg('sensor_msgs/LaserScan')
+Range = rosapi.msg('sensor_msgs/Range')
+String = rosapi.msg('std_msgs/String')
 
 BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
 LOADED_CAMERA_HZ = 1.3
@@ -53,7 +58,7 @@ BROKEN_QUATERNION_SCALE = 1.8
 class Clock:
     """Seconds since the emulator started (the scene's time base), monotonic.
 
-    Wall clock (rtf None): stamps are rospy.Time.now(), as naoqi_driver's ros::Time::now().
+    Wall clock (rtf None): stamps are the node's now(), as naoqi_driver's ros::Time::now().
     Sim clock (rtf given): simulated seconds advance rtf times as fast as the wall clock and
     start at SIM_START, like Gazebo's; stamps are that simulated time."""
 
@@ -68,8 +73,8 @@ class Clock:
     def now(self) -> float:
         return (time.monotonic() - self.t0) * self.speed + (self.SIM_START if self.sim else 0.0)
 
-    def stamp(self) -> 'rospy.Time':
-        return rospy.Time.from_sec(self.now()) if self.sim else rospy.Time.now()
+    def stamp(self) -> genpy.Time:
+        return genpy.Time.from_sec(self.now()) if self.sim else rosapi.now()
 
 
 class Schedule:
@@ -106,9 +111,9 @@ class ClockPublisher(threading.Thread):
 
     def __init__(self, clock: Clock, stop: threading.Event) -> None:
         super().__init__(name='pub-clock', daemon=True)
-        from rosgraph_msgs.msg import Clock as ClockMsg
-        self.clock, self.stop, self.msg_class = clock, stop, ClockMsg
-        self.pub = rospy.Publisher('/clock', ClockMsg, queue_size=10)
+        self.clock, self.stop = clock, stop
+        self.msg_class = rosapi.msg('rosgraph_msgs/Clock')
+        self.pub = rosapi.publisher('/clock', 'rosgraph_msgs/Clock', queue_size=10)
         self.published = 0
 
     def run(self) -> None:
@@ -119,7 +124,7 @@ class ClockPublisher(threading.Thread):
                 self.pub.publish(self.msg_class(clock=self.clock.stamp()))
                 self.published += 1
             except Exception:
-                if rospy.is_shutdown() or self.stop.is_set():
+                if rosapi.is_shutdown() or self.stop.is_set():
                     break
             ticks.advance()
 
@@ -154,9 +159,10 @@ class StreamPublisher(threading.Thread):
         self.first_wanted: Optional[float] = None    # scene time of the first tick with a subscriber
         self.stuck_msgs: Dict[int, genpy.Message] = {}   # output index -> the message republished by the fault stuck
         topics = [(spec.topic, spec.frame_id)] + list(spec.extra)
-        msg_class = String if self.faults.wrong_type else self.msg_class()
-        self.outputs = [(rospy.Publisher(topic, msg_class, queue_size=self.queue_size), frame)
-                        for topic, frame in topics]
+        msg_class: Any = String if self.faults.wrong_type else self.msg_class()
+        self.outputs = [(rosapi.publisher(topic, msg_class._type, queue_size=self.queue_size,
+                                          cls=msg_class),
+                         frame) for topic, frame in topics]
         self.body: Optional[Body] = None     # the robot's body, shared (node.py); own one if unset
         self.first: Optional[Snapshot] = None    # the body at this stream's first message
 
@@ -214,7 +220,7 @@ class StreamPublisher(threading.Thread):
                 if hasattr(msg, 'header'):      # the stamps keep moving, as naoqi_driver's
                     msg.header.stamp = self.clock.stamp()
                     if self.faults.clock_offset:    # a sensor on another clock
-                        msg.header.stamp += rospy.Duration.from_sec(self.faults.clock_offset)
+                        msg.header.stamp += genpy.Duration.from_sec(self.faults.clock_offset)
                     msg.header.frame_id = frame
             pub.publish(msg)
             self.sent(index, msg)
@@ -227,7 +233,7 @@ class StreamPublisher(threading.Thread):
         self.dead = True
         for pub, _ in self.outputs:
             pub.unregister()
-        rospy.loginfo('pepperEmulator: %s stopped after %.1f s (fault die_after)',
+        rosapi.loginfo('pepperEmulator: %s stopped after %.1f s (fault die_after)',
                       self.spec.topic, self.faults.die_after)
 
     def run(self) -> None:
@@ -245,11 +251,11 @@ class StreamPublisher(threading.Thread):
             try:
                 self.tick()
             except Exception as e:     # keep publishing; report each new kind of error once
-                if rospy.is_shutdown() or self.stop.is_set():
+                if rosapi.is_shutdown() or self.stop.is_set():
                     break
                 if repr(e) != self.error:
                     self.error = repr(e)
-                    rospy.logerr('pepperEmulator: %s: %r', self.spec.topic, e)
+                    rosapi.logerr('pepperEmulator: %s: %r', self.spec.topic, e)
             ticks.advance()
 
     def close(self) -> None:
@@ -466,7 +472,7 @@ class SonarPublisher(StreamPublisher):
 
 # ---------------------------------------------------------------- body
 
-def _quaternion(yaw: float, broken: bool) -> Quaternion:
+def _quaternion(yaw: float, broken: bool) -> Any:
     x, y, z, w = scene.yaw_quaternion(yaw)
     k = BROKEN_QUATERNION_SCALE if broken else 1.0
     return Quaternion(x * k, y * k, z * k, w * k)

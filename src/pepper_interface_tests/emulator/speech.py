@@ -4,7 +4,7 @@ import queue
 import threading
 from typing import TYPE_CHECKING, Any
 
-import rospy
+from .. import rosapi
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource
@@ -39,11 +39,11 @@ class NaoqiSpeech:
                 session = qi.Session()
                 session.connect(self.url)
                 self.session = session
-                rospy.loginfo('pepperEmulator: speech goes to ALTextToSpeech at %s', self.url)
+                rosapi.loginfo('pepperEmulator: speech goes to ALTextToSpeech at %s', self.url)
             except Exception as e:          # qi raises RuntimeError; an import may fail too
                 if not self.warned:
                     self.warned = True
-                    rospy.logwarn('pepperEmulator: NAOqi endpoint %s not reachable (%s); '
+                    rosapi.logwarn('pepperEmulator: NAOqi endpoint %s not reachable (%s); '
                                   '/speech is ignored until it is', self.url, e)
                 return None
         return self.session.service('ALTextToSpeech')
@@ -62,7 +62,7 @@ class NaoqiSpeech:
                 self.session = None
                 if not self.warned:
                     self.warned = True
-                    rospy.logwarn('pepperEmulator: ALTextToSpeech.say failed at %s: %s', self.url, e)
+                    rosapi.logwarn('pepperEmulator: ALTextToSpeech.say failed at %s: %s', self.url, e)
 
 
 class DirectSpeech:

@@ -22,10 +22,9 @@ import sys
 import threading
 from typing import Any, Dict, List, Optional
 
-import rospy
-from geometry_msgs.msg import TransformStamped
-from tf2_msgs.msg import TFMessage
+import genpy
 
+from .. import rosapi
 from .publishers import StreamPublisher
 from .urdf_tree import Transform, driver_tree, quat_axis, quat_rpy, simulator_tree
 
@@ -52,11 +51,12 @@ def static_topic(spec: Any) -> Optional[str]:
     return None
 
 
-def tf_message(transforms: List[Transform], stamp: rospy.Time) -> TFMessage:
+def tf_message(transforms: List[Transform], stamp: genpy.Time) -> Any:
     """A TFMessage of (parent, child, translation, rotation) transforms, all at `stamp`."""
-    out = TFMessage()
+    out = rosapi.msg('tf2_msgs/TFMessage')()
+    stamped = rosapi.msg('geometry_msgs/TransformStamped')
     for parent, child, p, q in transforms:
-        t = TransformStamped()
+        t = stamped()
         t.header.stamp = stamp
         t.header.frame_id = parent
         t.child_frame_id = child
@@ -78,7 +78,7 @@ class TfPublisher(StreamPublisher):
         self.driven = False         # set by the emulator when the joint states carry the tree
         self.gazebo = self.spec.layout == 'gazebo'
         self._lock = threading.Lock()
-        self._static: Optional[rospy.Publisher] = None
+        self._static: Optional[Any] = None
         self._second: Optional[subprocess.Popen] = None
         fixed: List[Transform] = []
         if self.gazebo:
@@ -86,8 +86,9 @@ class TfPublisher(StreamPublisher):
         elif self.spec.layout == 'realsense':
             fixed = list(REALSENSE_TREE)
         if fixed:
-            self._static = rospy.Publisher(static_topic(self.spec), TFMessage, queue_size=1, latch=True)
-            self._static.publish(tf_message(fixed, rospy.Time.now()))
+            self._static = rosapi.publisher(static_topic(self.spec) or '/tf_static', 'tf2_msgs/TFMessage', queue_size=1,
+                                            latch=True)
+            self._static.publish(tf_message(fixed, rosapi.now()))
         if self.faults.second_publisher:
             self._second = subprocess.Popen(
                 [sys.executable, '-m', 'pepper_interface_tests.emulator.second_publisher', self.spec.topic],
@@ -99,7 +100,7 @@ class TfPublisher(StreamPublisher):
         return any(j.moving and {j.parent, j.child} == {t[0], t[1]} for j in JOINTS)
 
     def msg_class(self) -> type:
-        return TFMessage
+        return rosapi.msg('tf2_msgs/TFMessage')
 
     def run(self) -> None:
         if not self.driven:
@@ -108,7 +109,7 @@ class TfPublisher(StreamPublisher):
     def wanted(self) -> bool:
         return True     # the driver publishes the tree whoever listens (joint_state.cpp:54-58)
 
-    def build(self, t: float, frame_id: str, index: int) -> TFMessage:
+    def build(self, t: float, frame_id: str, index: int) -> Any:
         snap = self.snapshot(t)
         positions = dict(snap.joints)
         positions.update(snap.wheels)
@@ -125,7 +126,7 @@ class TfPublisher(StreamPublisher):
                 pub.publish(msg)
             self.published += 1
 
-    def tree(self, positions: Dict[str, float], stamp: rospy.Time, t: float) -> TFMessage:
+    def tree(self, positions: Dict[str, float], stamp: genpy.Time, t: float) -> Any:
         f = self.faults
         snap = self.snapshot(t)
         base = 'base_footprint' if self.gazebo else 'base_link'
@@ -134,9 +135,9 @@ class TfPublisher(StreamPublisher):
         if self.gazebo:
             below = [t for t in simulator_tree(below) if self._moving(t)]
         if f.stale:
-            stamp = stamp - rospy.Duration.from_sec(STALE_S)
+            stamp = stamp - genpy.Duration.from_sec(STALE_S)
         if f.future_stamps:
-            stamp = stamp + rospy.Duration.from_sec(FUTURE_S)
+            stamp = stamp + genpy.Duration.from_sec(FUTURE_S)
         return tf_message(below + [odom], stamp)
 
     def close(self) -> None:

@@ -14,19 +14,19 @@
 
 Every publisher is synchronous (queue_size None): publish() returns once the message is written
 to each subscriber's connection, so a stop sent just before the end (Ctrl-C, SIGTERM) is on the
-wire before the publishers are unregistered; rospy's queued publishing would drop it. After
-`close()` nothing is ever sent again (every send checks it under the lock).
+wire before the publishers are unregistered; rospy's queued publishing would drop it. On ROS 2
+(rosapi.py) the publishers are reliable and unregistering waits until every subscriber has
+acknowledged what was sent (rclpy wait_for_all_acked, at most 0.5 s). After `close()` nothing
+is ever sent again (every send checks it under the lock).
 """
 import math
 import threading
 import time
-import warnings
 from typing import Callable, List, Tuple
 
-import rospy
-from geometry_msgs.msg import PoseStamped, Twist
+from .. import rosapi
 
-from ..msg import JointAnglesWithSpeed
+JOINT_ANGLES = 'naoqi_bridge_msgs/JointAnglesWithSpeed'
 
 GOAL_TOPIC = '/move_base_simple/goal'
 JOINT_TOPIC = '/joint_angles'
@@ -41,11 +41,17 @@ class Commands:
         self.lock = threading.Lock()
         self.closed = False
         self.sent: List[Tuple[float, str, str]] = []
-        with warnings.catch_warnings():   # rospy warns about queue_size None: chosen, see above
-            warnings.simplefilter('ignore', SyntaxWarning)
-            self.goal = rospy.Publisher(GOAL_TOPIC, PoseStamped, queue_size=None)
-            self.joints = rospy.Publisher(JOINT_TOPIC, JointAnglesWithSpeed, queue_size=None)
-            self.twist = rospy.Publisher(STOP_TOPIC, Twist, queue_size=None)
+        if rosapi.version() == 2:
+            self.angles_class = rosapi.msg(JOINT_ANGLES)
+        else:   # this package's copy (same md5sum as naoqi_bridge_msgs', which may not be installed)
+            from ..msg import JointAnglesWithSpeed
+            self.angles_class = JointAnglesWithSpeed
+        self.pose_class = rosapi.msg('geometry_msgs/PoseStamped')
+        self.twist_class = rosapi.msg('geometry_msgs/Twist')
+        self.goal = rosapi.publisher(GOAL_TOPIC, 'geometry_msgs/PoseStamped', queue_size=None)
+        self.joints = rosapi.publisher(JOINT_TOPIC, self.angles_class._type, queue_size=None,
+                                       cls=self.angles_class)
+        self.twist = rosapi.publisher(STOP_TOPIC, 'geometry_msgs/Twist', queue_size=None)
 
     def receivers(self) -> int:
         """How many of the three topics have a subscriber (naoqi_driver: all three)."""
@@ -64,8 +70,8 @@ class Commands:
 
     def turn(self, yaw: float) -> bool:
         """A bounded turn in place by `yaw` rad (counter-clockwise positive)."""
-        msg = PoseStamped()
-        msg.header.stamp = rospy.Time.now()
+        msg = self.pose_class()
+        msg.header.stamp = rosapi.now()
         msg.header.frame_id = 'base_footprint'     # moveto.cpp:104: relative to the robot
         msg.pose.orientation.z = math.sin(yaw / 2.0)
         msg.pose.orientation.w = math.cos(yaw / 2.0)
@@ -73,8 +79,8 @@ class Commands:
 
     def head(self, yaw: float, speed: float) -> bool:
         """HeadYaw to `yaw` rad (absolute) at `speed` (fraction of its maximum speed)."""
-        msg = JointAnglesWithSpeed()
-        msg.header.stamp = rospy.Time.now()
+        msg = self.angles_class()
+        msg.header.stamp = rosapi.now()
         msg.joint_names = ['HeadYaw']
         msg.joint_angles = [yaw]
         msg.speed = speed
@@ -83,7 +89,7 @@ class Commands:
 
     def stop(self) -> bool:
         """A zero twist: the base stops at once (ALMotion.move(0, 0, 0))."""
-        return self._send(self.twist, Twist(), 'stop')
+        return self._send(self.twist, self.twist_class(), 'stop')
 
     def close(self) -> None:
         """Nothing is sent after this (the publishers are unregistered)."""

@@ -2,8 +2,9 @@
 window whether or not they are selected (their topics from the topics file: RunContext.topics),
 recorded into a record.Recording.
 
-Each subscription is rospy.AnyMsg, decoded here with the message class of its type (so a
-naoqi_bridge_msgs/Bumper from the robot and this package's copy, same md5sum, both decode).
+Each subscription takes any type (rosapi.any_subscriber: rospy.AnyMsg, or rclpy's raw), decoded
+here with the message class of its type (so a naoqi_bridge_msgs/Bumper from the robot and this
+package's copy, same md5sum, both decode).
 Camera frames are kept small (about 80 pixels wide, grey) and at most about 10 per second.
 """
 import math
@@ -11,14 +12,19 @@ import time
 from typing import Any, Callable, Dict, List, Optional
 
 import numpy as np
-import rospy
-from diagnostic_msgs.msg import DiagnosticArray
-from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Image, Imu, JointState, LaserScan, Range
 
-from ..msg import Bumper
+from .. import rosapi
 from . import estimate
 from .record import Recording, Scan
+
+DiagnosticArray = rosapi.msg('diagnostic_msgs/DiagnosticArray')
+Odometry = rosapi.msg('nav_msgs/Odometry')
+Image = rosapi.msg('sensor_msgs/Image')
+Imu = rosapi.msg('sensor_msgs/Imu')
+JointState = rosapi.msg('sensor_msgs/JointState')
+LaserScan = rosapi.msg('sensor_msgs/LaserScan')
+Range = rosapi.msg('sensor_msgs/Range')
+Bumper = rosapi.msg('naoqi_bridge_msgs/Bumper')
 
 # witness role -> the sensor whose topic it listens to (plan/catalog.py names)
 HEAD_CAMERAS = ('frontCamera', 'bottomCamera', 'stereoCamera', 'depthCamera')
@@ -127,16 +133,19 @@ class Witnesses(Recorder):
         self.closed = False
         for role, topic in self.topics.items():
             cls = self.handlers[role][0]
-            self.subs.append(rospy.Subscriber(topic, rospy.AnyMsg, self._decode,
-                                              callback_args=(role, cls), queue_size=5,
-                                              buff_size=1 << 22))
+            self.subs.append(rosapi.any_subscriber(topic, self._decoder(role, cls), queue_size=5,
+                                                   buff_size=1 << 22))
 
-    def _decode(self, raw: Any, args: Any) -> None:
-        role, cls = args
+    def _decoder(self, role: str, cls: Any) -> Callable[[str, bytes, Dict[str, Any]], None]:
+        def decode(_type: str, buff: bytes, _conn: Dict[str, Any]) -> None:
+            self._decode(buff, role, cls)
+        return decode
+
+    def _decode(self, buff: bytes, role: str, cls: Any) -> None:
         if self.closed:
             return
         try:
-            msg = cls().deserialize(raw._buff)
+            msg = cls().deserialize(buff)
         except Exception:   # another type on the topic: that sensor's own row says so
             return
         self.handle(role, msg, self.clock())

@@ -166,6 +166,61 @@ def make_updater(prefix: str) -> Any:
     return updater
 
 
+class _Stat:
+    """What a task fills (diagnostic_updater's DiagnosticStatusWrapper: summary, add,
+    hardware_id), turned into a genpy DiagnosticStatus by Ros2Updater."""
+
+    def __init__(self, name: str) -> None:
+        self.name, self.level, self.message, self.hardware_id = name, 0, '', ''
+        self.values: List[Tuple[str, str]] = []
+
+    def summary(self, level: int, message: str) -> None:
+        self.level, self.message = level, message
+
+    def add(self, key: str, value: Any) -> None:
+        self.values.append((key, str(value)))
+
+
+class Ros2Updater:
+    """The part of diagnostic_updater.Updater this observer uses, on ROS 2 (diagnostic_updater's
+    Python package is rospy's): tasks filled and published as one DiagnosticArray on
+    /diagnostics through the rclpy node of the run (sources/ros2wire.RawPublisher), statuses
+    named "<prefix>: <task>" as on ROS 1."""
+
+    def __init__(self, prefix: str) -> None:
+        from ..sources import live2, messages, ros2wire
+        graph = live2.current()
+        if graph is None:
+            raise RuntimeError('no ROS 2 node')
+        self.prefix = prefix
+        self.tasks: List[Tuple[str, Any]] = []
+        self.classes = {n: messages.message_class('diagnostic_msgs/' + n)
+                        for n in ('DiagnosticArray', 'DiagnosticStatus', 'KeyValue')}
+        self.publisher = ros2wire.RawPublisher(graph.node, '/diagnostics', 'diagnostic_msgs/DiagnosticArray',
+                                               10, remember=True)
+        self.now = graph.now
+
+    def setHardwareID(self, hwid: str) -> None:  # noqa: N802  (diagnostic_updater's name)
+        pass
+
+    def add(self, name: str, fill: Any) -> None:
+        self.tasks.append((name, fill))
+
+    def force_update(self) -> None:
+        import genpy
+        statuses = []
+        for name, fill in self.tasks:
+            stat = _Stat(name)
+            fill(stat)
+            statuses.append(self.classes['DiagnosticStatus'](
+                level=stat.level, name='%s: %s' % (self.prefix, name), message=stat.message,
+                hardware_id=stat.hardware_id,
+                values=[self.classes['KeyValue'](key=k, value=v) for k, v in stat.values]))
+        array = self.classes['DiagnosticArray'](status=statuses)
+        array.header.stamp = genpy.Time.from_sec(self.now())
+        self.publisher.publish(array)
+
+
 class LiveDiagnostics(RunObserver):
     """Runner observer publishing the run's per-sensor statuses on /diagnostics at 1 Hz."""
 
@@ -219,10 +274,15 @@ class LiveDiagnostics(RunObserver):
     # ---------------------------------------------------------------- observer methods
     def run_started(self, run: RunResult, plan: 'TestPlan') -> None:
         try:
-            if self.prefix is None:
-                import rospy
-                self.prefix = base_node_name(rospy.get_name())
-            self.updater = make_updater(self.prefix)
+            from ..sources.live2 import ros_version
+            if ros_version() == 2:
+                self.prefix = self.prefix or 'sensorTest'
+                self.updater = Ros2Updater(self.prefix)
+            else:
+                if self.prefix is None:
+                    import rospy
+                    self.prefix = base_node_name(rospy.get_name())
+                self.updater = make_updater(self.prefix)
             for name in self.current:
                 self._add_task(name)
         except Exception as e:

@@ -30,6 +30,9 @@ def package_dir() -> str:
     candidate = os.path.normpath(os.path.join(here, '..', '..', '..'))
     if os.path.isdir(os.path.join(candidate, 'config')):
         return candidate
+    if os.environ.get('ROS_VERSION', '').strip() == '2':     # installed by colcon: share/<package>
+        from ament_index_python.packages import get_package_share_directory
+        return get_package_share_directory('pepper_interface_tests')
     import rospkg
     return rospkg.RosPack().get_path('pepper_interface_tests')
 

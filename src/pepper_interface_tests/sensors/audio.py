@@ -405,11 +405,11 @@ class LevelMonitor:
         self.rise_db = float(rise_db)
         self._levels: collections.deque = collections.deque()
         self._lock = threading.Lock()
-        self._sub: Any = None   # the rospy.Subscriber while started
+        self._sub: Any = None   # the subscription while started (rosapi.any_subscriber)
 
     def start(self) -> 'LevelMonitor':
-        import rospy
-        self._sub = rospy.Subscriber(self.topic, rospy.AnyMsg, self._callback, queue_size=50)
+        from .. import rosapi
+        self._sub = rosapi.any_subscriber(self.topic, self._callback, queue_size=50)
         return self
 
     def stop(self) -> None:
@@ -417,10 +417,9 @@ class LevelMonitor:
             self._sub.unregister()
             self._sub = None
 
-    def _callback(self, raw):
-        conn = raw._connection_header
+    def _callback(self, type_name: str, buff: bytes, conn: Dict[str, Any]) -> None:
         try:   # AudioCustomMsg or AudioBuffer, built from the definition the connection carries
-            msg = message_class_from_definition(conn['type'], conn['message_definition'])().deserialize(raw._buff)
+            msg = message_class_from_definition(type_name, conn['message_definition'])().deserialize(buff)
             chans = channels_of(msg)
         except Exception:   # another type or a broken buffer: not a level
             return

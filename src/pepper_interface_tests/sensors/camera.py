@@ -158,9 +158,10 @@ class ImageCheck(Check):
         step, data; strings and arrays prefixed by a uint32 length). A short buffer raises
         struct.error as genpy does; a short data array stays short (the layout check says so)."""
         from genpy import Time
-        from sensor_msgs.msg import Image
+
+        from ..sources.messages import message_class
         view = memoryview(buff)
-        msg = Image()
+        msg = message_class('sensor_msgs/Image')()
         seq, secs, nsecs = _HEADER.unpack_from(view, 0)
         pos, text = _string(view, 12)
         msg.header.seq, msg.header.stamp, msg.header.frame_id = seq, Time(secs, nsecs), text

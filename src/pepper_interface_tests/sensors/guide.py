@@ -18,8 +18,7 @@ import textwrap
 import threading
 from typing import Any, Iterable, List, Optional, TextIO
 
-import rospy
-from std_msgs.msg import String
+from .. import rosapi
 
 PROMPT_TOPIC = '/sensorTest/prompt'
 DONE = '[done]'
@@ -71,8 +70,8 @@ class Guide:
         self._skip = False
         self._asking = False
         self._zone = ''
-        self.prompts = rospy.Publisher(prompt_topic, String, queue_size=10, latch=True)
-        self.speech = rospy.Publisher(speech_topic, String, queue_size=10) if speech_topic else None
+        self.prompts = rosapi.publisher(prompt_topic, 'std_msgs/String', queue_size=10, latch=True)
+        self.speech = rosapi.publisher(speech_topic, 'std_msgs/String', queue_size=10) if speech_topic else None
         self.reader = threading.Thread(target=self._read_keys, daemon=True, name='guide-keys')
         self.reader.start()
 
@@ -117,12 +116,8 @@ class Guide:
         answer: List[Optional[bool]] = []
 
         def ask() -> None:
-            try:
-                import rosgraph
-                published = rosgraph.Master(rospy.get_name()).getPublishedTopics('')
-                answer.append(any(t == topic for t, _ in published))
-            except Exception:   # the master went away: unknown here
-                answer.append(None)
+            published = rosapi.published_topics()     # None: the master went away
+            answer.append(None if published is None else any(t == topic for t, _ in published))
         t = threading.Thread(target=ask, daemon=True, name='guide-lookup')
         t.start()
         t.join(timeout)
@@ -132,9 +127,9 @@ class Guide:
         with self.lock:
             self._skip, self._asking, self._zone = False, True, zone_id
         self._line('  >>> [%s] %s %s' % (zone_id, text, SKIP_HINT))
-        self.prompts.publish(String(data='[%s] %s' % (zone_id, text)))
+        self.prompts.publish(rosapi.msg('std_msgs/String')(data='[%s] %s' % (zone_id, text)))
         if self.speech is not None:
-            self.speech.publish(String(data=text))
+            self.speech.publish(rosapi.msg('std_msgs/String')(data=text))
 
     def moved_on(self, zone_id: str, why: str, more: bool) -> None:
         """The zone being asked is given up without its touch: said before the next is asked."""
@@ -144,7 +139,7 @@ class Guide:
             others = any(o != owner for o in self.pending)
         note = '[%s] %s, %s' % (zone_id, why, NEXT_ZONE if more or others else NO_ZONE_LEFT)
         self._line('  >>> ' + note)
-        self.prompts.publish(String(data=note))
+        self.prompts.publish(rosapi.msg('std_msgs/String')(data=note))
 
     def skipped(self) -> bool:
         with self.lock:
@@ -167,7 +162,7 @@ class Guide:
 
     def done(self) -> None:
         """The guided part has ended."""
-        self.prompts.publish(String(data=DONE))
+        self.prompts.publish(rosapi.msg('std_msgs/String')(data=DONE))
         self._line('  >>> %s guided check finished' % DONE)
 
     def close(self) -> None:

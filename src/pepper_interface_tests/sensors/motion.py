@@ -158,10 +158,9 @@ class MotionCheck(Check):
         if not topic or not text:
             return
         try:
-            import rospy
-            from std_msgs.msg import String
-            pub = rospy.Publisher(topic, String, queue_size=1, latch=True)
-            pub.publish(String(data=text))
+            from .. import rosapi
+            pub = rosapi.publisher(topic, 'std_msgs/String', queue_size=1, latch=True)
+            pub.publish(rosapi.msg('std_msgs/String')(data=text))
         except Exception:  # saying it is a courtesy; the terminal said it
             pass
 

@@ -11,9 +11,7 @@ import time
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
-import rospy
-from std_msgs.msg import String
-
+from .. import rosapi
 from .base import Check
 from .values.speech import SpeechValues
 
@@ -47,7 +45,7 @@ class SpeechCheck(Check):
 
     def start(self) -> None:
         self.started = time.monotonic()
-        self.pub = rospy.Publisher(self.plan.topic, String, queue_size=1, latch=False)
+        self.pub = rosapi.publisher(self.plan.topic or '/speech', 'std_msgs/String', queue_size=1, latch=False)
 
     def _monitor(self):
         return self.ctx.services.microphone_levels
@@ -61,11 +59,11 @@ class SpeechCheck(Check):
                 if monitor is not None and not monitor.has_baseline():
                     if elapsed < self.subscriber_wait:
                         return   # let the microphones collect a baseline first
-                msg = String(data=self.text)
+                msg = rosapi.msg('std_msgs/String')(data=self.text)
                 self.pub.publish(msg)
                 self.sent_at, self.sent_elapsed = time.monotonic(), elapsed
                 self.feed(msg, elapsed)
-                self.subscribers = _subscriber_nodes(self.plan.topic)
+                self.subscribers = rosapi.subscriber_nodes(self.plan.topic)
             elif elapsed >= self.subscriber_wait:
                 self._done = True
             return
@@ -108,15 +106,3 @@ class SpeechCheck(Check):
                 self.fail(text)
             else:
                 self.warnings.add('unheard', text)
-
-
-
-def _subscriber_nodes(topic):
-    try:
-        import rosgraph
-        master = rosgraph.Master(rospy.get_name())
-        _, subs, _ = master.getSystemState()
-        me = rospy.get_name()
-        return sorted(n for t, nodes in subs if t == topic for n in nodes if n != me)
-    except Exception:  # the master may be gone; delivery already happened
-        return []

@@ -22,6 +22,7 @@ from types import MappingProxyType
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple
 
 from . import naoqi_msgs
+from .ros2defs import DEFAULT_DISTRO, DISTROS, ROS1_DEFINITIONS, ros1_definition, ros1_text, ros2_text  # noqa: F401  (home: ros2defs.py)
 
 # naoqi_bridge_msgs/msg/AudioBuffer.msg of ros-naoqi/naoqi_bridge_msgs2 (ROS 2: the field is
 # `channel_map`; naoqi_driver2 src/event/audio.cpp:173-176 fills it). Same layout as the ROS 1
@@ -29,10 +30,6 @@ from . import naoqi_msgs
 AUDIO_BUFFER_DEFINITION_ROS2 = (naoqi_msgs.AUDIO_BUFFER_DEFINITION.split('=' * 80)[0]
                                 .replace('Header header', 'std_msgs/Header header')
                                 .replace('channelMap', 'channel_map'))
-
-# ROS 1 definitions this package already knows, used for the converted message instead of one
-# generated from the ROS 2 definition (same wire layout, the field names the checks read)
-ROS1_DEFINITIONS = {naoqi_msgs.AUDIO_BUFFER_TYPE: naoqi_msgs.AUDIO_BUFFER_DEFINITION}
 
 # the packages this package's msg/ files are published as by the drivers
 MSG_PACKAGES = ('pepper_interface_tests', 'naoqi_bridge_msgs', 'naoqi_driver')
@@ -61,9 +58,21 @@ def package_msg_types(msg_dir: str) -> Dict[str, Any]:
             continue
         for pkg in MSG_PACKAGES:
             try:
-                types.update(get_types_from_msg(text, '%s/msg/%s' % (pkg, name[:-4])))
+                try:
+                    types.update(get_types_from_msg(text, '%s/msg/%s' % (pkg, name[:-4])))
+                except Exception:  # noqa: BLE001  (ROS 1 spelling rosbags refuses: its ROS 2 form)
+                    types.update(get_types_from_msg(ros2_text(text), '%s/msg/%s' % (pkg, name[:-4])))
             except Exception:  # noqa: BLE001  (a malformed .msg: that type stays unknown)
                 break
+    # the naoqi_bridge_msgs types this package knows without a file (StringStamped, ...)
+    for type_name, text in naoqi_msgs.DEFINITIONS.items():
+        pkg, name = type_name.split('/')
+        key = '%s/msg/%s' % (pkg, name)
+        if key not in types:
+            try:
+                types.update(get_types_from_msg(ros2_text(text), key))
+            except Exception:  # noqa: BLE001  (cannot happen for the shipped texts: tested)
+                pass
     return types
 
 
@@ -86,15 +95,6 @@ def recording_types(msgtype: str, msgdef: Any) -> Dict[str, Any]:
     return {}
 
 
-# the standard types of the ROS 2 release a recording names (rosbag2 stores `ros_distro` from
-# Humble's sqlite3 schema 3 and in metadata.yaml from version 8); naoqi_driver2 is released for
-# Humble and later, so a recording that does not say is read with Humble's types. They differ:
-# sensor_msgs/Range has a `variance` field only after Jazzy (rosbags' LATEST).
-DISTROS = {'foxy': 'ROS2_FOXY', 'galactic': 'ROS2_GALACTIC', 'humble': 'ROS2_HUMBLE',
-           'iron': 'ROS2_IRON', 'jazzy': 'ROS2_JAZZY', 'kilted': 'ROS2_KILTED',
-           'lyrical': 'ROS2_LYRICAL', 'rolling': 'LATEST'}
-DEFAULT_DISTRO = 'humble'
-
 
 def standard_types(distro: Optional[str]) -> Dict[str, Any]:
     """The standard ROS 2 field definitions of `distro` (Humble's when unknown)."""
@@ -106,13 +106,6 @@ def standard_types(distro: Optional[str]) -> Dict[str, Any]:
 def _store_fields(name: str) -> Mapping[str, Any]:
     from rosbags.typesys import Stores, get_typestore
     return MappingProxyType(dict(get_typestore(getattr(Stores, name, Stores.ROS2_HUMBLE)).fielddefs))
-
-
-def ros1_text(ros2_generated: str) -> str:
-    """rosbags writes the ROS 1 definition of a ROS 2 type with the ROS 2 Header (no seq); the
-    bytes cdr_to_ros1 writes do carry seq, and so must the definition a class is built from."""
-    return ros2_generated.replace('MSG: std_msgs/Header\ntime stamp\n',
-                                  'MSG: std_msgs/Header\nuint32 seq\ntime stamp\n')
 
 
 class Converter:

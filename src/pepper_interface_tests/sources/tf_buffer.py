@@ -10,23 +10,31 @@ Memory is bounded by the buffer's cache time: tf2 keeps, per frame, the transfor
 `cache_time` seconds of stamps (buffer_core.cpp: TimeCache::pruneList drops what is older than
 the newest stamp minus the cache time), so a long recording costs no more than a short one.
 """
+import importlib
 import math
+import os
 import re
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
-import rospy
+import genpy
 
-try:
-    import tf2_ros
-    TF2_MISSING = ''
-except ImportError as exc:          # tf2_ros imports the compiled tf2_py, built for one Python
-    tf2_ros = None
-    # what the tf row says instead of judging the tree (sensors/tf.py, sensors/tree.py): on
-    # Noetic rosdep installs ros-noetic-tf2-ros for the system's Python 3.8; Debian's
-    # python3-tf2 is built for its python3 alone (docs/platforms.md)
-    TF2_MISSING = ('tf2_ros cannot be imported on this Python (%s): no sensor\'s frame and no tree '
-                   'was judged; fix: install tf2_ros for this Python (Noetic: ros-noetic-tf2-ros, '
-                   'which rosdep installs; Debian: python3-tf2-ros, for /usr/bin/python3)' % exc)
+tf2_ros: Any = None
+if os.environ.get('ROS_VERSION', '').strip() == '2':
+    # ROS 2: ROS 1's tf2_ros (rospy, and tf2_py built against ROS 1's messages) cannot run next
+    # to rclpy; tf2 for ROS 2 (tf2_ros_py) is not used yet
+    TF2_MISSING = ('on ROS 2 this package judges no frame and no tree yet (ROS 1\'s tf2_ros is '
+                   'what it reads /tf with): no sensor\'s frame and no tree was judged')
+else:
+    try:
+        tf2_ros = importlib.import_module('tf2_ros')
+        TF2_MISSING = ''
+    except ImportError as exc:          # tf2_ros imports the compiled tf2_py, built for one Python
+        # what the tf row says instead of judging the tree (sensors/tf.py, sensors/tree.py): on
+        # Noetic rosdep installs ros-noetic-tf2-ros for the system's Python 3.8; Debian's
+        # python3-tf2 is built for its python3 alone (docs/platforms.md)
+        TF2_MISSING = ('tf2_ros cannot be imported on this Python (%s): no sensor\'s frame and no tree '
+                       'was judged; fix: install tf2_ros for this Python (Noetic: ros-noetic-tf2-ros, '
+                       'which rosdep installs; Debian: python3-tf2-ros, for /usr/bin/python3)' % exc)
 
 # tf2's default: BufferCore::DEFAULT_CACHE_TIME, 10 s (tf2/include/tf2/buffer_core.h)
 CACHE_TIME = 10.0
@@ -81,7 +89,7 @@ class TfBuffer:
 
     def __init__(self, cache_time: float = CACHE_TIME) -> None:
         # debug=False: no ~tf2_frames service (a bag run has no master)
-        self._buffer = tf2_ros.Buffer(cache_time=rospy.Duration.from_sec(cache_time), debug=False)
+        self._buffer = tf2_ros.Buffer(cache_time=genpy.Duration.from_sec(cache_time), debug=False)
         self.cache_time = cache_time
 
     def add(self, transforms: Sequence[Any], static: bool, authority: str) -> int:
@@ -98,7 +106,7 @@ class TfBuffer:
 
     def lookup(self, frame: str, target: str, stamp: float) -> Lookup:
         """Can `frame` be transformed into `target` at `stamp` (seconds)?"""
-        ok, error = self._buffer.can_transform_core(target, frame, rospy.Time.from_sec(stamp))
+        ok, error = self._buffer.can_transform_core(target, frame, genpy.Time.from_sec(stamp))
         return Lookup(bool(ok), error or '')
 
     def latest(self, frame: str, target: str) -> Optional[float]:
@@ -113,7 +121,7 @@ class TfBuffer:
     def pose(self, target: str, frame: str, stamp: float) -> Optional[Pose]:
         """`frame`'s pose in `target` at `stamp`: ((x, y, z), (qx, qy, qz, qw)), or None."""
         try:
-            t = self._buffer.lookup_transform_core(target, frame, rospy.Time.from_sec(stamp))
+            t = self._buffer.lookup_transform_core(target, frame, genpy.Time.from_sec(stamp))
         except Exception:
             return None
         p, q = t.transform.translation, t.transform.rotation

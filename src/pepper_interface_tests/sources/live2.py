@@ -1,0 +1,221 @@
+"""The live data source on ROS 2: rclpy subscriptions in raw (CDR) form feeding sensor windows.
+
+The same windows and checks as on ROS 1 (sources/live.py) read the same ROS 1 wire bytes: each
+CDR message is converted as a ROS 2 recording's are (ros2types.Converter: one copy for images,
+TF and audio, rosbags' conversion for the rest), so nothing above this seam knows which ROS
+carried it.
+
+* Types: a ROS 2 subscription needs its type. It is the type the graph advertises for the topic,
+  looked up when the window starts and again every POLL s until a publisher appears (a driver
+  started after sensorTest is found, as rospy's subscriptions find it on ROS 1).
+* QoS: what naoqi_driver2 publishes with is reliable, volatile, keep-last 10 (its
+  src/publishers/basic.hpp:72, joint_state.cpp:46; the sonars keep-last 1, sonar.cpp:53; the
+  cameras image_transport's default profile, camera.cpp:51). A reliable subscription would not
+  match a best-effort publisher (Gazebo's sensor plugins publish best effort), so the
+  subscription takes the reliability of the topic's publishers: reliable when every publisher
+  is, else best effort. Durability is volatile, which matches volatile and transient-local
+  publishers alike. Depth is the window's queue.
+* Publishers: the graph's publisher names (`get_publishers_info_by_topic`), this node left out.
+  A ROS 2 subscription callback does not say which publisher sent a message (Humble's rclpy has
+  no message info), so the windows' connection header has no callerid, and this node's own
+  /diagnostics are told by their bytes (sources/ros2wire.is_own).
+* The graph has no master: nothing to lose but this process's own context, which a signal
+  or rclpy's shutdown ends ("the ROS 2 context was shut down").
+"""
+import os
+import threading
+import time
+from collections import namedtuple
+from typing import Any, Dict, List, Optional, Set
+
+from . import Listener, SourceLost, TopicInfo
+
+POLL = 0.25          # s between looks at the graph for a topic's type and publishers
+NODE_NAME = 'sensorTest'
+
+_Conn = namedtuple('_Conn', 'topic msgtype msgdef')
+
+
+def ros_version() -> int:
+    """2 when the environment is a ROS 2 one (ROS_VERSION=2, as every ROS 2 setup file sets),
+    else 1."""
+    return 2 if os.environ.get('ROS_VERSION', '').strip() == '2' else 1
+
+
+_current: Optional['Ros2Graph'] = None
+
+
+def current() -> Optional['Ros2Graph']:
+    """The graph of this sensorTest run on ROS 2 (None on ROS 1 or before it started)."""
+    return _current
+
+
+class Ros2Graph:
+    """One rclpy context and node for sensorTest, spun in a thread of its own."""
+
+    def __init__(self, name: str = NODE_NAME, args: Optional[List[str]] = None) -> None:
+        import rclpy
+        from rclpy.executors import SingleThreadedExecutor
+        self.context = rclpy.Context()
+        rclpy.init(args=args, context=self.context)
+        self.node = rclpy.create_node(name, context=self.context,
+                                      start_parameter_services=False)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self._thread = threading.Thread(target=self._spin, daemon=True, name='rclpy-spin')
+        self._thread.start()
+        global _current
+        _current = self
+
+    def _spin(self) -> None:
+        try:
+            self.executor.spin()
+        except Exception:  # noqa: BLE001  (the context shut down under it)
+            pass
+
+    @property
+    def name(self) -> str:
+        return self.node.get_fully_qualified_name()
+
+    @property
+    def ok(self) -> bool:
+        return self.context.ok()
+
+    def now(self) -> float:
+        return self.node.get_clock().now().nanoseconds / 1e9
+
+    def topic_types(self) -> Dict[str, List[str]]:
+        return {topic: list(types) for topic, types in self.node.get_topic_names_and_types()}
+
+    def publishers(self, topic: str) -> List[Any]:
+        """The publishers of `topic` other than this node (TopicEndpointInfo)."""
+        me = self.name
+        out = []
+        for info in self.node.get_publishers_info_by_topic(topic):
+            ns = info.node_namespace.rstrip('/')
+            if '%s/%s' % (ns, info.node_name) != me:
+                out.append(info)
+        return out
+
+    def shutdown(self) -> None:
+        try:
+            self.executor.shutdown(timeout_sec=0.5)
+            self.node.destroy_node()
+        except Exception:  # noqa: BLE001  (already shut down by a signal)
+            pass
+        try:
+            self.context.try_shutdown()
+        except Exception:  # noqa: BLE001
+            pass
+
+
+def node_label(info: Any) -> str:
+    ns = info.node_namespace.rstrip('/')
+    return '%s/%s' % (ns, info.node_name)
+
+
+class Ros2LiveSource:
+    """Subscribes a window (Listener) to its topic for the length of its window, on ROS 2."""
+    live = True
+
+    def __init__(self, graph: Ros2Graph, msg_dir: str) -> None:
+        self.graph = graph
+        self.msg_dir = msg_dir
+        self.distro = os.environ.get('ROS_DISTRO') or None
+        self.subs: Dict[Listener, Any] = {}
+        self.pending: Dict[Listener, float] = {}     # windows whose topic has no type yet
+        self._last_conn: Dict[Listener, float] = {}
+
+    @property
+    def master_uri(self) -> Optional[str]:
+        return 'ROS 2 (DDS domain %s)' % (os.environ.get('ROS_DOMAIN_ID') or '0')
+
+    def _check(self) -> None:
+        if not self.graph.ok:
+            raise SourceLost('the ROS 2 context was shut down')
+
+    def attach(self, run: Listener) -> None:
+        self._check()
+        if not run.listens:
+            return
+        self.pending[run] = 0.0
+        self._subscribe(run, time.monotonic())
+
+    def _subscribe(self, run: Listener, now: float) -> None:
+        """Subscribe once the topic's type is known (else try again in POLL s)."""
+        if now - self.pending.get(run, 0.0) < POLL and self.pending.get(run):
+            return
+        self.pending[run] = now
+        types = self.graph.topic_types().get(run.topic)
+        if not types:
+            return
+        msgtype = types[0]
+        from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+        from . import ros2types
+        from .ros2wire import is_own, msg_class
+        pubs = self.graph.publishers(run.topic)
+        reliable = bool(pubs) and all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in pubs)
+        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=max(1, run.queue_size),
+                         reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
+                         durability=DurabilityPolicy.VOLATILE)
+        try:
+            cls = msg_class(msgtype)
+        except ImportError:
+            cls = None
+        converter = ros2types.Converter([_Conn(run.topic, msgtype, None)], self.msg_dir, self.distro)
+        if cls is None or run.topic in converter.problems:
+            # a type this process cannot subscribe to: the window hears nothing and the advertised
+            # type (lookup) tells the check what was there
+            del self.pending[run]
+            return
+        header = dict(converter.header(msgtype))
+        ros1_type = header['type']
+
+        topic = run.topic
+
+        def callback(raw: bytes, run: Listener = run) -> None:
+            if is_own(topic, raw):       # this node's own /diagnostics
+                return
+            run.feed_raw(ros1_type, converter.to_ros1(raw, msgtype), time.monotonic(),
+                         self.graph.now(), header)
+
+        self.subs[run] = self.graph.node.create_subscription(cls, run.topic, callback, qos, raw=True)
+        del self.pending[run]
+
+    def detach(self, run: Listener) -> None:
+        self.pending.pop(run, None)
+        self._last_conn.pop(run, None)
+        sub = self.subs.pop(run, None)
+        if sub is not None:
+            try:
+                self.graph.node.destroy_subscription(sub)
+            except Exception:  # noqa: BLE001  (the context is already gone)
+                pass
+
+    def poll(self, run: Listener, now: float) -> None:
+        self._check()
+        if run in self.pending:
+            self._subscribe(run, time.monotonic())
+        if now - self._last_conn.get(run, 0.0) >= POLL and run.listens:
+            self._last_conn[run] = now
+            run.observe_connections(len(self.graph.publishers(run.topic)), now)
+
+    def published_topics(self) -> Optional[Set[str]]:
+        try:
+            return {t for t in self.graph.topic_types() if self.graph.publishers(t)}
+        except Exception:  # noqa: BLE001  (the context shut down)
+            return None
+
+    def lookup(self, topic: str) -> Optional[TopicInfo]:
+        from .ros2types import ros1_name
+        try:
+            types = self.graph.topic_types().get(topic)
+            pubs = self.graph.publishers(topic)
+        except Exception:  # noqa: BLE001  (the context shut down)
+            return None
+        return (ros1_name(types[0]) if types else None), sorted(node_label(p) for p in pubs)
+
+    @staticmethod
+    def sleep(dt: float) -> None:
+        time.sleep(dt)
