@@ -111,7 +111,8 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
     ('emulator/second_publisher.py', 'topic'): lambda: {('/tf', 'tf2_msgs/TFMessage')},   # tf:second_publisher
-    ('emulator/tf_publisher.py', "static_topic(self.spec) or '/tf_static'"): lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
+    ('emulator/tf_publisher.py', "static_topic(self.spec) or '/tf_static'"):
+        lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
     ('audio_bridge/publisher.py', "opts['topic']"):
         lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
