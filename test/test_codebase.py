@@ -32,7 +32,7 @@ BASE = {'results', 'stats', 'interrupts', 'progress', 'codec',
         'msg'}    # pepper_interface_tests.msg: the generated message classes (msg/*.msg)
 LAYERS = [
     {'plan'},
-    {'sources', 'rosapi'},   # rosapi: the ROS seam for publishers and subscriptions (rospy or rclpy)
+    {'sources', 'rosapi', 'genmsgs'},   # rosapi: the ROS seam for publishers and subscriptions (rospy or rclpy)
     {'media'},
     {'motion'},     # the motion check's home (--move): below sensors/, whose motion Check drives it
     {'sensors'},

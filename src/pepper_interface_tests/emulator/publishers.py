@@ -19,6 +19,7 @@ import genpy
 import numpy as np
 
 from .. import rosapi
+from ..genmsgs import Image, Imu, JointState, LaserScan, Odometry, Quaternion, Range, String
 from . import scene
 from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
@@ -38,15 +39,6 @@ from .profiles import (
 if TYPE_CHECKING:
     from .audio_source import AudioSource
 
-# the genpy classes (rosapi.msg: rospy's on ROS 1, built from the definitions on ROS 2)
-Quaternion = rosapi.msg('geometry_msgs/Quaternion')
-Odometry = rosapi.msg('nav_msgs/Odometry')
-Image = rosapi.msg('sensor_msgs/Image')
-Imu = rosapi.msg('sensor_msgs/Imu')
-JointState = rosapi.msg('sensor_msgs/JointState')
-LaserScan = rosapi.msg('sensor_msgs/LaserScan')
-Range = rosapi.msg('sensor_msgs/Range')
-String = rosapi.msg('std_msgs/String')
 
 BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
 LOADED_CAMERA_HZ = 1.3

@@ -14,17 +14,9 @@ from typing import Any, Callable, Dict, List, Optional
 import numpy as np
 
 from .. import rosapi
+from ..genmsgs import Bumper, DiagnosticArray, Image, Imu, JointState, LaserScan, Odometry, Range
 from . import estimate
 from .record import Recording, Scan
-
-DiagnosticArray = rosapi.msg('diagnostic_msgs/DiagnosticArray')
-Odometry = rosapi.msg('nav_msgs/Odometry')
-Image = rosapi.msg('sensor_msgs/Image')
-Imu = rosapi.msg('sensor_msgs/Imu')
-JointState = rosapi.msg('sensor_msgs/JointState')
-LaserScan = rosapi.msg('sensor_msgs/LaserScan')
-Range = rosapi.msg('sensor_msgs/Range')
-Bumper = rosapi.msg('naoqi_bridge_msgs/Bumper')
 
 # witness role -> the sensor whose topic it listens to (plan/catalog.py names)
 HEAD_CAMERAS = ('frontCamera', 'bottomCamera', 'stereoCamera', 'depthCamera')
