@@ -92,9 +92,10 @@ def test_a_lone_witness_that_saw_a_turn_is_warned_not_failed():
     assert j.base_state == 'did not move' and fails
 
 
-def head_run(encoder=1.0, camera_px=None, cameras=('frontCamera',)):
+def head_run(encoder=1.0, camera_px=None, cameras=('frontCamera',), contrast=40.0, ball=False):
     """Head steps +0.5 then -1.0 then +0.5 from HeadYaw 0; the encoder reads `encoder` x the
-    truth; each camera's picture moves camera_px per rad of head yaw (default +60)."""
+    truth; each camera's picture (a room of `contrast` grey levels) moves camera_px per rad of
+    head yaw (default +60); ball: a bright ball crossing the picture on its own (2 px a frame)."""
     rec = Recording()
     px = 60.0 if camera_px is None else camera_px
     targets = [(0.0, 0.5), (3.0, -0.5), (6.0, 0.0)]
@@ -113,7 +114,10 @@ def head_run(encoder=1.0, camera_px=None, cameras=('frontCamera',)):
         rec.joints.append((t, {'HeadYaw': encoder * truth(t)}))
         if i % 2 == 0:
             off = int(round(100 - px * truth(t)))
-            frame = np.tile(texture[off:off + 80], (20, 1)).astype(np.float32)
+            frame = np.tile(128 + contrast * texture[off:off + 80], (20, 1)).astype(np.float32)
+            if ball:
+                x = 4 + 3 * (i % 22)        # 6 px a kept frame (one in two), as wide as the ball
+                frame[8:14, x:x + 6] = 250.0
             for c in cameras:
                 rec.frames.setdefault(c, []).append((t, frame))
     seq = Sequence(E, rec, None, lambda: 0.0)
@@ -143,6 +147,23 @@ def test_a_stuck_head_encoder_fails_jointstate_by_name_when_the_camera_saw_the_t
 def test_a_camera_that_does_not_follow_the_head_fails(px, words):
     found, _, _, _, _ = judge(*head_run(camera_px=px))
     assert list(found) == ['frontCamera'] and words in found['frontCamera'][0][0]
+
+
+def test_a_camera_on_a_plain_floor_with_a_ball_rolling_by_is_warned_not_failed():
+    """A room with almost nothing to follow (0.5 grey levels): the ball, moving on its own,
+    decides the shift. The camera cannot be judged, so it is warned; with the same ball in a
+    textured room that does not follow the head, it fails."""
+    found, fails, _, _, j = judge(*head_run(camera_px=0.0, contrast=0.5, ball=True))
+    assert not fails and j.head_state == 'moved' and list(found) == ['frontCamera']
+    reasons, warnings = found['frontCamera']
+    assert not reasons and any('too little texture to follow' in w for w in warnings)
+    found, _, _, _, _ = judge(*head_run(camera_px=0.0, ball=True))
+    assert list(found) == ['frontCamera'] and 'not following' in found['frontCamera'][0][0]
+
+
+def test_a_following_camera_on_a_plain_floor_still_passes():
+    found, _, _, _, _ = judge(*head_run(contrast=0.5))
+    assert not found
 
 
 def test_a_head_that_did_not_move_fails_the_motion_row_not_the_sensors():

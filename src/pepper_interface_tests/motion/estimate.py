@@ -22,6 +22,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 BLUR = 0.04     # the sideways blur of picture_shift, a share of the picture's width
+TEXTURE_LAG = 4  # pixels of the ~80-wide copy still_texture moves a picture by (~0.05 rad)
 
 
 def yaw_of(x: float, y: float, z: float, w: float) -> float:
@@ -163,6 +164,30 @@ def _blur_x(img: np.ndarray, sigma: float) -> np.ndarray:
     return np.apply_along_axis(lambda r: np.convolve(r, kernel, mode='valid'), 1, pad)
 
 
+def _prepared(a: np.ndarray) -> np.ndarray:
+    """A small grey frame as picture_shift compares it: its mean taken away, blurred sideways
+    (sigma BLUR of the width), the blur's edges (padding, not picture) left out."""
+    w = a.shape[1]
+    sigma = max(1.0, BLUR * w)
+    m = int(3 * sigma)
+    return _blur_x(a - a.mean(), sigma)[:, m:w - m]
+
+
+def still_texture(frames: Sequence[np.ndarray], lag: int = TEXTURE_LAG) -> Optional[float]:
+    """How much the still picture differs from itself moved `lag` pixels sideways (mean grey
+    levels, as picture_shift compares frames): the texture a turning head's picture can be
+    followed by. The frames are ones taken while the head stood still; their per-pixel median
+    leaves out what moves on its own (a person walking by, a ball), which a shift would
+    otherwise follow instead of the room. None: no frame, or frames of different sizes."""
+    if not frames or any(f.shape != frames[0].shape for f in frames):
+        return None
+    still = np.median(np.stack(frames), axis=0) if len(frames) > 1 else frames[0]
+    f = _prepared(still)
+    if f.shape[1] <= lag:
+        return None
+    return float(np.mean(np.abs(f[:, lag:] - f[:, :-lag])))
+
+
 def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
     """Sideways shift (pixels of a and b's scale) from frame a to frame b: positive when the
     picture moved right; None when a frame is flat (nothing to follow). Both are blurred
@@ -171,10 +196,7 @@ def picture_shift(a: np.ndarray, b: np.ndarray) -> Optional[float]:
     overlap differs least, b[:, x + d] against a[:, x], refined between pixels by a parabola."""
     if a.shape != b.shape or a.std() < 1e-3 or b.std() < 1e-3:
         return None
-    w = a.shape[1]
-    sigma = max(1.0, BLUR * w)
-    m = int(3 * sigma)     # the blur's edges are padding, not picture: left out
-    fa, fb = _blur_x(a - a.mean(), sigma)[:, m:w - m], _blur_x(b - b.mean(), sigma)[:, m:w - m]
+    fa, fb = _prepared(a), _prepared(b)
     w = fa.shape[1]
     errors = {}
     for d in range(-(w // 3), w // 3 + 1):
