@@ -84,7 +84,11 @@ class _Subscription:
                                         os.environ.get('ROS_DISTRO') or None)
         cls = cls or msg(type_name)
 
+        self.closed = False
+
         def on_raw(raw: bytes) -> None:
+            if self.closed:
+                return
             m = cls()
             try:
                 m.deserialize(converter.to_ros1(raw, ros2))
@@ -102,10 +106,8 @@ class _Subscription:
             return 0
 
     def unregister(self) -> None:
-        try:
-            self.graph.node.destroy_subscription(self.sub)
-        except Exception:  # noqa: BLE001  (the context is already gone)
-            pass
+        self.closed = True
+        self.graph.destroy(self.sub)       # on the spinning thread (Ros2Graph.destroy)
 
 
 def subscriber(topic: str, type_name: str, callback: Callable[[Any], None], queue_size: int = 10,
@@ -224,7 +226,7 @@ class _AnySubscription:
         topic = self.topic
 
         def on_raw(raw: bytes) -> None:
-            if not is_own(topic, raw):
+            if not self.closed.is_set() and not is_own(topic, raw):
                 self.callback(header['type'], converter.to_ros1(raw, ros2), header)
         if not self.closed.is_set():
             self.sub = self.graph.node.create_subscription(cls, topic, on_raw, _qos_any(self.graph, topic,
@@ -233,10 +235,7 @@ class _AnySubscription:
     def unregister(self) -> None:
         self.closed.set()
         if self.sub is not None:
-            try:
-                self.graph.node.destroy_subscription(self.sub)
-            except Exception:  # noqa: BLE001  (the context is already gone)
-                pass
+            self.graph.destroy(self.sub)   # on the spinning thread (Ros2Graph.destroy)
 
 
 def _qos_any(graph: Any, topic: str, depth: int) -> Any:

@@ -16,9 +16,9 @@ from ros2_runs import domain_env, program, results
 from rosmaster import kill_group, spawn, wait_until
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
-# the demo's sensors (tools/demo.sh) but the tree: ROS 2's core has no tf2_msgs, so the emulator
-# publishes no /tf there and sensorTest judges no tree on ROS 2 (docs/ros2.md)
-DEMO = ('backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,'
+# the demo's sensors (tools/demo.sh), the tree with them: /tf as naoqi_driver2 publishes it
+# (tf2_msgs generated into the workspace by tools/ros2/msg_packages.py)
+DEMO = ('tf,backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,'
         'realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,'
         'bumper,robotHealth')
 
@@ -70,13 +70,38 @@ def test_the_demo_on_ros2_passes_every_row_and_publishes_its_statuses(robot_fact
                              '--guided', '--move', '--yes', '--no-record')
     assert proc.wait(240) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
     data, rows = results(out)
-    assert len(rows) == 19 and all(r['verdict'] == 'PASS' for r in rows.values()), \
+    assert len(rows) == 20 and all(r['verdict'] == 'PASS' for r in rows.values()), \
         {n: (r['verdict'], r['reasons']) for n, r in rows.items() if r['verdict'] != 'PASS'}
     assert {n: r['warnings'] for n, r in rows.items() if r['warnings']} == {}
     # naoqi_driver2's names, and this node's statuses on /diagnostics over rclpy (the driver's too)
     assert rows['laser']['topic'] == '/laser' and rows['microphone']['topic'] == '/audio'
     seen = (tmp_path / 'diagnostics.txt').read_text()
     assert 'sensorTest: laser\t0\t' in seen and 'sensorTest: motion\t0\t' in seen, seen[-2000:]
+    # the tree, judged on ROS 2 as on ROS 1: one root, the driver's node, odometry and HeadYaw
+    # agreeing with it, and every sensor's frame placed under base_footprint
+    tf = rows['tf']['values']
+    assert tf['roots'] == ['odom'] and tf['publishers'] == ['/naoqi_driver'], tf
+    assert tf['odom_compared'] > 0 and tf['head_compared'] > 0, tf
+    framed = {n: r['frame'] for n, r in rows.items() if r.get('frame')}
+    assert {'frontCamera', 'laser', 'imu', 'frontSonar', 'odometry'} <= set(framed), sorted(framed)
+    for name, frame in framed.items():
+        assert frame['judged'] > 0 and frame['placed'] == frame['judged'], (name, frame)
+        assert frame['chain'][-1] == 'base_footprint', (name, frame)
+
+
+@pytest.mark.parametrize('fault, failed, words', [
+    ('no_description', 'frontCamera', 'has no path to base_footprint'),
+    ('stale', 'tf', 'old when they arrive'),
+])
+def test_a_broken_tree_on_ros2_fails_by_name(robot_factory, tmp_path, fault, failed, words):
+    robot = robot_factory('--camera-resolution', 'QQVGA', '--audio', 'off', '--faults', 'tf:' + fault)
+    out = tmp_path / 'out'
+    proc = robot.sensor_test(out, '--mode', 'parallel', '--duration', '4', '--no-report', '--no-record',
+                             '--sensors', 'tf,frontCamera,laser')
+    assert proc.wait(120) == 1, (tmp_path / 'sensorTest.log').read_text()[-4000:]
+    _, rows = results(out)
+    assert rows[failed]['verdict'] == 'FAIL' and any(words in r for r in rows[failed]['reasons']), rows[failed]
+    assert rows['laser']['verdict'] == ('FAIL' if fault == 'no_description' else 'PASS'), rows['laser']
 
 
 FAULTS = {   # one per family: the emulator's fault -> what the row must say

@@ -14,15 +14,20 @@ carried it.
   match a best-effort publisher (Gazebo's sensor plugins publish best effort), so the
   subscription takes the reliability of the topic's publishers: reliable when every publisher
   is, else best effort. Durability is volatile, which matches volatile and transient-local
-  publishers alike. Depth is the window's queue.
+  publishers alike, unless every publisher is transient-local (a StaticTransformBroadcaster's
+  /tf_static, tf2_ros static_transform_broadcaster.h StaticBroadcasterQoS): then the
+  subscription is too, to get what they published before it (ROS 1's latched topics). Depth is
+  the window's queue.
 * Publishers: the graph's publisher names (`get_publishers_info_by_topic`), this node left out.
   A ROS 2 subscription callback does not say which publisher sent a message (Humble's rclpy has
-  no message info), so the windows' connection header has no callerid, and this node's own
-  /diagnostics are told by their bytes (sources/ros2wire.is_own).
+  no message info), so the windows' connection header names the topic's publisher (callerid)
+  only when it has one, and this node's own /diagnostics are told by their bytes
+  (sources/ros2wire.is_own).
 * The graph has no master: nothing to lose but this process's own context, which a signal
   or rclpy's shutdown ends ("the ROS 2 context was shut down").
 """
 import os
+import sys
 import threading
 import time
 from collections import namedtuple
@@ -31,6 +36,7 @@ from typing import Any, Dict, List, Optional, Set
 from . import Listener, SourceLost, TopicInfo
 
 POLL = 0.25          # s between looks at the graph for a topic's type and publishers
+DESTROY_WAIT = 0.1   # s the spinning thread waits for work before it destroys what it was given
 NODE_NAME = 'sensorTest'
 
 _Conn = namedtuple('_Conn', 'topic msgtype msgdef')
@@ -62,15 +68,58 @@ class Ros2Graph:
                                       start_parameter_services=False)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
+        self._doomed: List[Any] = []        # subscriptions and publishers to destroy (destroy())
+        self._doomed_lock = threading.Lock()
         self._thread = threading.Thread(target=self._spin, daemon=True, name='rclpy-spin')
         self._thread.start()
         global _current
         _current = self
 
     def _spin(self) -> None:
+        """Spin until the context ends, destroying what destroy() was given between two waits.
+        An error in a callback ends rclpy's spin(), and with it every subscription of the run:
+        here it is said once per kind of error, and the spinning goes on."""
+        said: Set[str] = set()
+        while self.context.ok():
+            try:
+                self.executor.spin_once(timeout_sec=DESTROY_WAIT)
+            except Exception as exc:  # noqa: BLE001
+                if not self.context.ok():
+                    break       # the context shut down under it (a signal, the end of the run)
+                what = '%s: %s' % (type(exc).__name__, exc)
+                if what not in said:
+                    said.add(what)
+                    import traceback
+                    sys.stderr.write('sensorTest: a ROS 2 callback failed (%s); listening goes on\n%s'
+                                     % (what, traceback.format_exc()))
+            self._destroy_doomed()
+
+    def destroy(self, entity: Any) -> None:
+        """Destroy a subscription or publisher of this node on the spinning thread, within
+        DESTROY_WAIT s. Destroyed from another thread while the executor waits, Humble's rclpy
+        raises InvalidHandle in the wait ("cannot use Destroyable because destruction was
+        requested": the entity's QoS event handlers are in the wait set), which ends spin()
+        and every other subscription with it."""
+        if threading.current_thread() is self._thread or not self._thread.is_alive():
+            self._destroy_now(entity)
+            return
+        with self._doomed_lock:
+            self._doomed.append(entity)
+
+    def _destroy_doomed(self) -> None:
+        with self._doomed_lock:
+            doomed, self._doomed = self._doomed, []
+        for entity in doomed:
+            self._destroy_now(entity)
+
+    def _destroy_now(self, entity: Any) -> None:
+        from rclpy.subscription import Subscription
         try:
-            self.executor.spin()
-        except Exception:  # noqa: BLE001  (the context shut down under it)
+            if isinstance(entity, Subscription):
+                self.node.destroy_subscription(entity)
+            else:
+                self.node.destroy_publisher(entity)
+        except Exception:  # noqa: BLE001  (the context is already gone)
             pass
 
     @property
@@ -123,6 +172,7 @@ class Ros2LiveSource:
         self.msg_dir = msg_dir
         self.distro = os.environ.get('ROS_DISTRO') or None
         self.subs: Dict[Listener, Any] = {}
+        self.attached: Dict[Listener, List[bool]] = {}   # a window's flag its callback reads
         self.pending: Dict[Listener, float] = {}     # windows whose topic has no type yet
         self._last_conn: Dict[Listener, float] = {}
 
@@ -156,9 +206,10 @@ class Ros2LiveSource:
         from .ros2wire import is_own, msg_class
         pubs = self.graph.publishers(run.topic)
         reliable = bool(pubs) and all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in pubs)
+        latched = bool(pubs) and all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in pubs)
         qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=max(1, run.queue_size),
                          reliability=ReliabilityPolicy.RELIABLE if reliable else ReliabilityPolicy.BEST_EFFORT,
-                         durability=DurabilityPolicy.VOLATILE)
+                         durability=DurabilityPolicy.TRANSIENT_LOCAL if latched else DurabilityPolicy.VOLATILE)
         try:
             cls = msg_class(msgtype)
         except ImportError:
@@ -171,11 +222,14 @@ class Ros2LiveSource:
             return
         header = dict(converter.header(msgtype))
         ros1_type = header['type']
+        if len(pubs) == 1:
+            header['callerid'] = node_label(pubs[0])
 
         topic = run.topic
+        attached = self.attached.setdefault(run, [True])
 
         def callback(raw: bytes, run: Listener = run) -> None:
-            if is_own(topic, raw):       # this node's own /diagnostics
+            if not attached[0] or is_own(topic, raw):    # detached, or this node's /diagnostics
                 return
             run.feed_raw(ros1_type, converter.to_ros1(raw, msgtype), time.monotonic(),
                          self.graph.now(), header)
@@ -186,12 +240,10 @@ class Ros2LiveSource:
     def detach(self, run: Listener) -> None:
         self.pending.pop(run, None)
         self._last_conn.pop(run, None)
+        self.attached.pop(run, [True])[0] = False      # nothing reaches the window from now on
         sub = self.subs.pop(run, None)
         if sub is not None:
-            try:
-                self.graph.node.destroy_subscription(sub)
-            except Exception:  # noqa: BLE001  (the context is already gone)
-                pass
+            self.graph.destroy(sub)
 
     def poll(self, run: Listener, now: float) -> None:
         self._check()

@@ -112,6 +112,11 @@ class RawPublisher:
             self.pub.wait_for_all_acked(Duration(nanoseconds=int(linger * 1e9)))
         except Exception:  # noqa: BLE001  (best effort, or the context is gone)
             pass
+        from .live2 import current
+        graph = current()
+        if graph is not None and graph.node is self.node:
+            graph.destroy(self.pub)         # on the spinning thread (Ros2Graph.destroy)
+            return
         try:
             self.node.destroy_publisher(self.pub)
         except Exception:  # noqa: BLE001  (the context is already gone)

@@ -1,4 +1,5 @@
-"""The robot's transform tree as tf2 keeps it: a `tf2_ros.Buffer` fed from /tf and /tf_static.
+"""The robot's transform tree as tf2 keeps it: a `tf2_ros.Buffer` fed from /tf and /tf_static
+(on ROS 2, the same tf2 without rospy: tf2_py's BufferCore, see _ros2_tf2_core).
 
 This is the package's only module that imports tf2 (tf2_ros and its compiled tf2_py): a Python
 whose tf2 is built elsewhere replaces this one module. Every question the checks ask of the tree
@@ -19,11 +20,56 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 import genpy
 
 tf2_ros: Any = None
+tf2_core: Any = None        # ROS 2: tf2_py's BufferCore (see _ros2_tf2_core)
+
+
+def _ros2_tf2_core() -> Any:
+    """ROS 1's compiled tf2 (tf2_py, tf2's BufferCore) in a ROS 2 process. When first imported,
+    tf2_py keeps the modules `rospy` (for the Time it returns) and `geometry_msgs.msg` (for the
+    TransformStamped lookups return, and the Vector3 and Quaternion set_transform checks the
+    parts against: geometry2 tf2_py/src/tf2_py.cpp, staticInit and transform_converter). In a
+    ROS 2 environment those names are rclpy's and rosidl's, which it cannot fill; so for that
+    one import they stand for genpy's Time and Duration and the genpy classes the tree decodes
+    /tf with (messages.message_class), and ROS 2's own are put back right after. Nothing of
+    rospy runs: tf2_ros.Buffer is BufferCore plus rospy's services and waits, not used here."""
+    import struct
+    import sys
+    import types
+
+    from .messages import message_class
+    tfm = message_class('tf2_msgs/TFMessage')
+    one = tfm()
+    # one zero transform in ROS 1 bytes: its nested objects give the classes tf2_py checks
+    one.deserialize(struct.pack('<IIIIII7d', 1, 0, 0, 0, 0, 0, *([0.0] * 7)))
+    ts = one.transforms[0]
+    geometry = types.ModuleType('geometry_msgs.msg')
+    geometry.TransformStamped = type(ts)                      # type: ignore[attr-defined]
+    geometry.Transform = type(ts.transform)                   # type: ignore[attr-defined]
+    geometry.Vector3 = type(ts.transform.translation)         # type: ignore[attr-defined]
+    geometry.Quaternion = type(ts.transform.rotation)         # type: ignore[attr-defined]
+    clock = types.ModuleType('rospy')
+    clock.Time, clock.Duration = genpy.Time, genpy.Duration   # type: ignore[attr-defined]
+    names = ('rospy', 'geometry_msgs.msg')
+    saved = {n: sys.modules.get(n) for n in names}
+    sys.modules['rospy'], sys.modules['geometry_msgs.msg'] = clock, geometry
+    try:
+        return importlib.import_module('tf2_py').BufferCore
+    finally:
+        for n in names:
+            if saved[n] is None:
+                sys.modules.pop(n, None)
+            else:
+                sys.modules[n] = saved[n]   # type: ignore[assignment]
+
+
 if os.environ.get('ROS_VERSION', '').strip() == '2':
-    # ROS 2: ROS 1's tf2_ros (rospy, and tf2_py built against ROS 1's messages) cannot run next
-    # to rclpy; tf2 for ROS 2 (tf2_ros_py) is not used yet
-    TF2_MISSING = ('on ROS 2 this package judges no frame and no tree yet (ROS 1\'s tf2_ros is '
-                   'what it reads /tf with): no sensor\'s frame and no tree was judged')
+    try:
+        tf2_core = _ros2_tf2_core()
+        TF2_MISSING = ''
+    except ImportError as exc:      # tf2_py is ROS 1's, built for one Python (docs/ros2.md)
+        TF2_MISSING = ('tf2_py cannot be imported on this Python (%s): no sensor\'s frame and no '
+                       'tree was judged; fix: install ROS 1\'s tf2_py for this Python (Debian: '
+                       'python3-tf2, for /usr/bin/python3)' % exc)
 else:
     try:
         tf2_ros = importlib.import_module('tf2_ros')
@@ -88,8 +134,10 @@ class TfBuffer:
     """A tf2 buffer of `cache_time` seconds; thread-safe as tf2's BufferCore is (one mutex)."""
 
     def __init__(self, cache_time: float = CACHE_TIME) -> None:
-        # debug=False: no ~tf2_frames service (a bag run has no master)
-        self._buffer = tf2_ros.Buffer(cache_time=genpy.Duration.from_sec(cache_time), debug=False)
+        if tf2_core is not None:        # ROS 2: the core alone, the same methods
+            self._buffer = tf2_core(genpy.Duration.from_sec(cache_time))
+        else:       # debug=False: no ~tf2_frames service (a bag run has no master)
+            self._buffer = tf2_ros.Buffer(cache_time=genpy.Duration.from_sec(cache_time), debug=False)
         self.cache_time = cache_time
 
     def add(self, transforms: Sequence[Any], static: bool, authority: str) -> int:
