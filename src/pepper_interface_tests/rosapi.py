@@ -70,10 +70,10 @@ def publisher(topic: str, type_name: str, queue_size: Optional[int] = 10, latch:
 
 
 class _Subscription:
-    """An rclpy subscription handing genpy messages to `callback`."""
+    """An rclpy subscription handing genpy messages to `callback` (transient-local: `latched`)."""
 
     def __init__(self, topic: str, type_name: str, callback: Callable[[Any], None], queue_size: int,
-                 cls: Any = None) -> None:
+                 cls: Any = None, latched: bool = False) -> None:
         from .plan.settings import package_dir
         from .sources import ros2types
         from .sources.ros2wire import msg_class, ros2_type
@@ -96,7 +96,7 @@ class _Subscription:
                 return
             callback(m)
         self.sub = self.graph.node.create_subscription(msg_class(ros2), topic, on_raw,
-                                                       _qos(queue_size, False), raw=True)
+                                                       _qos(queue_size, latched), raw=True)
 
     def get_num_connections(self) -> int:
         """Publishers of the topic other than this node (rospy's count of connections)."""
@@ -111,11 +111,13 @@ class _Subscription:
 
 
 def subscriber(topic: str, type_name: str, callback: Callable[[Any], None], queue_size: int = 10,
-               cls: Any = None) -> Any:
+               cls: Any = None, latched: bool = False) -> Any:
     """A subscription handing genpy messages (of `cls` when given, else of msg(type_name)) to
-    `callback`; unregister() ends it."""
+    `callback`; unregister() ends it. `latched`: on ROS 2 transient-local, to get what a
+    transient-local publisher sent before (ROS 1 subscribers get a latched topic's last message
+    anyway)."""
     if ros_version() == 2:
-        return _Subscription(topic, type_name, callback, queue_size, cls)
+        return _Subscription(topic, type_name, callback, queue_size, cls, latched)
     import rospy
     return rospy.Subscriber(topic, cls or msg(type_name), callback, queue_size=queue_size)
 

@@ -159,3 +159,58 @@ def test_a_signal_during_a_base_turn_on_ros2_leaves_a_zero_twist_last(robot_fact
     data, rows = results(out)
     assert data['interrupted'] and rows['motion']['verdict'] == 'INTERRUPTED'
     assert any('zero /cmd_vel' in r for r in rows['motion']['reasons']), rows['motion']
+
+
+def test_ros2_parameters_set_options_and_the_run_says_where_they_came_from(robot_factory, tmp_path):
+    """`--ros-args -p` and `--params-file` set sensorTest's options as private params do on ROS 1
+    (the command line winning); naoqi_driver2's /info is volatile, so the identity is unknown
+    and the run says why."""
+    robot = robot_factory('--camera-resolution', 'QQVGA', '--audio', 'off')
+    params = tmp_path / 'params.yaml'
+    params.write_text('sensorTest:\n  ros__parameters:\n    mode: parallel\n    sensors: [laser, imu, odometry]\n')
+    out = tmp_path / 'out'
+    proc = robot.sensor_test(out, '--no-report', '--no-record', '--sensors', 'laser,imu',
+                             '--ros-args', '-p', 'duration:=3.0', '--params-file', str(params))
+    assert proc.wait(120) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
+    data, rows = results(out)
+    assert set(rows) == {'laser', 'imu'} and data['mode'] == 'parallel'
+    assert all(r['verdict'] == 'PASS' for r in rows.values()), rows
+    sources = data['param_sources']
+    assert set(sources) == {'mode', 'duration'}, sources       # --sensors on the command line won
+    assert sources['duration'].startswith('ROS 2 parameter duration'), sources
+    assert 'published volatile' in data['robot_info']['unknown'], data['robot_info']
+
+
+def test_a_bad_ros2_parameter_is_refused_by_name(tmp_path):
+    p = subprocess.run(program('sensorTest') + ['--output-dir', str(tmp_path / 'out'), '--no-history',
+                       '--ros-args', '-p', 'duration:=-1.0'], env=domain_env(), capture_output=True,
+                       text=True, timeout=60, stdin=subprocess.DEVNULL)
+    assert p.returncode == 2, p.stdout + p.stderr
+    assert 'ROS 2 parameter duration "-1.0" is not a positive number of seconds' in p.stderr, p.stderr
+    assert 'Traceback' not in p.stdout + p.stderr
+
+
+LATCHED_INFO = '''
+import sys, time, rclpy
+from rclpy.qos import DurabilityPolicy, QoSProfile
+from naoqi_bridge_msgs.msg import StringStamped
+rclpy.init()
+node = rclpy.create_node('naoqi_driver')
+pub = node.create_publisher(StringStamped, '/info', QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL))
+pub.publish(StringStamped(data='RobotConfig/Head/FullHeadId: HEAD1 ; Device/DeviceList/ChestBoard/BodyId: %s'
+                          % sys.argv[1]))
+print('info up', flush=True)
+rclpy.spin(node)
+'''
+
+
+def test_a_transient_local_info_topic_names_the_robot(robot_factory, tmp_path):
+    robot = robot_factory('--camera-resolution', 'QQVGA', '--audio', 'off', '--robot-id', 'none')
+    log = tmp_path / 'info.log'
+    robot.start([sys.executable, '-c', LATCHED_INFO, 'AP990370B0001234'], log, 'info up')
+    out = tmp_path / 'out'
+    proc = robot.sensor_test(out, '--no-report', '--no-record', '--sensors', 'laser', '--duration', '2')
+    assert proc.wait(120) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
+    data, _ = results(out)
+    assert data['robot_info']['body_id'] == 'AP990370B0001234' and data['robot_info']['topic'] == '/info', \
+        data['robot_info']

@@ -64,14 +64,21 @@ def info_text(values: Dict[str, str]) -> str:
     return ' ; '.join('%s: %s' % (k, values.get(k, '')) for k in INFO_KEYS)
 
 
+INFO_TOPIC_ROS2 = '/info'
+
+
 class InfoPublisher:
-    """The latched info message, published once (as the driver does)."""
+    """The info message, published once (as the driver does): latched on ROS 1; on ROS 2 on
+    naoqi_driver2's `/info`, volatile as its publisher is (src/publishers/basic.hpp:72, whatever
+    its comment at src/naoqi_driver.cpp:675-681 says), so a node started later never gets it."""
 
     def __init__(self, head: str, body_id: str) -> None:
         from .. import rosapi
         from ..sources.naoqi_msgs import STRING_STAMPED_TYPE, known_class
         cls = known_class(STRING_STAMPED_TYPE)
-        self.pub = rosapi.publisher(INFO_TOPIC, STRING_STAMPED_TYPE, queue_size=1, latch=True, cls=cls)
+        ros2 = rosapi.version() == 2
+        self.pub = rosapi.publisher(INFO_TOPIC_ROS2 if ros2 else INFO_TOPIC, STRING_STAMPED_TYPE,
+                                    queue_size=1, latch=not ros2, cls=cls)
         msg = cls()
         msg.header.stamp = rosapi.now()
         msg.data = info_text(identity_values(head, body_id))

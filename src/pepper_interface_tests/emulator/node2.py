@@ -52,9 +52,8 @@ def main2(argv: Optional[Sequence[str]] = None) -> int:
         from .fault_table import table
         print(table(max(60, shutil.get_terminal_size((80, 20)).columns - 1)))
         return 0
-    # no /naoqi_driver/info: naoqi_driver2 names it /info (src/naoqi_driver.cpp:685), and
-    # sensorTest reads no robot identity on ROS 2 yet
-    values = dict(profile='robot-stock', robot_id='none',
+    # the identity on naoqi_driver2's /info (src/naoqi_driver.cpp:683-692), once, volatile (info.py)
+    values = dict(profile='robot-stock',
                   topics_file=os.path.join(settings.package_dir(), 'data', TOPICS_FILE))
     values.update({k: v for k, v in vars(args).items() if v is not None and k != 'list_faults'})
     try:

@@ -212,9 +212,10 @@ def from_args(ns: argparse.Namespace) -> Options:
     return Options(**values)
 
 
-def from_params(get_param: Callable[..., Any]) -> Options:
+def from_params(get_param: Callable[..., Any], what: Callable[[str], str] = lambda name: '~' + name) -> Options:
     """Private ROS params (~mode, ~duration, ...) -> Options; `get_param(key, default)` as
-    rospy.get_param. An empty value counts as not given."""
+    rospy.get_param. An empty value counts as not given. `what(name)`: how an error names the
+    param (ROS 1's ~name; a ROS 2 parameter on ROS 2)."""
     values: Dict[str, Any] = {}
     for name in PARAMS:
         v = get_param('~' + name, None)
@@ -222,9 +223,9 @@ def from_params(get_param: Callable[..., Any]) -> Options:
             continue
         kind = KINDS[name]
         if kind == ON:
-            v = parse_bool(v, key='~' + name)
+            v = parse_bool(v, key=what(name))
         elif kind == SECONDS:
-            v = positive_seconds(v, '~' + name)
+            v = positive_seconds(v, what(name))
         elif kind == NAMES:
             v = sensor_names(v)
         else:

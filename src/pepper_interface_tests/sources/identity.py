@@ -22,6 +22,13 @@ only published if publishing is enabled at that moment (line 202); init() starts
 158) before setMasterURINet enables publishing (line 1041), the likely cause. A run then says
 the identity is unknown.
 
+On ROS 2, naoqi_driver2 registers the same converter on `/info` (src/naoqi_driver.cpp:683-692),
+and its comment says latched (:675-681), but the publisher is its BasicPublisher's plain
+`create_publisher<T>(topic, 10)` (src/publishers/basic.hpp:72, info.hpp): volatile. The one
+message goes out at start-up and a node started later never receives it. read_live2 follows the
+behaviour: it reads /info only from a transient-local publisher, and otherwise says why the
+identity is unknown.
+
 The lookup never hangs or fails a run: the master is asked which topic of that type is
 published (one call), the latched message is awaited for at most WAIT seconds, and anything
 that goes wrong leaves the identity unknown with the reason.
@@ -117,6 +124,41 @@ def read_live(caller_id: str, wait: float = WAIT) -> Identity:
             # naoqi_driver sends it once, at start-up, and sometimes never (docs/drift.md)
             return unknown('%s is advertised but sent nothing within %g s (naoqi_driver sends it once at '
                            'start-up, and not always)' % (topic, wait))
+        return from_text(got['data'], topic)
+    except Exception as e:     # the identity is a nicety: it never stops a run
+        return unknown('cannot read the driver\'s info topic: %s: %s' % (type(e).__name__, e))
+
+
+def read_live2(graph: Any, wait: float = WAIT) -> Identity:
+    """The identity the driver on the ROS 2 graph publishes (sources/live2.Ros2Graph)."""
+    try:
+        from rclpy.qos import DurabilityPolicy
+
+        from .. import rosapi
+        from .ros2types import ros1_name
+        published = [(t, ros1_name(kinds[0])) for t, kinds in graph.topic_types().items() if kinds]
+        topic = info_topic(published)
+        if topic is None:
+            return unknown('no driver publishes an info topic (naoqi_bridge_msgs/StringStamped)')
+        pubs = graph.publishers(topic)
+        if not pubs or any(p.qos_profile.durability != DurabilityPolicy.TRANSIENT_LOCAL for p in pubs):
+            return unknown('%s is published volatile: naoqi_driver2 sends it once at start-up '
+                           '(src/publishers/basic.hpp:72), so a node started later never receives it'
+                           % topic)
+        got: Dict[str, str] = {}
+        event = threading.Event()
+
+        def take(msg: Any) -> None:
+            got.setdefault('data', str(msg.data))
+            event.set()
+
+        sub = rosapi.subscriber(topic, STRING_STAMPED_TYPE, take, queue_size=1, latched=True)
+        try:
+            event.wait(wait)
+        finally:
+            sub.unregister()
+        if 'data' not in got:
+            return unknown('%s is published but sent nothing within %g s' % (topic, wait))
         return from_text(got['data'], topic)
     except Exception as e:     # the identity is a nicety: it never stops a run
         return unknown('cannot read the driver\'s info topic: %s: %s' % (type(e).__name__, e))

@@ -59,17 +59,22 @@ def current() -> Optional['Ros2Graph']:
 class Ros2Graph:
     """One rclpy context and node for sensorTest, spun in a thread of its own."""
 
-    def __init__(self, name: str = NODE_NAME, args: Optional[List[str]] = None) -> None:
+    def __init__(self, name: str = NODE_NAME, args: Optional[List[str]] = None,
+                 parameters: bool = False) -> None:
+        """`parameters`: the node takes every parameter given to it (`--ros-args -p name:=value`
+        or `--params-file FILE`), to be read with parameter()."""
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
         self.context = rclpy.Context()
         rclpy.init(args=args, context=self.context)
-        self.node = rclpy.create_node(name, context=self.context,
-                                      start_parameter_services=False)
+        self.node = rclpy.create_node(name, context=self.context, start_parameter_services=False,
+                                      allow_undeclared_parameters=parameters,
+                                      automatically_declare_parameters_from_overrides=parameters)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self._doomed: List[Any] = []        # subscriptions and publishers to destroy (destroy())
         self._doomed_lock = threading.Lock()
+        self._stopping = threading.Event()
         self._thread = threading.Thread(target=self._spin, daemon=True, name='rclpy-spin')
         self._thread.start()
         global _current
@@ -80,7 +85,7 @@ class Ros2Graph:
         An error in a callback ends rclpy's spin(), and with it every subscription of the run:
         here it is said once per kind of error, and the spinning goes on."""
         said: Set[str] = set()
-        while self.context.ok():
+        while self.context.ok() and not self._stopping.is_set():
             try:
                 self.executor.spin_once(timeout_sec=DESTROY_WAIT)
             except Exception as exc:  # noqa: BLE001
@@ -130,6 +135,12 @@ class Ros2Graph:
     def ok(self) -> bool:
         return self.context.ok()
 
+    def parameter(self, name: str) -> Any:
+        """The value of the node's parameter `name`; None when it was not given."""
+        if not self.node.has_parameter(name):
+            return None
+        return self.node.get_parameter(name).value
+
     def now(self) -> float:
         return self.node.get_clock().now().nanoseconds / 1e9
 
@@ -147,6 +158,12 @@ class Ros2Graph:
         return out
 
     def shutdown(self) -> None:
+        """Stop the spinning thread and wait for it (at most a second): a thread still inside
+        rclpy's wait when the process exits aborts it ("terminate called without an active
+        exception", exit -6 in place of the run's code). Then the executor, node and context."""
+        self._stopping.set()
+        if self._thread is not threading.current_thread():
+            self._thread.join(1.0)
         try:
             self.executor.shutdown(timeout_sec=0.5)
             self.node.destroy_node()
