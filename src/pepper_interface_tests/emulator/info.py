@@ -76,9 +76,10 @@ class InfoPublisher:
         from .. import rosapi
         from ..sources.naoqi_msgs import STRING_STAMPED_TYPE, known_class
         cls = known_class(STRING_STAMPED_TYPE)
-        ros2 = rosapi.version() == 2
-        self.pub = rosapi.publisher(INFO_TOPIC_ROS2 if ros2 else INFO_TOPIC, STRING_STAMPED_TYPE,
-                                    queue_size=1, latch=not ros2, cls=cls)
+        if rosapi.version() == 2:
+            self.pub = rosapi.publisher(INFO_TOPIC_ROS2, STRING_STAMPED_TYPE, queue_size=1, cls=cls)
+        else:
+            self.pub = rosapi.publisher(INFO_TOPIC, STRING_STAMPED_TYPE, queue_size=1, latch=True, cls=cls)
         msg = cls()
         msg.header.stamp = rosapi.now()
         msg.data = info_text(identity_values(head, body_id))
