@@ -60,7 +60,8 @@ def publisher(topic: str, type_name: str, queue_size: Optional[int] = 10, latch:
     msg(type_name)."""
     if ros_version() == 2:
         from .sources.ros2wire import RawPublisher
-        return RawPublisher(_graph().node, topic, type_name, _qos(queue_size or 10, latch))
+        graph = _graph()
+        return RawPublisher(graph.node, topic, type_name, _qos(queue_size or 10, latch), destroy=graph.destroy)
     import warnings
 
     import rospy

@@ -197,7 +197,7 @@ class Ros2Updater:
         self.classes = {n: messages.message_class('diagnostic_msgs/' + n)
                         for n in ('DiagnosticArray', 'DiagnosticStatus', 'KeyValue')}
         self.publisher = ros2wire.RawPublisher(graph.node, '/diagnostics', 'diagnostic_msgs/DiagnosticArray',
-                                               10, remember=True)
+                                               10, remember=True, destroy=graph.destroy)
         self.now = graph.now
 
     def setHardwareID(self, hwid: str) -> None:  # noqa: N802  (diagnostic_updater's name)

@@ -85,8 +85,12 @@ class RawPublisher:
     get_num_connections and unregister)."""
 
     def __init__(self, node: Any, topic: str, ros1_type: str, qos: Any = 10,
-                 msg_dir: Optional[str] = None, remember: bool = False) -> None:
+                 msg_dir: Optional[str] = None, remember: bool = False,
+                 destroy: Optional[Any] = None) -> None:
+        """`destroy(publisher)`: how unregister() destroys it (live2.Ros2Graph.destroy: on the
+        spinning thread); the node's destroy_publisher when not given."""
         self.node = node
+        self.destroy = destroy
         self.topic = self.name = topic
         self.remember = remember
         self.store = typestore(msg_dir or default_msg_dir(), os.environ.get('ROS_DISTRO') or None)
@@ -112,10 +116,8 @@ class RawPublisher:
             self.pub.wait_for_all_acked(Duration(nanoseconds=int(linger * 1e9)))
         except Exception:  # noqa: BLE001  (best effort, or the context is gone)
             pass
-        from .live2 import current
-        graph = current()
-        if graph is not None and graph.node is self.node:
-            graph.destroy(self.pub)         # on the spinning thread (Ros2Graph.destroy)
+        if self.destroy is not None:
+            self.destroy(self.pub)
             return
         try:
             self.node.destroy_publisher(self.pub)
