@@ -32,6 +32,7 @@ from audio_chain import (
 )
 from check_runs import ROBOT
 from pepper_interface_tests.audio_bridge import frame as fr
+from pepper_interface_tests.audio_bridge.publisher import STATS_INTERVAL
 from pepper_interface_tests.emulator.audio_source import (
     CHANNEL_NAMES,
     CHANNEL_TONES_HZ,
@@ -172,9 +173,11 @@ def test_chain_counter_is_sample_exact_in_the_right_fields(procs, master, tmp_pa
     assert layout in p['publisher'].log()
     # What NAOqi was asked for, as the endpoint saw it (naoqi_driver asks for interleaved).
     assert 'SoundProcessingModule subscribed: channels ALL, %s' % layout in p['endpoint'].log()
-    stats = get_param(master, STATS)
+    # ~stats is written once a second (audio_bridge/publisher.py STATS_INTERVAL): the last
+    # buffers reach the dump before the count that includes them reaches the server
+    stats = wait_until(lambda: (lambda s: s if s['published'] >= len(blocks) else None)(get_param(master, STATS)),
+                       3 * STATS_INTERVAL, lambda: 'published %s < %d dumped' % (get_param(master, STATS), len(blocks)))
     assert stats['lost_in_gaps'] == 0 and stats['dropped_bad'] == 0
-    assert stats['published'] >= len(blocks)
 
 
 def test_chain_tones_identify_each_field_and_a_dead_microphone(procs, master, tmp_path):

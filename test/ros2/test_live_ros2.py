@@ -156,3 +156,25 @@ def test_windows_ending_while_messages_flow_leave_the_others_listening(tmp_path)
     fed = [int(line.split()[-1]) for line in p.stdout.splitlines() if line.startswith('last fed')]
     assert fed and fed[0] > 0, p.stdout + p.stderr
     assert 'callback failed' not in p.stderr, p.stderr
+
+
+ROS1_FIRST = '''
+import struct
+from pepper_interface_tests.sources import tf_buffer
+from pepper_interface_tests.sources.messages import message_class
+cls = message_class('tf2_msgs/TFMessage')
+one = cls()
+one.deserialize(struct.pack('<IIIIII7d', 1, 0, 0, 0, 0, 0, *([0.0] * 7)))
+print('module', cls.__module__, 'missing', repr(tf_buffer.TF2_MISSING), flush=True)
+'''
+
+
+def test_a_ros1_message_package_first_on_the_path_is_not_used_on_ros2():
+    """Debian's python3-tf2-msgs (ROS 1, genpy) first on the path: its TFMessage imports its
+    Header by name and finds ROS 2's, which broke every sensorTest start on a machine without
+    ROS 2's tf2_msgs. On ROS 2 every genpy class is built from its definition."""
+    env = domain_env()
+    env['PYTHONPATH'] = '/usr/lib/python3/dist-packages' + os.pathsep + env.get('PYTHONPATH', '')
+    p = subprocess.run([sys.executable, '-c', ROS1_FIRST], env=env, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert "missing ''" in p.stdout and 'module tf2_msgs' not in p.stdout, p.stdout

@@ -26,7 +26,9 @@ if [ ! -f "$WS/install/setup.bash" ] || [ "$(cat "$STAMP" 2>/dev/null)" != "$has
     export ROS_VERSION=2
     for pkg in naoqi_bridge_msgs tf2_msgs; do
       rm -rf "${WS:?}/src/$pkg"
-      if ! python3 -c "import $pkg.msg" 2>/dev/null; then
+      # ROS 2's own package, by the ament index: `import tf2_msgs.msg` also finds ROS 1's
+      # (Debian's python3-tf2-msgs), which a ROS 2 node cannot use
+      if ! python3 -c "from ament_index_python.packages import get_package_prefix; get_package_prefix('$pkg')" 2>/dev/null; then
         "$ROOT/.venv/bin/python" tools/ros2/msg_packages.py "$WS/src" "$pkg" >/dev/null
       fi
     done

@@ -1,4 +1,5 @@
 """ROS message classes by type name, for decoding what a source delivers as raw bytes."""
+import os
 from typing import TYPE_CHECKING, Optional, Type
 
 if TYPE_CHECKING:
@@ -15,6 +16,10 @@ def message_class(type_name: str, definition: Optional[str] = None) -> Type['gen
         type_name = 'pepper_interface_tests/AudioCustomMsg'
     pkg, name = type_name.split('/')
     try:
+        if os.environ.get('ROS_VERSION', '').strip() == '2':
+            # ROS 2: a ROS 1 (genpy) package on the path (Debian's python3-tf2-msgs) imports
+            # its nested types by name, and finds ROS 2's: built from the definition instead
+            raise ImportError(type_name)
         module = __import__(pkg + '.msg', fromlist=[name])
         cls = getattr(module, name)
         if hasattr(cls, '_md5sum'):
@@ -38,8 +43,6 @@ def message_class(type_name: str, definition: Optional[str] = None) -> Type['gen
 def _own_definition(type_name: str) -> Optional[str]:
     """The text of this package's own msg/<Name>.msg (AudioCustomMsg: plain arrays, no nested
     type), for a ROS 2 environment where pepper_interface_tests.msg is rosidl's."""
-    import os
-
     from ..plan.settings import package_dir
     pkg, name = type_name.split('/')
     if pkg != 'pepper_interface_tests':

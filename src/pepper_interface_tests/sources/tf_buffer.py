@@ -70,6 +70,9 @@ if os.environ.get('ROS_VERSION', '').strip() == '2':
         TF2_MISSING = ('tf2_py cannot be imported on this Python (%s): no sensor\'s frame and no '
                        'tree was judged; fix: install ROS 1\'s tf2_py for this Python (Debian: '
                        'python3-tf2, for /usr/bin/python3)' % exc)
+    except Exception as exc:  # noqa: BLE001  (the tree is one row: it never stops a run)
+        TF2_MISSING = ('tf2 could not be set up on ROS 2 (%s: %s): no sensor\'s frame and no tree '
+                       'was judged' % (type(exc).__name__, exc))
 else:
     try:
         tf2_ros = importlib.import_module('tf2_ros')
