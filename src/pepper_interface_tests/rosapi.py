@@ -141,7 +141,7 @@ def _log(level: str, text: str, *args: Any) -> None:
             logger.error(message)
         return
     import rospy
-    getattr(rospy, 'log' + level)(text, *args)
+    getattr(rospy, 'logerr' if level == 'error' else 'log' + level)(text, *args)   # rospy.logerr
 
 
 def loginfo(text: str, *args: Any) -> None:
