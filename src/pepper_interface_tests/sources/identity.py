@@ -35,7 +35,7 @@ that goes wrong leaves the identity unknown with the reason.
 """
 import threading
 from dataclasses import dataclass, field
-from typing import Any, Dict, Iterable, Optional, Sequence
+from typing import Any, Callable, Dict, Iterable, Optional, Sequence
 
 from .naoqi_msgs import STRING_STAMPED_TYPE
 
@@ -108,23 +108,13 @@ def read_live(caller_id: str, wait: float = WAIT) -> Identity:
         topic = info_topic(rosgraph.Master(caller_id).getPublishedTopics(''))
         if topic is None:
             return unknown('no driver publishes an info topic (naoqi_bridge_msgs/StringStamped)')
-        got: Dict[str, str] = {}
-        event = threading.Event()
-
-        def take(msg: Any) -> None:
-            got.setdefault('data', str(msg.data))
-            event.set()
-
-        sub = rospy.Subscriber(topic, known_class(STRING_STAMPED_TYPE), take, queue_size=1)
-        try:
-            event.wait(wait)
-        finally:
-            sub.unregister()
-        if 'data' not in got:
+        got = _first_data(lambda take: rospy.Subscriber(topic, known_class(STRING_STAMPED_TYPE), take,
+                                                        queue_size=1), wait)
+        if got is None:
             # naoqi_driver sends it once, at start-up, and sometimes never (docs/drift.md)
             return unknown('%s is advertised but sent nothing within %g s (naoqi_driver sends it once at '
                            'start-up, and not always)' % (topic, wait))
-        return from_text(got['data'], topic)
+        return from_text(got, topic)
     except Exception as e:     # the identity is a nicety: it never stops a run
         return unknown('cannot read the driver\'s info topic: %s: %s' % (type(e).__name__, e))
 
@@ -145,20 +135,28 @@ def read_live2(graph: Any, wait: float = WAIT) -> Identity:
             return unknown('%s is published volatile: naoqi_driver2 sends it once at start-up '
                            '(src/publishers/basic.hpp:72), so a node started later never receives it'
                            % topic)
-        got: Dict[str, str] = {}
-        event = threading.Event()
-
-        def take(msg: Any) -> None:
-            got.setdefault('data', str(msg.data))
-            event.set()
-
-        sub = rosapi.subscriber(topic, STRING_STAMPED_TYPE, take, queue_size=1, latched=True)
-        try:
-            event.wait(wait)
-        finally:
-            sub.unregister()
-        if 'data' not in got:
+        got = _first_data(lambda take: rosapi.subscriber(topic, STRING_STAMPED_TYPE, take, queue_size=1,
+                                                         latched=True), wait)
+        if got is None:
             return unknown('%s is published but sent nothing within %g s' % (topic, wait))
-        return from_text(got['data'], topic)
+        return from_text(got, topic)
     except Exception as e:     # the identity is a nicety: it never stops a run
         return unknown('cannot read the driver\'s info topic: %s: %s' % (type(e).__name__, e))
+
+
+def _first_data(subscribe: Callable[[Callable[[Any], None]], Any], wait: float) -> Optional[str]:
+    """The `data` of the first message a subscription (`subscribe(callback)`, unregistered
+    after) delivers within `wait` s; None when none came."""
+    got: Dict[str, str] = {}
+    event = threading.Event()
+
+    def take(msg: Any) -> None:
+        got.setdefault('data', str(msg.data))
+        event.set()
+
+    sub = subscribe(take)
+    try:
+        event.wait(wait)
+    finally:
+        sub.unregister()
+    return got.get('data')
