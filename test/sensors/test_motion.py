@@ -238,6 +238,39 @@ def test_a_robot_that_may_not_move_is_not_moved_and_says_why(module_master, tmp_
         assert rows[name]['verdict'] != 'FAIL', (name, rows[name]['reasons'])
 
 
+def test_a_resting_robot_whose_diagnostics_come_late_is_still_not_moved(module_master, tmp_path):
+    """naoqi_driver's /diagnostics comes at 1 Hz, and on a loaded machine its first message may
+    come after witness_wait: the checks before moving wait for it (DIAGNOSTICS_WAIT), so a
+    resting robot is not sent a turn it ignores and its base is not called broken."""
+    topic = '/late/diagnostics'
+    lines = [ln for ln in open(os.path.join(PKG, 'data', 'pepperTopics.dat')).read().splitlines()
+             if not ln.startswith(('StereoCamera ', 'DepthCamera ', 'RobotHealth '))]
+    (tmp_path / 'topics.dat').write_text('\n'.join(lines + ['RobotHealth %s' % topic]) + '\n')
+    log = tmp_path / 'late.log'
+    robot = Robot(module_master, tmp_path, ['_faults:=robot:resting'])
+    try:
+        with open(str(log), 'w') as out:   # its first message 1.5 s after sensorTest subscribes
+            late = spawn([sys.executable, os.path.join(NODES, 'late_diagnostics.py'), topic, '1.5'],
+                         module_master.env(), stdout=out, stderr=subprocess.STDOUT)
+        try:
+            wait_until(lambda: 'diagnostics up' in log.read_text(), 30, log.read_text)
+            proc, out_dir = sensor_test(module_master, tmp_path, '--topics', str(tmp_path / 'topics.dat'),
+                                        sensors=BASE + ',frontSonar',
+                                        expect=expectations(tmp_path, **QUICK))   # witness_wait 1.0
+            try:
+                proc.wait(90)
+            finally:
+                kill_group(proc)
+        finally:
+            kill_group(late)
+    finally:
+        robot.stop()
+    _, rows = results(out_dir)
+    motion = rows['motion']
+    assert motion['verdict'] == 'SKIPPED' and 'wake it up' in motion['reasons'][0], motion['reasons']
+    assert not [r for r in robot.received() if r['topic'] == GOAL]
+
+
 @pytest.mark.parametrize('kind, key, words', [
     ('sonar', 'FrontSonar', 'obstacle closer than 0.30 m: the front sonar sees something 0.20 m away'),
     ('bumper', 'Bumper', 'the back bumper is pressed'),

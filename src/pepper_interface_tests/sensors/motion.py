@@ -32,6 +32,12 @@ if TYPE_CHECKING:
     from .base import RunContext
 
 CONFIRM_WAIT = 120.0    # s a person has to press Enter before the motion is skipped
+# s the checks before moving wait beyond witness_wait for naoqi_driver's first /diagnostics
+# (the joints' Stiffness) when the run listens to it: it comes at 1 Hz (naoqi_driver
+# share/boot_config.json "diag" "frequency": 1), so three periods, which leaves room for a
+# subscription that connects late on a loaded machine. Deciding without it would send a
+# resting robot commands it ignores, and call its base broken.
+DIAGNOSTICS_WAIT = 3.0
 
 
 def _asks(ctx: 'RunContext') -> bool:
@@ -63,7 +69,8 @@ class MotionCheck(Check):
 
     def window(self, duration: float) -> float:
         e = self.expect
-        return e.witness_wait + 5 * e.step_timeout + (CONFIRM_WAIT if _asks(self.ctx) else 0.0)
+        return (e.witness_wait + DIAGNOSTICS_WAIT + 5 * e.step_timeout
+                + (CONFIRM_WAIT if _asks(self.ctx) else 0.0))
 
     def start(self) -> None:
         self.commands = Commands(self.clock)
@@ -85,10 +92,20 @@ class MotionCheck(Check):
             self._done = True
             raise
 
+    def _awaits_diagnostics(self, elapsed: float) -> bool:
+        """Still waiting for the joints' stiffness: the run listens to /diagnostics, none of its
+        joint statuses has come yet, and DIAGNOSTICS_WAIT has not run out."""
+        w = self.witnesses
+        listens = w is not None and 'robotHealth' in w.topics
+        return (listens and not self.rec.stiffness
+                and elapsed < self.expect.witness_wait + DIAGNOSTICS_WAIT)
+
     def _poll(self, seq: Sequence, elapsed: float) -> None:
         now = self.clock()
         if seq.state == 'listen':
             if elapsed < self.expect.witness_wait:
+                return
+            if self._awaits_diagnostics(elapsed):
                 return
             seq.prepare(bool(heard_of(self.rec, 'laser')),
                         bool(heard_of(self.rec, 'frontSonar') or heard_of(self.rec, 'backSonar')),
@@ -96,7 +113,7 @@ class MotionCheck(Check):
             if not self.rec.stiffness:
                 self.notes.append('stiffness not checked before moving: no naoqi_driver joint status '
                                   '(Stiffness) arrived on /diagnostics within %.1f s'
-                                  % self.expect.witness_wait)
+                                  % elapsed)
             if not seq.steps:
                 self._done = True
                 seq.state = 'done'
