@@ -261,3 +261,49 @@ def test_the_emulator_audio_matches_the_real_driver(recorded_bags):
         # as it came, no reordering, no copy of one channel into the others
         got = _tone_order(msgs[len(msgs) // 2][0])
         assert all(abs(g - w) < 20 for g, w in zip(got, tones)), (name, got, tones)
+
+
+@pytest.mark.parametrize('bag', ['healthy_stereo', 'move'])
+def test_the_emulator_tree_is_the_real_drivers_tf(bag):
+    """The emulator's /tf (emulator/urdf_tree.py driver_tree at a joint state's positions, and
+    odom -> base_link) against the /tf the real naoqi_driver published with that joint state
+    (tools/real-driver/record-golden.sh): the same 84 parent-child pairs, one root, the same
+    stamp as the joint state, and every transform the same to 1e-5 m and 1e-5 in each quaternion
+    component (the URDF's numbers, printed by the driver as float64). In `move` the head and the
+    base turn, so the moving joints are compared away from zero too."""
+    import rosbag
+
+    from pepper_interface_tests.emulator.urdf_tree import driver_tree
+    with rosbag.Bag(os.path.join(GOLDEN, bag + '.bag')) as b:
+        states = {}
+        trees = []
+        for topic, m, _ in b.read_messages(topics=['/joint_states', '/tf']):
+            if topic == '/joint_states':
+                states[m.header.stamp.to_nsec()] = dict(zip(m.name, m.position))
+            else:
+                trees.append(m)
+    assert len(trees) > 100, len(trees)
+    compared, head_yaws = 0, set()
+    for m in trees:
+        stamps = {x.header.stamp.to_nsec() for x in m.transforms if x.header.frame_id != 'odom'}
+        assert len(stamps) == 1, stamps                      # one stamp: the joint state's
+        positions = states.get(stamps.pop())
+        if positions is None:
+            continue
+        real = {(x.header.frame_id, x.child_frame_id): x.transform for x in m.transforms}
+        assert len(real) == 84 and ('odom', 'base_link') in real, len(real)
+        emulated = {(p, c): (xyz, q) for p, c, xyz, q in driver_tree(positions)}
+        assert set(emulated) == set(real) - {('odom', 'base_link')}
+        for pair, (xyz, q) in emulated.items():
+            t = real[pair]
+            got = (t.translation.x, t.translation.y, t.translation.z)
+            assert max(abs(a - b) for a, b in zip(got, xyz)) < 1e-5, (pair, got, xyz)
+            r = (t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w)
+            same = max(abs(a - b) for a, b in zip(r, q))
+            flipped = max(abs(a + b) for a, b in zip(r, q))       # q and -q: the same rotation
+            assert min(same, flipped) < 1e-5, (pair, r, q)
+        head_yaws.add(round(positions['HeadYaw'], 1))
+        compared += 1
+    assert compared > 100, compared
+    if bag == 'move':
+        assert max(abs(y) for y in head_yaws) >= 0.4, head_yaws
