@@ -123,6 +123,38 @@ def test_level_monitor_compares_with_the_baseline():
     assert m.heard(200.0, 201.0) == {'heard': False, 'rise_db': None, 'why': 'no microphone data while speaking'}
 
 
+def test_a_prompt_spoken_during_the_baseline_does_not_hide_the_sentence():
+    """A guided run: the guide's prompt plays through the same loudspeaker over most of the
+    baseline (its words with short gaps); the sentence after it is as loud as the prompt and
+    is heard over the room's floor, which shows in the gaps and before the prompt. A baseline
+    that is only the prompt (no gap, nothing before it) is not a floor, and the same sentence
+    is then not heard."""
+    from pepper_interface_tests.sensors.audio import LevelMonitor
+    rng = np.random.default_rng(1)
+    period = 8192 / 48000.0                    # naoqi_driver's stock AudioBuffer
+    for gaps in (True, False):
+        m = LevelMonitor('/unused')
+        for k in range(36):                    # 6.1 s; the sentence from t = 103.1
+            t = 100.0 + k * period
+            prompt = (101.0 if gaps else 0.0) <= t < 103.1 and not (gaps and k % 4 == 0)
+            amp = 1500.0 if prompt or t >= 103.1 else 100.0
+            m.add([rng.normal(0, amp, 8192).astype(np.int16) for _ in range(4)], t)
+        got = m.heard(103.1, 106.0)
+        if gaps:    # 9 of 12 baseline buffers are the prompt: the median is the prompt's level
+            assert got['heard'] and got['rise_db'] > 20, got
+        else:
+            assert not got['heard'], got
+
+
+def test_the_baseline_waits_for_enough_of_the_room():
+    from pepper_interface_tests.sensors.audio import LevelMonitor
+    m = LevelMonitor('/unused')
+    for k in range(8):                         # 8 buffers over 1.2 s
+        m.add([np.full(4096, 100, dtype=np.int16)] * 4, 100.0 + k * 0.17)
+    assert not m.has_baseline(now=101.2)
+    assert m.has_baseline(now=101.6)
+
+
 # ---------------------------------------------------------------- real ROS
 
 def test_level_monitor_on_a_real_topic(module_master, tmp_path):

@@ -394,9 +394,21 @@ class LevelMonitor:
     `start()` subscribes to the microphone topic (its own subscriber, AudioCustomMsg or AudioBuffer, any package
     name), and keeps the last `history` seconds of per-buffer levels (RMS over the four
     channels, dBFS) with their time.monotonic() receive times. `heard(t0, t1)` compares the
-    loudest buffer in [t0, t1] with the median level of the `baseline` seconds before t0: a rise
+    loudest buffer in [t0, t1] with the room's floor in the `baseline` seconds before t0: a rise
     of `rise_db` (default 6 dB) or more counts as heard.
+
+    The floor is the FLOOR_SHARE quantile of those levels, not their median: in a guided run the
+    guide's prompts ("Touch the front of my head") go out through the same loudspeaker while the
+    baseline is taken, and a prompt filling half of it raised the median by 4-7 dB (the speech
+    check then measured 5.8-6.5 dB for a sentence that rose 11-13 dB above the quiet room). The
+    gaps between words and prompts still show the floor in the quieter fifth of the buffers.
+    `has_baseline` wants MIN_BASELINE s of levels, so that there are such gaps to find.
     """
+
+    FLOOR_SHARE = 0.2
+    # s of levels before the sentence may go out: 9 of NAOqi's 8192-sample buffers at 48 kHz
+    # (naoqi_driver's stock AudioBuffer), 18 of the bridge's 4096
+    MIN_BASELINE = 1.5
 
     def __init__(self, topic: str, history: float = 120.0, baseline: float = 3.0, rise_db: float = 6.0) -> None:
         self.topic = topic
@@ -446,8 +458,11 @@ class LevelMonitor:
             return [lv for t, lv in self._levels if a <= t <= b]
 
     def has_baseline(self, now: Optional[float] = None) -> bool:
+        """At least 5 levels, the oldest MIN_BASELINE s or more before `now`."""
         now = time.monotonic() if now is None else now
-        return len(self._between(now - self.baseline, now)) >= 5
+        with self._lock:
+            times = [t for t, _ in self._levels if now - self.baseline <= t <= now]
+        return len(times) >= 5 and now - times[0] >= self.MIN_BASELINE
 
     def heard(self, t0: float, t1: float) -> Dict[str, Any]:
         before = self._between(t0 - self.baseline, t0)
@@ -456,7 +471,7 @@ class LevelMonitor:
             return {'heard': False, 'rise_db': None, 'why': 'no microphone data while speaking'}
         if not before:
             return {'heard': False, 'rise_db': None, 'why': 'no microphone data before speaking'}
-        base = float(np.median(before))
+        base = float(sorted(before)[int(self.FLOOR_SHARE * (len(before) - 1))])   # -inf too
         loud = max(during)
         if not math.isfinite(loud):
             return {'heard': False, 'rise_db': None, 'why': 'microphones silent while speaking'}
