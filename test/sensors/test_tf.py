@@ -5,9 +5,15 @@ tf2 (sensors/frames.py) and judges the tree on the tf row (sensors/tf.py).
 * healthy robot and simulator: every frame placed, the tf row passes, no frame reason anywhere;
 * each tree fault of the emulator is caught on its row(s) and nowhere else.
 """
+import json
+import os
+import subprocess
+import time
+
 import pytest
 
 from emulator_runs import run
+from rosmaster import kill_group, script, spawn, wait_until
 
 ROBOT = ['frontCamera', 'bottomCamera', 'depthCamera', 'laser', 'imu', 'odometry', 'frontSonar',
          'jointState', 'tf']
@@ -74,6 +80,37 @@ def test_each_tree_fault_is_caught_on_the_tf_row_only(master, tmp_path, fault, w
         s = res[name]
         assert s['verdict'] == 'PASS', (fault, name, s['reasons'])
         assert not frame_reasons(s), (fault, name, s['warnings'])
+
+
+def test_a_second_publisher_recorded_by_rosbag_record_is_named_in_the_bag(master, tmp_path):
+    """rosbag record keeps one connection per publishing node, with its callerid: the emulator's
+    second publisher (tf:second_publisher, a node named robot_state_publisher) recorded next to
+    its tree is named on the tf row of sensorTest --bag as it is live."""
+    log_path = tmp_path / 'emulator.log'
+    with open(str(log_path), 'w') as log:
+        emu = spawn(script('pepperEmulator') + ['__name:=naoqi_driver'] + emulator(faults='tf:second_publisher'),
+                    master.env(), stdout=log, stderr=subprocess.STDOUT)
+        try:
+            wait_until(lambda: 'publishers up' in log_path.read_text(), 30, log_path.read_text)
+            time.sleep(1.0)
+            bag = str(tmp_path / 'second.bag')
+            subprocess.run(['rosbag', 'record', '--duration=4', '-O', bag, '/tf', '/joint_states',
+                            '/naoqi_driver/camera/front/image_raw'], env=master.env(), timeout=60,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        finally:
+            kill_group(emu)
+    out = tmp_path / 'out'
+    done = subprocess.run(script('sensorTest') + ['--bag', bag, '--platform', 'robot', '--sensors', 'frontCamera,tf',
+                                                  '--output-dir', str(out), '--no-history', '--no-report'],
+                          env=dict(os.environ, ROS_MASTER_URI='http://127.0.0.1:1'), capture_output=True,
+                          text=True, timeout=120)
+    res = {s['name']: s for s in json.loads((out / 'sensorTestResults.json').read_text())['sensors']}
+    tf = res['tf']
+    words = ('CameraTop_frame is published by 2 nodes', 'different transforms')
+    assert tf['verdict'] == 'FAIL' and any(all(w in r for w in words) for r in tf['reasons']), \
+        (tf['reasons'], done.stdout[-1500:])
+    assert len(tf['values']['publishers']) == 2 and '/naoqi_driver' in tf['values']['publishers'], tf['values']
+    assert res['frontCamera']['verdict'] == 'PASS', res['frontCamera']['reasons']
 
 
 def test_tree_faults_parse_and_are_listed():

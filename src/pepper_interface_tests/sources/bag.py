@@ -86,7 +86,8 @@ class BagSource:
         self.runs: Dict[str, List[Listener]] = {}     # topic -> the windows listening to it
         self._reader: Optional[Iterator[Record]] = None   # the records, opened at the first tick
         self._pending: Optional[Record] = None            # the next record, read but not yet due
-        self._conns: Dict[Tuple[str, str], Dict[str, Any]] = {}   # (type, md5sum) -> connection header fields
+        # (type, md5sum, callerid) -> connection header fields
+        self._conns: Dict[Tuple[str, str, Optional[str]], Dict[str, Any]] = {}
 
     def _open(self, path: str) -> None:
         """Open the ROS 1 bag at `path` and fill self.types."""
@@ -125,23 +126,30 @@ class BagSource:
         if not topics:
             return
         start, stop = self._start_ns(after), self.end_ns
-        for topic, raw, stamp in self.bag.read_messages(
+        for topic, raw, stamp, header in self.bag.read_messages(
                 topics=topics, raw=True, start_time=genpy.Time(start // NS, start % NS),
-                end_time=genpy.Time(stop // NS, stop % NS)):
+                end_time=genpy.Time(stop // NS, stop % NS), return_connection_header=True):
             ns = stamp.secs * NS + stamp.nsecs
             t = ns / NS
             if start <= ns <= stop and (after is None or t > after):
-                yield t, topic, raw[0], raw[1], self._connection(raw)
+                yield t, topic, raw[0], raw[1], self._connection(raw, header)
 
-    def _connection(self, raw):
-        """What a live connection header would say of a raw record (type, md5sum, definition):
-        raw = (type, bytes, md5sum, position, class generated from the connection's definition),
-        so a type whose package is not installed is still decoded."""
-        key = (raw[0], raw[2])
+    def _connection(self, raw, header=None):
+        """What a live connection header would say of a raw record (type, md5sum, definition,
+        and the recorded node, callerid: the bag's connection record, which rosbag record copies
+        from the publisher's header): raw = (type, bytes, md5sum, position, class generated from
+        the connection's definition), so a type whose package is not installed is still
+        decoded. One dict per connection (the header dict rosbag returns is the connection's)."""
+        caller = (header or {}).get('callerid')
+        if isinstance(caller, bytes):
+            caller = caller.decode('utf-8', 'replace')
+        key = (raw[0], raw[2], caller)
         conn = self._conns.get(key)
         if conn is None:
             conn = self._conns[key] = {'type': raw[0], 'md5sum': raw[2],
                                        'message_definition': getattr(raw[4], '_full_text', None)}
+            if caller:
+                conn['callerid'] = caller
         return conn
 
     @property

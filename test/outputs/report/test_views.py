@@ -110,3 +110,10 @@ def test_the_tree_view_draws_the_sensors_frames_and_marks_the_unplaceable():
     assert marked(table.rows[-1][0]) == ['camera_color_optical_frame (not in /tf)']
     whole = [b for b in blocks if isinstance(b, Details)][0]
     assert any('LHand' in text(row[0]) for row in whole.blocks[0].rows)
+
+
+def test_a_number_that_rounds_to_zero_shows_no_minus_sign():
+    from pepper_interface_tests.outputs.report.views.fmt import num
+    assert num(-0.0001, 3, 's') == '0.000 s'       # a /tf stamp 0.1 ms ahead of its arrival
+    assert num(-0.0, 2) == '0.00'
+    assert (num(-0.001, 3), num(-1.5, 1), num(0.04, 1)) == ('-0.001', '-1.5', '0.0')

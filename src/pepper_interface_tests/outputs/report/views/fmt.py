@@ -15,6 +15,8 @@ def num(v: Any, nd: int = 2, unit: str = '') -> str:
         if math.isinf(v):
             return '-inf' if v < 0 else 'inf'
         text = '%.*f' % (nd, v)
+        if text.startswith('-') and not text.strip('-0.'):
+            text = text[1:]         # -0.0001 to 3 places: 0.000, not -0.000
     else:
         text = str(v)
     return text + ((' ' + unit) if unit else '')
