@@ -191,10 +191,13 @@ EMULATOR_TOPICS = [t for name, t in TOPICS.items() if name != 'depthCamera']
 
 def record_the_emulator_moving(master, tmp_path, faults=''):
     """rosbag record of the emulator while test/nodes/emu_move.py commands it as a user of
-    naoqi_driver does: HeadYaw +0.3 rad, then a moveTo turning +0.5 rad (no spin)."""
+    naoqi_driver does: HeadYaw +0.3 rad, then a moveTo turning +0.5 rad (no spin). The robot
+    stands still before (`--condition still`): without it, the emulator's idle drive (a slow
+    circle until a command publisher connects) ran into the turn on a loaded machine, the two
+    merged into one stretch that was not a turn in place, and the laser could not vote."""
     bag = str(tmp_path / 'emulator.bag')
     log = open(str(tmp_path / 'emulator.log'), 'w')
-    emu = spawn(script('pepperEmulator') + ['--audio', 'off', '--camera-resolution', 'QQVGA']
+    emu = spawn(script('pepperEmulator') + ['--audio', 'off', '--camera-resolution', 'QQVGA', '--condition', 'still']
                 + (['--faults', faults] if faults else []), master.env(), stdout=log,
                 stderr=subprocess.STDOUT)
     rec = None
