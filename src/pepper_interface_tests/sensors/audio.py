@@ -453,16 +453,19 @@ class LevelMonitor:
             while self._levels and self._levels[0][0] < now - self.history:
                 self._levels.popleft()
 
-    def _between(self, a, b):
+    def _window(self, a, b):
+        """(time, level) of the buffers received in [a, b]."""
         with self._lock:
-            return [lv for t, lv in self._levels if a <= t <= b]
+            return [(t, lv) for t, lv in self._levels if a <= t <= b]
+
+    def _between(self, a, b):
+        return [lv for _, lv in self._window(a, b)]
 
     def has_baseline(self, now: Optional[float] = None) -> bool:
         """At least 5 levels, the oldest MIN_BASELINE s or more before `now`."""
         now = time.monotonic() if now is None else now
-        with self._lock:
-            times = [t for t, _ in self._levels if now - self.baseline <= t <= now]
-        return len(times) >= 5 and now - times[0] >= self.MIN_BASELINE
+        levels = self._window(now - self.baseline, now)
+        return len(levels) >= 5 and now - levels[0][0] >= self.MIN_BASELINE
 
     def heard(self, t0: float, t1: float) -> Dict[str, Any]:
         before = self._between(t0 - self.baseline, t0)
