@@ -43,6 +43,20 @@ def test_master_whose_port_was_stolen_starts_on_another_port():
             assert took < 15, 'noticed after %.1f s' % took
 
 
+def test_two_roscores_racing_for_one_port_is_a_taken_port():
+    """Two roscores that pick one port at the same moment: the loser says its run_id does not
+    match the parameter server's (a CI run failed on it instead of trying another port). The
+    line is roslaunch's own (read from the installed roslaunch/launch.py)."""
+    import importlib.util  # roslaunch is read, not imported: rosmaster.py here shadows ROS's
+    spec = importlib.util.find_spec('roslaunch')
+    with open(os.path.join(os.path.dirname(spec.origin), 'launch.py')) as f:
+        assert 'run_id on parameter server does not match declared run_id' in f.read()
+    said = ('RLException: run_id on parameter server does not match declared run_id: '
+            'bfe289f2-ebbb vs bfd70fd2-ebbb')
+    assert rosmaster.port_taken([said])
+    assert not rosmaster.port_taken(['RLException: Invalid roslaunch XML syntax'])
+
+
 def test_master_never_joins_a_foreign_master_on_its_port():
     """Two picks that collide: the second roscore must not silently use the first one's."""
     with Master() as first:

@@ -117,8 +117,12 @@ class MasterError(RuntimeError):
     """roscore did not come up."""
 
 
-# roscore's words when its port is taken (rosgraph/xmlrpc.py, roslaunch/launch.py).
-PORT_TAKEN = ('is already in use', 'another roscore/master is already running')
+# roscore's words when its port is taken (rosgraph/xmlrpc.py, roslaunch/launch.py). The
+# run_id line is the race of two roscores picking one port at the same moment: the other's
+# master came up between this one's check and its /run_id (roslaunch/launch.py
+# _setup_master_run_id, ros_comm 1.15 line 474).
+PORT_TAKEN = ('is already in use', 'another roscore/master is already running',
+              'run_id on parameter server does not match declared run_id')
 
 
 class PrivateMaster:
