@@ -174,6 +174,7 @@ def _measurements(rnd: Round, end: Ended, usage: Usage, hz_usage: Usage, peak: D
     return {'label': rnd.label, 'mode': rnd.mode, 'exit': end.code, 'wall': end.wall, 'cpu': cpu,
             'user': usage.ru_utime, 'system': usage.ru_stime, 'hz_cpu': hz_cpu,
             'hz_user': hz_usage.ru_utime, 'hz_system': hz_usage.ru_stime,
+            'faults': usage.ru_minflt, 'hz_faults': hz_usage.ru_minflt,
             'ratio': cpu / hz_cpu if hz_cpu else float('inf'),
             # sampled only: ru_maxrss carries the forking parent's high-water mark over exec
             'rss': peak.get('rss', 0) / 1e6,

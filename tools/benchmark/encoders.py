@@ -1,15 +1,19 @@
-"""The encoders alone: what sensorTest's video encoders cost with nothing else running, the
-floor of a recording round above listening (a recording round's CPU is judged against the
-listening round's plus this).
+"""The recorders alone: what sensorTest's videos cost with nothing else running, the floor of
+a recording round above listening (a recording round's CPU is judged against the listening
+round's plus this).
 
-Every video stream of workload.STREAMS is encoded, all at once as in a round, by the package's
-own VideoRecorder (media/recording.py: the same ffmpeg command, libx264 settings and pixel
-formats), fed the publisher's frames (publisher.frames: the same RING frames, as many as the
-round published, at the stream's rate): rgb8 as the raw rgb24 view sensorTest writes, 16UC1
-through DepthCheck.prepare_frame, the colouring sensorTest's depth videos use (written as
-yuv420p in this process's writer threads, not counted). The CPU counted is the encoders' own:
-user + system of each ffmpeg from wait4 (VideoRecorder.encoder_cpu)."""
+Every video stream of workload.STREAMS is recorded, all at once as in a round, by the package's
+own VideoRecorder (media/recording.py: the same writer threads, ffmpeg command, libx264 settings
+and pixel formats), fed the publisher's frames (publisher.frames: the same RING frames, as many
+as the round published) at the times the publisher sent them (frame i of a stream at i / rate
+s: an encoder fed live wakes per burst and costs 5-7 % more than one fed a whole queue at once):
+rgb8 as the raw rgb24 view sensorTest writes, 16UC1 through DepthCheck.prepare_frame, the
+colouring sensorTest's depth videos use. The CPU counted is the recorders' own: user + system of
+each ffmpeg from wait4 (VideoRecorder.encoder_cpu) and each writer thread's CPU (its colouring
+and pipe writes, VideoRecorder.writer_cpu), as the round counts them in sensorTest."""
+import heapq
 import os
+import time
 from typing import Dict, List, Tuple
 
 import numpy as np
@@ -20,7 +24,7 @@ from pepper_interface_tests.media.recording import VideoRecorder
 from pepper_interface_tests.sensors.depth import DepthCheck
 
 VIDEO_RANGE = (0.0, 5.0)     # m: the depth streams' video_range in workload.expectations()
-# the recorders' queues take every frame at once (views of the RING frames: no memory of their own)
+# the recorders' queues take every frame given (views of the RING frames: no memory of their own)
 UNBOUNDED = 1 << 50
 
 
@@ -34,10 +38,11 @@ class _Depth(DepthCheck):
         self._yuv = {}
 
 
-def encoders_alone(published: Dict[str, int], folder: str) -> Tuple[float, List[str]]:
-    """(CPU seconds of the encoders, errors) for `published` frames per stream (sensor name ->
-    count; the microphone is a WAV written in-process: no encoder)."""
-    recorders = []
+def encoders_alone(published: Dict[str, int], folder: str) -> Tuple[float, float, List[str]]:
+    """(CPU seconds of the encoders, of the writer threads, errors) for `published` frames per
+    stream (sensor name -> count; the microphone is a WAV written in-process: no encoder)."""
+    recorders: List[VideoRecorder] = []
+    schedule: List[List[Tuple[float, int, int, List[np.ndarray], str]]] = []
     pixels: List[np.ndarray]
     for name, _topic, enc, w, h, rate in STREAMS:
         n = published.get(name, 0)
@@ -52,14 +57,18 @@ def encoders_alone(published: Dict[str, int], folder: str) -> Tuple[float, List[
             rec = VideoRecorder(path, fallback_fps=rate, queue_bytes=UNBOUNDED,
                                 prepare=_Depth().prepare_frame)   # type: ignore[arg-type]
             kind = 'depth_mm'
-        for i in range(n):
-            rec.add(pixels[i % len(pixels)], i / rate, kind)
+        schedule.append([(i / rate, len(recorders), i, pixels, kind) for i in range(n)])
         recorders.append(rec)
-    cpu, errors = 0.0, []
+    start = time.monotonic()
+    for t, which, i, pixels, kind in heapq.merge(*schedule, key=lambda e: (e[0], e[1])):
+        time.sleep(max(0.0, start + t - time.monotonic()))
+        recorders[which].add(pixels[i % len(pixels)], t, kind)
+    encoders, writers, errors = 0.0, 0.0, []
     for rec in recorders:
         summary = rec.close()
-        cpu += rec.encoder_cpu or 0.0
+        encoders += rec.encoder_cpu or 0.0
+        writers += rec.writer_cpu or 0.0
         if rec.error or rec.written != rec.received:
             errors.append('%s: %s (%d of %d frames written)' % (rec.path, rec.error or summary, rec.written,
                                                                 rec.received))
-    return cpu, errors
+    return encoders, writers, errors

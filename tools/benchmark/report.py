@@ -7,9 +7,9 @@ from typing import Any, Dict, List, Optional, Tuple
 from workload import STREAMS, Stream
 
 # CPU of sensorTest over its floor: listening (recording off) over `rostopic hz` on the same
-# streams at the same time; recording over listening plus the encoders alone (encoders.py)
+# streams at the same time; recording over listening plus the recorders alone (encoders.py)
 TARGETS = {'off': 1.1, 'on': 1.1}
-FLOORS = {'off': 'rostopic hz', 'on': 'listening + encoders alone'}
+FLOORS = {'off': 'rostopic hz', 'on': 'listening + recorders alone'}
 TARGET_LAST_FILE_S = 2.0
 TARGET_RSS_MB = 300.0
 
@@ -88,13 +88,15 @@ def print_round(m: Dict[str, Any], threads: Optional[Dict[int, float]], main_thr
     print('memory (peaks, sampled every 0.1 s): sensorTest and its children together PSS %.0f MB '
           '(USS %.0f MB), RSS %.0f MB; sensorTest alone RSS %.0f MB, the children RSS %.0f MB'
           % (m['pss_tree'], m['uss_tree'], m['rss_tree'], m['rss'], m['rss_children']))
+    print('page faults (minor, with the reaped children): sensorTest %d, rostopic hz %d'
+          % (m['faults'], m['hz_faults']))
     print('rostopic hz: CPU %.2f s (user %.2f + system %.2f)' % (m['hz_cpu'], m['hz_user'], m['hz_system']))
     if m['mode'] == 'off':
         print('ratio: %.2fx of rostopic hz (target <= %.1fx)%s' % (
             m['ratio'], TARGETS['off'], '  [profiled: not comparable]' if m['profile'] else ''))
     else:
         print('ratio: %.2fx of rostopic hz (no target: the encoders\' work is not hz\'s); against '
-              'listening + the encoders alone in the summary' % m['ratio'])
+              'listening + the recorders alone in the summary' % m['ratio'])
     if m['mode'] == 'on':
         last_file = m['last_file']
         print('end of window -> last file written: %s' % ('%.2f s' % last_file if last_file is not None
@@ -110,7 +112,7 @@ def print_round(m: Dict[str, Any], threads: Optional[Dict[int, float]], main_thr
 def floor_ratios(rounds: List[Dict[str, Any]]) -> None:
     """Each round's floor and its ratio to it (m['floor'], m['floor_ratio']; None when there is
     none): `rostopic hz` for listening; for recording, the listening round of the same run
-    (its label's number) plus the encoders alone (m['encoders_alone'])."""
+    (its label's number) plus the recorders alone (m['encoders_alone'])."""
     off = {m['label'].split('-', 1)[1]: m for m in rounds if m['mode'] == 'off'}
     for m in rounds:
         if m['mode'] == 'off':
@@ -139,7 +141,7 @@ def summary(rounds: List[Dict[str, Any]], args: argparse.Namespace) -> bool:
         if m['mode'] == 'on':
             met.append(m['last_file'] is not None and m['last_file'] <= TARGET_LAST_FILE_S)
             if m.get('encoders_alone') is not None:
-                floor = 'listening + encoders %.2fs' % m['encoders_alone']
+                floor = 'listening + recorders %.2fs' % m['encoders_alone']
         ok = ok and all(met)
         print('%-8s %9.2fs %10s %7s %-28s %6.1fx %6.2fs %9s %6.0f MB %9s %s' % (
             m['label'], m['cpu'], '%.2fs' % m['floor'] if m['floor'] else '-',
@@ -147,8 +149,9 @@ def summary(rounds: List[Dict[str, Any]], args: argparse.Namespace) -> bool:
             '%.2f s' % m['last_file'] if m['last_file'] is not None else '-', m['pss_tree'],
             'all' if m['counts_ok'] else 'MISSING', 'yes' if all(met) else 'NO'))
     print('targets: listening (recording off) <= %.1fx of rostopic hz on the same streams at the same '
-          'time; recording <= %.1fx of listening + the encoders alone (the same run\'s listening round, '
-          'and ffmpeg encoding the same frames with nothing else running); last file <= %.0f s after '
+          'time; recording <= %.1fx of listening + the recorders alone (the same run\'s listening round, '
+          'and the package\'s recorders, ffmpeg and writer threads, on the same frames at the same '
+          'rates with nothing else running); last file <= %.0f s after '
           'the window; peak memory <= %.0f MB (PSS of sensorTest and its ffmpeg children together: '
           'shared libraries counted once; the RSS sum counts them once per process); >= %.0f%% received '
           'and recorded: %s' % (TARGETS['off'], TARGETS['on'], TARGET_LAST_FILE_S, TARGET_RSS_MB,

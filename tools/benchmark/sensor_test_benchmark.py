@@ -25,11 +25,12 @@ of sensorTest and of `rostopic hz` and their ratio; the time from the end of the
 the last recording written (mtime); the peak memory of sensorTest and its ffmpeg children
 together (psutil, sampled every 0.1 s) as PSS (each shared page divided among the processes
 that map it) and as RSS (the sum counts the libraries every ffmpeg maps once per process),
-and sensorTest's own RSS. After each recording round, the encoders alone (encoders.py): the
-package's own video recorders encode the frames the round published with nothing else running;
-their ffmpeg CPU is the recording's floor above listening. Then one summary line per round
-against the targets: listening (recording off) <= 1.1x the CPU of `rostopic hz` beside it;
-recording <= 1.1x of (the same run's listening round + the encoders alone); last file <= 2 s
+and sensorTest's own RSS. After each recording round, the recorders alone (encoders.py): the
+package's own video recorders record the frames the round published, at the times they were
+published, with nothing else running; their CPU (ffmpeg and their writer threads) is the
+recording's floor above listening. Then one summary line per round against the targets:
+listening (recording off) <= 1.1x the CPU of `rostopic hz` beside it; recording <= 1.1x of
+(the same run's listening round + the recorders alone); last file <= 2 s
 after the window; peak memory (PSS of the whole tree) <= 300 MB; every message received
 (>= --target) and recorded. The processes run byte-compiled, as installed (probes.byte_compiled).
 Exit code 0 when every round met every target, 1 otherwise, 2 when a round could not run.
@@ -69,12 +70,16 @@ def _rounds(args: argparse.Namespace, tmp: str, master: PrivateMaster) -> Option
 
 
 def _encoders_alone(m: Dict[str, Any], folder: str) -> Optional[float]:
-    """CPU seconds of the encoders alone on the frames the round published (encoders.py)."""
-    cpu, errors = encoders_alone({name: row['published'] for name, row in m['streams'].items()}, folder)
+    """CPU seconds of the recorders alone (ffmpeg and the writer threads, encoders.py) on the
+    frames the round published, fed at the times they were published."""
+    encoders, writers, errors = encoders_alone({name: row['published'] for name, row in m['streams'].items()},
+                                               folder)
     for error in errors:
-        print('encoders alone: ' + error)
-    print('encoders alone (ffmpeg on the same frames, nothing else running): CPU %.2f s' % cpu)
-    return None if errors else cpu
+        print('recorders alone: ' + error)
+    print('recorders alone (the same frames at the same rates, nothing else running): CPU %.2f s '
+          '(ffmpeg %.2f s, writer threads %.2f s; in the round %.2f s and %.2f s)'
+          % (encoders + writers, encoders, writers, m['encoders'], m['writers']))
+    return None if errors else encoders + writers
 
 
 def run(args: argparse.Namespace) -> int:
