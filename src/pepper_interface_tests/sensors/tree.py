@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Set, Tuple
 
 from ..sources.tf_buffer import TF2_MISSING, Pose, TfBuffer, yaw_of
 from ..sources.witness import TopicWitness
+from .tf_layout import LayoutDecoder
 
 if TYPE_CHECKING:
     from ..plan.model import TestPlan
@@ -95,9 +96,7 @@ class TreeRecord:
     def add(self, msg: Any, static: bool, node: str, ros_now: float) -> None:
         transforms = msg.transforms
         refused = self.buffer.add(transforms, static, node)
-        stamps = [t.header.stamp for t in transforms]
-        newest = max(stamps).to_sec() if stamps else None
-        earliest = min(stamps).to_sec() if stamps else None
+        newest, earliest = _newest_earliest(transforms)
         with self._lock:
             self.nodes.add(node)
             self.messages += 1
@@ -232,6 +231,7 @@ class TfTopic(TopicWitness):
         self.record = record
         self.static = static
         self._kept: Dict[Tuple[str, bytes], float] = {}     # layout -> stamp of its last kept message
+        self._decoder = LayoutDecoder(TF_TYPE)      # kept messages of a known layout, in place
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
                  conn: Optional[Dict[str, Any]] = None) -> None:
@@ -249,6 +249,12 @@ class TfTopic(TopicWitness):
                 if len(self._kept) > 1000:      # bounded: layouts of a run are a handful
                     self._kept.clear()
                 self._kept[key] = peeked[1]
+                try:
+                    msg = self._decoder.decode(key, buff)
+                except Exception:   # a broken message: the tf row's to report, as any other
+                    return
+                self.take_full(msg, t_recv, ros_now, conn)
+                return
         super().feed_raw(type_name, buff, t_recv, ros_now, conn)
 
     def take_full(self, msg: Any, t_recv: float, ros_now: float, conn: Optional[Dict[str, Any]]) -> None:
@@ -261,6 +267,17 @@ class TfTopic(TopicWitness):
 
     def observe_connections(self, n: int, now: float) -> None:
         pass
+
+
+def _newest_earliest(transforms: Any) -> Tuple[Optional[float], Optional[float]]:
+    """The newest and earliest stamp (s, as genpy's to_sec) of a message's transforms, ordered
+    as genpy orders Times (by nanoseconds) without building a Time per comparison."""
+    if not transforms:
+        return None, None
+    stamps = [t.header.stamp for t in transforms]
+    ns = [s.secs * 1000000000 + s.nsecs for s in stamps]
+    hi, lo = stamps[ns.index(max(ns))], stamps[ns.index(min(ns))]
+    return float(hi.secs) + float(hi.nsecs) / 1e9, float(lo.secs) + float(lo.nsecs) / 1e9
 
 
 def _peek(buff: bytes) -> Optional[Tuple[bytes, float]]:

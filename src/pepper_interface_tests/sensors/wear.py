@@ -88,9 +88,10 @@ def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
     sharpness (0 for a flat frame). Noise: Immerkaer's estimate
     (Fast noise variance estimation, CVIU 64(2), 1996): the mean absolute response to the mask
     [[1,-2,1],[-2,4,-2],[1,-2,1]] (which cancels edges and gradients) times sqrt(pi/2) / 6.
-    Cost: about 1 ms of a 640x480 frame, every sum in place in float32 (a float copy of the
-    whole frame and numpy's mean over its channel axis took 4-5 ms for the same numbers)."""
-    g = _half(_grey(colour))
+    Cost: about 0.65 ms of a 640x480 frame: the grey at half size summed in integers, every
+    later sum in place in float32 (a float copy of the whole frame and numpy's mean over its
+    channel axis took 4-5 ms for the same numbers)."""
+    g = _half_grey(colour)
     if g.shape[0] < 3 or g.shape[1] < 3:
         return 0.0, 0.0
     lap = g[1:-1, 1:-1] * np.float32(4)
@@ -109,23 +110,37 @@ def focus_and_noise(colour: np.ndarray) -> Tuple[float, float]:
     return sharpness, float(2.0 * math.sqrt(math.pi / 2) * mask.mean() / 6.0)
 
 
-def _half(g: np.ndarray) -> np.ndarray:
-    """The plane at half size, each pixel the mean of a 2 x 2 block (an odd last row or column
-    dropped)."""
-    g = g[:g.shape[0] // 2 * 2, :g.shape[1] // 2 * 2]
+def _half_grey(pixels: np.ndarray) -> np.ndarray:
+    """The grey (the mean of the channels) at half size, each pixel the mean of a 2 x 2 block
+    (an odd last row or column dropped), float32. 8-bit pixels are summed in uint16 over the
+    block's pixels and channels (at most 4 x 3 x 255: exact) and scaled once: 0.35 ms for a
+    640x480 rgb8 frame against 0.64 ms for the float32 grey at full size, then halved (the
+    same values within float32 rounding)."""
+    h, w = pixels.shape[0] // 2 * 2, pixels.shape[1] // 2 * 2
+    p = pixels[:h, :w]
+    if p.ndim < 3:
+        p = p[:, :, None]
+    channels = p.shape[2]
+    if p.dtype != np.uint8 or channels > 64:
+        return _half_float(p)
+    total = p[::2, ::2, 0].astype(np.uint16)
+    for c in range(channels):
+        for dy, dx in ((0, 0), (1, 0), (0, 1), (1, 1)):
+            if c or dy or dx:
+                total += p[dy::2, dx::2, c]
+    out = total.astype(np.float32)
+    out *= np.float32(1.0 / (4 * channels))
+    return out
+
+
+def _half_float(p: np.ndarray) -> np.ndarray:
+    """_half_grey for pixels that are not 8-bit (H x W x channels, even sides), in float32."""
+    g = p[:, :, 0].astype(np.float32)
+    for c in range(1, p.shape[2]):
+        g += p[:, :, c]
+    g /= np.float32(p.shape[2])
     out = g[::2, ::2] + g[1::2, ::2]
     out += g[::2, 1::2]
     out += g[1::2, 1::2]
     out *= np.float32(0.25)
     return out
-
-
-def _grey(pixels: np.ndarray) -> np.ndarray:
-    """The mean of the channels (float32), summed channel by channel into one plane."""
-    if pixels.ndim < 3:
-        return pixels.astype(np.float32)
-    g = pixels[:, :, 0].astype(np.float32)
-    for c in range(1, pixels.shape[2]):
-        g += pixels[:, :, c]
-    g /= np.float32(pixels.shape[2])
-    return g
