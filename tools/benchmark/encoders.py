@@ -6,7 +6,8 @@ Every video stream of workload.STREAMS is recorded, all at once as in a round, b
 own VideoRecorder (media/recording.py: the same writer threads, ffmpeg command, libx264 settings
 and pixel formats), fed the publisher's frames (publisher.frames: the same RING frames, as many
 as the round published) at the times the publisher sent them (frame i of a stream at i / rate
-s: an encoder fed live wakes per burst and costs 5-7 % more than one fed a whole queue at once):
+s: an encoder fed live wakes per burst and costs more than one fed a whole queue at once, 5-7 %
+alone and 12-19 % for the five of a round, docs/benchmark.md):
 rgb8 as the raw rgb24 view sensorTest writes, 16UC1 through DepthCheck.prepare_frame, the
 colouring sensorTest's depth videos use. The CPU counted is the recorders' own: user + system of
 each ffmpeg from wait4 (VideoRecorder.encoder_cpu) and each writer thread's CPU (its colouring
@@ -38,11 +39,11 @@ class _Depth(DepthCheck):
         self._yuv = {}
 
 
-def encoders_alone(published: Dict[str, int], folder: str) -> Tuple[float, float, List[str]]:
+def recorders_alone(published: Dict[str, int], folder: str) -> Tuple[float, float, List[str]]:
     """(CPU seconds of the encoders, of the writer threads, errors) for `published` frames per
     stream (sensor name -> count; the microphone is a WAV written in-process: no encoder)."""
-    recorders: List[VideoRecorder] = []
-    schedule: List[List[Tuple[float, int, int, List[np.ndarray], str]]] = []
+    feeds: List[Tuple[VideoRecorder, List[np.ndarray], str]] = []   # recorder, its frames, their kind
+    schedule: List[List[Tuple[float, int, int]]] = []                 # per stream: (t, feed, frame)
     pixels: List[np.ndarray]
     for name, _topic, enc, w, h, rate in STREAMS:
         n = published.get(name, 0)
@@ -57,14 +58,15 @@ def encoders_alone(published: Dict[str, int], folder: str) -> Tuple[float, float
             rec = VideoRecorder(path, fallback_fps=rate, queue_bytes=UNBOUNDED,
                                 prepare=_Depth().prepare_frame)   # type: ignore[arg-type]
             kind = 'depth_mm'
-        schedule.append([(i / rate, len(recorders), i, pixels, kind) for i in range(n)])
-        recorders.append(rec)
+        schedule.append([(i / rate, len(feeds), i) for i in range(n)])
+        feeds.append((rec, pixels, kind))
     start = time.monotonic()
-    for t, which, i, pixels, kind in heapq.merge(*schedule, key=lambda e: (e[0], e[1])):
+    for t, which, i in heapq.merge(*schedule):
         time.sleep(max(0.0, start + t - time.monotonic()))
-        recorders[which].add(pixels[i % len(pixels)], t, kind)
+        rec, pixels, kind = feeds[which]
+        rec.add(pixels[i % len(pixels)], t, kind)
     encoders, writers, errors = 0.0, 0.0, []
-    for rec in recorders:
+    for rec, _pixels, _kind in feeds:
         summary = rec.close()
         encoders += rec.encoder_cpu or 0.0
         writers += rec.writer_cpu or 0.0

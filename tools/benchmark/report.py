@@ -112,14 +112,14 @@ def print_round(m: Dict[str, Any], threads: Optional[Dict[int, float]], main_thr
 def floor_ratios(rounds: List[Dict[str, Any]]) -> None:
     """Each round's floor and its ratio to it (m['floor'], m['floor_ratio']; None when there is
     none): `rostopic hz` for listening; for recording, the listening round of the same run
-    (its label's number) plus the recorders alone (m['encoders_alone'])."""
+    (its label's number) plus the recorders alone (m['recorders_alone'])."""
     off = {m['label'].split('-', 1)[1]: m for m in rounds if m['mode'] == 'off'}
     for m in rounds:
         if m['mode'] == 'off':
             m['floor'] = m['hz_cpu']
         else:
             listening = off.get(m['label'].split('-', 1)[1])
-            enc = m.get('encoders_alone')
+            enc = m.get('recorders_alone')
             m['floor'] = listening['cpu'] + enc if listening is not None and enc is not None else None
         m['floor_ratio'] = m['cpu'] / m['floor'] if m['floor'] else None
 
@@ -140,8 +140,8 @@ def summary(rounds: List[Dict[str, Any]], args: argparse.Namespace) -> bool:
         floor = FLOORS[m['mode']]
         if m['mode'] == 'on':
             met.append(m['last_file'] is not None and m['last_file'] <= TARGET_LAST_FILE_S)
-            if m.get('encoders_alone') is not None:
-                floor = 'listening + recorders %.2fs' % m['encoders_alone']
+            if m.get('recorders_alone') is not None:
+                floor = 'listening + recorders %.2fs' % m['recorders_alone']
         ok = ok and all(met)
         print('%-8s %9.2fs %10s %7s %-28s %6.1fx %6.2fs %9s %6.0f MB %9s %s' % (
             m['label'], m['cpu'], '%.2fs' % m['floor'] if m['floor'] else '-',

@@ -45,7 +45,7 @@ import tempfile
 from typing import Any, Dict, List, Optional, Sequence
 
 from bench_round import run_round
-from encoders import encoders_alone
+from encoders import recorders_alone
 from report import TARGETS, summary
 from workload import write_files
 
@@ -64,15 +64,15 @@ def _rounds(args: argparse.Namespace, tmp: str, master: PrivateMaster) -> Option
                 print(m['error'])
                 return None
             if mode == 'on':
-                m['encoders_alone'] = _encoders_alone(m, os.path.join(tmp, 'encoders-%d' % (i + 1)))
+                m['recorders_alone'] = _recorders_alone(m, os.path.join(tmp, 'recorders-%d' % (i + 1)))
             rounds.append(m)
     return rounds
 
 
-def _encoders_alone(m: Dict[str, Any], folder: str) -> Optional[float]:
+def _recorders_alone(m: Dict[str, Any], folder: str) -> Optional[float]:
     """CPU seconds of the recorders alone (ffmpeg and the writer threads, encoders.py) on the
     frames the round published, fed at the times they were published."""
-    encoders, writers, errors = encoders_alone({name: row['published'] for name, row in m['streams'].items()},
+    encoders, writers, errors = recorders_alone({name: row['published'] for name, row in m['streams'].items()},
                                                folder)
     for error in errors:
         print('recorders alone: ' + error)

@@ -115,5 +115,5 @@ class LayoutDecoder:
             return msg
         if len(self._layouts) >= MAX_LAYOUTS:
             self._layouts.clear()
-        self._layouts[key] = _Layout(msg, bytes(buff), *found)
+        self._layouts[key] = _Layout(msg, buff, *found)
         return msg

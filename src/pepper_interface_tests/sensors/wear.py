@@ -121,7 +121,7 @@ def _half_grey(pixels: np.ndarray) -> np.ndarray:
     if p.ndim < 3:
         p = p[:, :, None]
     channels = p.shape[2]
-    if p.dtype != np.uint8 or channels > 64:
+    if p.dtype != np.uint8 or 4 * channels * 255 > np.iinfo(np.uint16).max:
         return _half_float(p)
     total = p[::2, ::2, 0].astype(np.uint16)
     for c in range(channels):
