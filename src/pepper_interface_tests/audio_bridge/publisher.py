@@ -66,6 +66,13 @@ NODE = 'naoqiAudioPublisher'
 DEFAULTS = {'host': '127.0.0.1', 'port': 9090, 'token': '', 'topic': '/naoqi_driver/audio'}
 WARN_INTERVAL = 5.0
 STATS_INTERVAL = 1.0
+# s a restarted publisher (one that continues the ~stats of a previous one) waits for its first
+# subscriber before it takes capture connections: the capture sends the backlog it queued while
+# the publisher was down in one burst as soon as it reconnects, and what is published before a
+# subscriber's TCPROS connection to the new publisher is made (the master's publisherUpdate,
+# then a connect: a few hundred ms) reaches nobody and is counted by no one; a test saw 6
+# buffers lost that way. Bounded: with nobody subscribed the publisher goes on after this long
+RESUBSCRIBE_WAIT = 3.0
 # A jump of the sequence number beyond this many buffers is not a loss: at NAOqi's ~12 buffers/s
 # 2**31 buffers are 5.8 years of audio, so such a frame is corrupt or forged.
 MAX_GAP = 2 ** 31
@@ -410,19 +417,29 @@ def _wait_for_master(log: Callable[[str], Any]) -> None:
         time.sleep(1.0)
 
 
-def _resume(bridge: Bridge, rospy: 'ModuleType') -> None:
-    """Continue sequence accounting from the previous run's ``~stats``, if any."""
+def _resume(bridge: Bridge, rospy: 'ModuleType') -> bool:
+    """Continue sequence accounting from the previous run's ``~stats``, if any; whether it did
+    (this publisher replaces one that ran)."""
     old = rospy.get_param('~stats', None)
     if not isinstance(old, dict) or not old.get('stream_id'):
-        return
+        return False
     try:
         stream_id, last = int(old['stream_id'], 16), int(old.get('last_sequence', ''))
     except (TypeError, ValueError):
-        return
-    if last >= 0:
-        bridge.tracker = SequenceTracker(stream_id, last)
-        rospy.loginfo('continuing sequence accounting of stream %s after sequence %d (from '
-                      'the previous ~stats)', old['stream_id'], last)
+        return False
+    if last < 0:
+        return False
+    bridge.tracker = SequenceTracker(stream_id, last)
+    rospy.loginfo('continuing sequence accounting of stream %s after sequence %d (from '
+                  'the previous ~stats)', old['stream_id'], last)
+    return True
+
+
+def _wait_for_subscriber(publisher: Any, timeout: float) -> None:
+    """Up to `timeout` s until `publisher` has a subscriber (RESUBSCRIBE_WAIT)."""
+    deadline = time.monotonic() + timeout
+    while publisher.get_num_connections() == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
 
 
 def _stats_loop(bridge: Bridge, stop: threading.Event, rospy: 'ModuleType') -> None:
@@ -463,7 +480,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     # bind that fails, it declared the emulator up just before the bridge died. Nothing is
     # published before serve_forever starts accepting, so `publish` is set in time.
     bridge = Bridge(_not_advertised, AudioCustomMsg, opts['token'], _RosLog(rospy))
-    _resume(bridge, rospy)
+    resumed = _resume(bridge, rospy)
     quiet = logging.getLogger(NODE + '.websockets')
     quiet.setLevel(logging.CRITICAL + 1)
     quiet.propagate = False
@@ -474,7 +491,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         rospy.logerr('cannot listen on %s:%d: %s (fix: another --port / ~port, or 0 for any '
                      'free port)' % (opts['host'], opts['port'], exc.strerror or exc))
         return 1
-    bridge.publish = rospy.Publisher(opts['topic'], AudioCustomMsg, queue_size=50).publish
+    ros_publisher = rospy.Publisher(opts['topic'], AudioCustomMsg, queue_size=50)
+    bridge.publish = ros_publisher.publish
+    if resumed:     # a restart: the subscribers of the one before come back first
+        _wait_for_subscriber(ros_publisher, RESUBSCRIBE_WAIT)
     stop = threading.Event()
     threading.Thread(target=server.serve_forever, name='websocket', daemon=True).start()
     threading.Thread(target=_stats_loop, args=(bridge, stop, rospy), name='stats',
