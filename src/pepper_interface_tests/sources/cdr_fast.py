@@ -18,6 +18,9 @@ which the ROS 2 Header does not have and is written as 0, as cdr_to_ros1 writes 
                                      (rotation); 84 a message at 50 Hz from naoqi_driver, where
                                      rosbags' generic conversion cost twice the tree's own work
 
+`raw` is bytes (sqlite3) or a view into an MCAP chunk (mcap_chunks.py): both slice, compare
+and unpack alike, and the result is new bytes that hold no view.
+
 Anything unusual (big-endian CDR, a length that runs past the buffer, a string without its NUL)
 raises ValueError and the caller converts with rosbags instead, so a damaged message is judged
 exactly as before. test/sources/test_cdr_fast.py checks the bytes against cdr_to_ros1's.
@@ -37,7 +40,7 @@ def _align(pos: int, n: int) -> int:
     return 4 + (pos - 4 + n - 1) // n * n
 
 
-def _string(raw: bytes, pos: int) -> Tuple[bytes, int]:
+def _string(raw: Chunk, pos: int) -> Tuple[Chunk, int]:
     """(the string's bytes without NUL, the position after it) of the CDR string at `pos`."""
     pos = _align(pos, 4)
     (n,) = _U32.unpack_from(raw, pos)
@@ -47,7 +50,7 @@ def _string(raw: bytes, pos: int) -> Tuple[bytes, int]:
     return raw[pos + 4:end - 1], end
 
 
-def _header(raw: bytes, out: List[Chunk]) -> int:
+def _header(raw: Chunk, out: List[Chunk]) -> int:
     """Appends the ROS 1 std_msgs/Header to `out`; the position after the CDR one."""
     if len(raw) < 16 or raw[0:2] != b'\x00\x01':
         raise ValueError('not little-endian CDR')
@@ -56,7 +59,7 @@ def _header(raw: bytes, out: List[Chunk]) -> int:
     return pos
 
 
-def _sequence(raw: bytes, pos: int, item: int) -> Tuple[int, int, int]:
+def _sequence(raw: Chunk, pos: int, item: int) -> Tuple[int, int, int]:
     """(element count, start of the elements, end) of the CDR sequence whose length is at `pos`."""
     pos = _align(pos, 4)
     (n,) = _U32.unpack_from(raw, pos)
@@ -67,7 +70,7 @@ def _sequence(raw: bytes, pos: int, item: int) -> Tuple[int, int, int]:
     return n, start, end
 
 
-def image(raw: bytes) -> bytes:
+def image(raw: Chunk) -> bytes:
     out: List[Chunk] = []
     pos = _align(_header(raw, out), 4)
     sizes = raw[pos:pos + 8]                                  # height, width
@@ -85,7 +88,7 @@ def image(raw: bytes) -> bytes:
     return b''.join(out)
 
 
-def audio_buffer(raw: bytes) -> bytes:
+def audio_buffer(raw: Chunk) -> bytes:
     out: List[Chunk] = []
     pos = _align(_header(raw, out), 2)
     frequency = raw[pos:pos + 2]
@@ -97,7 +100,7 @@ def audio_buffer(raw: bytes) -> bytes:
     return b''.join(out)
 
 
-def tf_message(raw: bytes) -> bytes:
+def tf_message(raw: Chunk) -> bytes:
     """/tf: per transform its stamp, frame_id and child_frame_id, then its seven float64 (the
     translation and rotation, aligned to 8 in CDR, packed in ROS 1: the same bytes). A
     publisher sends the same frames in every message, only stamps and numbers change: the first
@@ -120,7 +123,7 @@ class _TfLayout:
     numbers come from in the CDR bytes, and the CDR bytes that must match for the template to
     hold (the count, the frame names with their lengths and NULs)."""
 
-    def __init__(self, converted: bytes, dst: List[int], src: List[int], fixed: List[int], raw: bytes) -> None:
+    def __init__(self, converted: bytes, dst: List[int], src: List[int], fixed: List[int], raw: Chunk) -> None:
         import numpy as np
         self.template = np.frombuffer(converted, np.uint8)
         self.dst = np.array(dst, np.int64)
@@ -128,7 +131,7 @@ class _TfLayout:
         self.fixed = np.array(fixed, np.int64)
         self.fixed_bytes = np.frombuffer(raw, np.uint8)[self.fixed].copy()
 
-    def apply(self, raw: bytes) -> Optional[bytes]:
+    def apply(self, raw: Chunk) -> Optional[bytes]:
         import numpy as np
         data = np.frombuffer(raw, np.uint8)
         if raw[0:2] != b'\x00\x01' or not np.array_equal(data[self.fixed], self.fixed_bytes):
@@ -141,7 +144,7 @@ class _TfLayout:
 _TF_LAYOUTS: Dict[int, _TfLayout] = {}
 
 
-def _tf_fields(raw: bytes) -> Tuple[bytes, _TfLayout]:
+def _tf_fields(raw: Chunk) -> Tuple[bytes, _TfLayout]:
     """The conversion field by field, and the layout it followed."""
     if len(raw) < 8 or raw[0:2] != b'\x00\x01':
         raise ValueError('not little-endian CDR')
@@ -177,7 +180,7 @@ def _tf_fields(raw: bytes) -> Tuple[bytes, _TfLayout]:
 
 
 # ROS 2 type -> its direct conversion
-CONVERTERS: Dict[str, Callable[[bytes], bytes]] = {
+CONVERTERS: Dict[str, Callable[[Chunk], bytes]] = {
     'sensor_msgs/msg/Image': image,
     'naoqi_bridge_msgs/msg/AudioBuffer': audio_buffer,
     'tf2_msgs/msg/TFMessage': tf_message,

@@ -14,8 +14,9 @@ records are selected (the window's first and last record, the reader's start and
 bag.py: a float of seconds would hold it only to about 240 ns and could start after the first
 record.
 
-Streaming: rosbags reads a sqlite3 file with one ordered query (a cursor) and an MCAP file chunk
-by chunk; only the next message is held here. The record times are read once at the start for
+Streaming: rosbags reads a sqlite3 file with one ordered query (a cursor); an MCAP file is read
+chunk by chunk (mcap_chunks.py: each chunk read once, its messages views into it); only the next
+message is held here (the converter copies it into ROS 1 bytes). The record times are read once at the start for
 the dense window, from the storage's index (ros2index.py: no message data is read), or, when it
 has none, by one pass over the messages (the data dropped at once).
 """
@@ -89,6 +90,8 @@ class Ros2BagSource(BagSource):
             self.reader.open()
         except Exception as e:  # noqa: BLE001  (ReaderError, sqlite3/MCAP errors, bad YAML)
             raise ConfigError('cannot open the ROS 2 recording: %s' % _why(e), path, fix=FIX) from None
+        from .mcap_chunks import install
+        install(self.reader)      # an MCAP file's chunks read once each, messages as views
         conns = list(self.reader.connections)
         try:
             distro = self.reader.ros_distro

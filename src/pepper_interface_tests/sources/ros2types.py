@@ -19,7 +19,7 @@ import functools
 import os
 import struct
 from types import MappingProxyType
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Set, Tuple, Union
 
 from . import naoqi_msgs
 from .ros2defs import DEFAULT_DISTRO, DISTROS, ROS1_DEFINITIONS, ros1_definition, ros1_text, ros2_text  # noqa: F401  (home: ros2defs.py)
@@ -158,9 +158,10 @@ class Converter:
             conn = self._headers[msgtype] = {'type': name, 'md5sum': md5, 'message_definition': text}
         return conn
 
-    def to_ros1(self, raw: bytes, msgtype: str) -> bytes:
-        """One CDR message as ROS 1 wire bytes; b'' when it cannot be converted (truncated or not
-        of its type): the window then reports it as a message that could not be decoded."""
+    def to_ros1(self, raw: Union[bytes, memoryview], msgtype: str) -> bytes:
+        """One CDR message (bytes, or a view into an MCAP chunk) as ROS 1 wire bytes; b'' when it
+        cannot be converted (truncated or not of its type): the window then reports it as a
+        message that could not be decoded."""
         fast = self.fast.get(msgtype)
         if fast is not None:
             try:
@@ -168,7 +169,7 @@ class Converter:
             except (ValueError, struct.error):   # anything unusual: rosbags decides, as before
                 pass
         try:
-            return bytes(self.store.cdr_to_ros1(raw, msgtype))
+            return bytes(self.store.cdr_to_ros1(bytes(raw), msgtype))
         except Exception:  # noqa: BLE001  (corrupt data is a finding of the check, not a crash)
             return b''
 
