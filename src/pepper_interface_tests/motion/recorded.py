@@ -143,7 +143,7 @@ class LeanRecorder(Recorder):
 
     def _convert(self, role: str, buff: bytes, t: float) -> None:
         try:
-            msg = self.handlers[role][0]().deserialize(buff)
+            msg = self.handlers[role][0]().deserialize(bytes(buff))   # a Ros2Image too
         except Exception:   # a broken message: that camera's own row says so
             return
         self._frame(role, msg, t)

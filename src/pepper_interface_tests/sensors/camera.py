@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type, TypeVa
 import numpy as np
 
 from ..media.recording import VideoRecorder, save_jpeg, to_bgr
+from ..sources.cdr_fast import Ros2Image
 from .base import Acc, Check, StuckRun, TrailingRun, fmt, same_bytes
 from .values import Point
 from .values.camera import CameraValues, ImageValues, Stereo, VideoSummary
@@ -156,10 +157,14 @@ class ImageCheck(Check):
         genpy's deserialize copies the pixels (about 0.1-0.2 ms for a 640x480 frame), this
         does not. The wire format is ROS's (header, height, width, encoding, is_bigendian,
         step, data; strings and arrays prefixed by a uint32 length). A short buffer raises
-        struct.error as genpy does; a short data array stays short (the layout check says so)."""
+        struct.error as genpy does; a short data array stays short (the layout check says so).
+        A ROS 2 recording's frame comes as a Ros2Image (sources/cdr_fast.py), its fields read
+        from the CDR bytes and its pixels a view of them: the same message, no copy."""
         from genpy import Time
 
         from ..sources.messages import message_class
+        if type(buff) is Ros2Image:        # a ROS 2 recording's frame, read in place
+            return buff.message()
         view = memoryview(buff)
         msg = message_class('sensor_msgs/Image')()
         seq, secs, nsecs = _HEADER.unpack_from(view, 0)

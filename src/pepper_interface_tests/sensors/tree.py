@@ -322,7 +322,7 @@ class Agreement(TopicWitness):
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
                  conn: Optional[Dict[str, Any]] = None) -> None:
-        if self.record.first_stamp is None:
+        if self.record.first_stamp is None or type_name != self.type_name:
             return      # before the run's first /tf nothing is compared: not even decoded
         # one message per THIN_S s of stamps (the header's, read before decoding): the tree is
         # kept at that pace too, and a tree that does not follow stays wrong for many of them

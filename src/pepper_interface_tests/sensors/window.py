@@ -122,8 +122,8 @@ class SensorRun:
         msg = self._class_for(type_name, conn)()
         if self.check.numpy_arrays:
             import numpy
-            return msg.deserialize_numpy(buff, numpy)
-        return msg.deserialize(buff)
+            return msg.deserialize_numpy(bytes(buff), numpy)
+        return msg.deserialize(bytes(buff))   # bytes: a Ros2Image's ROS 1 bytes (cdr_fast.py)
 
     def _class_for(self, type_name: str, conn: Optional[Dict[str, Any]]) -> Type[Any]:
         cls = self.classes.get(type_name)

@@ -158,6 +158,18 @@ class Converter:
             conn = self._headers[msgtype] = {'type': name, 'md5sum': md5, 'message_definition': text}
         return conn
 
+    def for_checks(self, raw: Union[bytes, memoryview], msgtype: str) -> Any:
+        """What a recording hands the listeners: a camera frame read in place (cdr_fast.Ros2Image:
+        its pixels a view, no copy; bytes() of it are the ROS 1 bytes), anything else as ROS 1
+        wire bytes (to_ros1)."""
+        if msgtype == 'sensor_msgs/msg/Image' and msgtype in self.fast:
+            from .cdr_fast import Ros2Image
+            try:
+                return Ros2Image(raw)
+            except (ValueError, struct.error):   # unusual: converted as before
+                pass
+        return self.to_ros1(raw, msgtype)
+
     def to_ros1(self, raw: Union[bytes, memoryview], msgtype: str) -> bytes:
         """One CDR message (bytes, or a view into an MCAP chunk) as ROS 1 wire bytes; b'' when it
         cannot be converted (truncated or not of its type): the window then reports it as a

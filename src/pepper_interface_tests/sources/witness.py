@@ -30,7 +30,7 @@ class TopicWitness:
         if type_name != self.type_name:
             return      # another type on the topic: that sensor's own row says so
         try:
-            msg = messages.message_class(type_name)().deserialize(buff)
+            msg = messages.message_class(type_name)().deserialize(bytes(buff))   # a Ros2Image too
         except Exception:   # a broken message: that sensor's own row says so
             return
         self.take_full(msg, t_recv, ros_now, conn)
