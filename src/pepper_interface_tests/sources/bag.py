@@ -23,7 +23,7 @@ import os
 from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.textfile import ConfigError
-from . import Listener, TopicInfo
+from . import Listener, TopicInfo, bag_chunks
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -126,28 +126,37 @@ class BagSource:
         if not topics:
             return
         start, stop = self._start_ns(after), self.end_ns
+        start_time, end_time = genpy.Time(start // NS, start % NS), genpy.Time(stop // NS, stop % NS)
+        mapped = bag_chunks.reader(self.bag)
+        if mapped is not None:      # rosbag's index and order, the records read in place
+            for ns, info, data, cls in mapped.read(topics, start_time, end_time):
+                t = ns / NS
+                if start <= ns <= stop and (after is None or t > after):
+                    yield t, info.topic, info.datatype, data, self._connection(
+                        info.datatype, info.md5sum, cls, info.header)
+            return
         for topic, raw, stamp, header in self.bag.read_messages(
-                topics=topics, raw=True, start_time=genpy.Time(start // NS, start % NS),
-                end_time=genpy.Time(stop // NS, stop % NS), return_connection_header=True):
+                topics=topics, raw=True, start_time=start_time, end_time=end_time,
+                return_connection_header=True):
             ns = stamp.secs * NS + stamp.nsecs
             t = ns / NS
             if start <= ns <= stop and (after is None or t > after):
-                yield t, topic, raw[0], raw[1], self._connection(raw, header)
+                yield t, topic, raw[0], raw[1], self._connection(raw[0], raw[2], raw[4], header)
 
-    def _connection(self, raw, header=None):
+    def _connection(self, type_name: str, md5sum: str, cls: Any, header: Optional[Dict[str, Any]] = None):
         """What a live connection header would say of a raw record (type, md5sum, definition,
         and the recorded node, callerid: the bag's connection record, which rosbag record copies
-        from the publisher's header): raw = (type, bytes, md5sum, position, class generated from
-        the connection's definition), so a type whose package is not installed is still
-        decoded. One dict per connection (the header dict rosbag returns is the connection's)."""
+        from the publisher's header): `cls` is the class rosbag generated from the connection's
+        definition, so a type whose package is not installed is still decoded. One dict per
+        connection (the header dict rosbag returns is the connection's)."""
         caller = (header or {}).get('callerid')
         if isinstance(caller, bytes):
             caller = caller.decode('utf-8', 'replace')
-        key = (raw[0], raw[2], caller)
+        key = (type_name, md5sum, caller)
         conn = self._conns.get(key)
         if conn is None:
-            conn = self._conns[key] = {'type': raw[0], 'md5sum': raw[2],
-                                       'message_definition': getattr(raw[4], '_full_text', None)}
+            conn = self._conns[key] = {'type': type_name, 'md5sum': md5sum,
+                                       'message_definition': getattr(cls, '_full_text', None)}
             if caller:
                 conn['callerid'] = caller
         return conn
