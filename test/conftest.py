@@ -37,7 +37,7 @@ INTEGRATION_FILES = {
     'test_rostest.py',
     'plan/test_selection.py', 'test_cli.py', 'test_interrupts.py', 'sensors/test_clock.py',
     'test_rosmaster.py', 'outputs/test_drift_emulator.py', 'test_demo.py', 'tools/test_gates.py',
-    'sensors/test_tf_recordings.py'}
+    'sensors/test_tf_recordings.py', 'sources/test_bag_chunks.py', 'sources/test_mcap_chunks.py'}
 # tests that start real processes without a ROS fixture, in files that are otherwise unit; and the
 # simulator's laser as its driver publishes it (in the integration tier with the other drivers'
 # semantics, sensors/test_driver_semantics.py)

@@ -7,7 +7,8 @@
 #   2. the integration tests of what differs on 3.8 and focal's libraries: the demo's run
 #      (every row PASS, no warning, six playable mp4 files, the WAV, the report with its plots),
 #      the audio bridge both ways (websockets 8.1, libqi), recording (videos, WAV), sensorTest
-#      --bag on ROS 1 bags and on ROS 2 recordings (refused with rosbags 0.9.23, exit 2), the
+#      --bag on ROS 1 bags (read in place under Noetic's rosbag: test_bag_chunks) and on ROS 2
+#      recordings (refused with rosbags 0.9.23, exit 2), the
 #      run history (sensorTestHistory), the report's plots (matplotlib 3.1) and template
 #      (Jinja2 2.10) in a headless browser, a recording's frames placed by tf2 (tf2_py built
 #      for 3.8 by tools/platform/noetic.sh).
@@ -34,7 +35,7 @@ python -m pytest -p no:cacheprovider -q -n "${PYTEST_WORKERS:-3}" --dist loadfil
   test/audio_bridge/test_audio_bridge.py test/emulator/test_naoqi_endpoint.py \
   test/media/test_recording.py test/sources/test_bag.py test/emulator/test_bags.py \
   test/sources/test_ros2_bags.py test/outputs/test_history.py test/outputs/report/test_page.py \
-  test/sensors/test_tf_recordings.py \
+  test/sensors/test_tf_recordings.py test/sources/test_bag_chunks.py \
   "$@" || rc=1
 echo "[noetic] the Noetic tier took $((SECONDS - start)) s"
 exit $rc
