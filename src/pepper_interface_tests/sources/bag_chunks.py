@@ -95,47 +95,36 @@ class MappedBag:
         self.chunk, self.chunk_pos = data, chunk_pos
 
     def _record(self, pos: int) -> Tuple[int, int, memoryview]:
-        """(connection id, time ns, data) of the message record at `pos` in the chunk."""
-        from rosbag.bag import ROSBagFormatException
+        """(connection id, time ns, data) of the message record at `pos` in the chunk, its header
+        read by rosbag's own functions (the same fields, checks and errors as its reader)."""
+        from rosbag.bag import (
+            ROSBagFormatException,
+            _build_header_from_str,
+            _read_field,
+            _read_uint8_field,
+            _read_uint32_field,
+        )
         chunk = self.chunk
         while True:
             if pos + 4 > len(chunk):
                 raise ROSBagFormatException('record past the end of its chunk')
             (length,) = _U32.unpack_from(chunk, pos)
-            fields = _fields(bytes(chunk[pos + 4:pos + 4 + length]))
+            header = _build_header_from_str(bytes(chunk[pos + 4:pos + 4 + length]), None)
             at = pos + 4 + length
             if at + 4 > len(chunk):
                 raise ROSBagFormatException('record past the end of its chunk')
             (size,) = _U32.unpack_from(chunk, at)
             if at + 4 + size > len(chunk):
                 raise ROSBagFormatException('record data past the end of its chunk')
-            op = fields.get(b'op', b'')
-            if op == bytes([OP_CONNECTION]):
+            op = _read_uint8_field(header, 'op')
+            if op == OP_CONNECTION:
                 pos = at + 4 + size
                 continue
-            if op != bytes([OP_MSG_DATA]) or len(fields.get(b'conn', b'')) != 4 or len(fields.get(b'time', b'')) != 8:
-                raise ROSBagFormatException('expecting a message data record')
-            (conn,) = _U32.unpack(fields[b'conn'])
-            secs, nsecs = _TIME.unpack(fields[b'time'])
-            return conn, secs * 1000000000 + nsecs, chunk[at + 4:at + 4 + size]
-
-
-def _fields(header: bytes) -> Dict[bytes, bytes]:
-    """A record header's fields: name -> value bytes."""
-    from rosbag.bag import ROSBagFormatException
-    out = {}
-    pos = 0
-    while pos < len(header):
-        if pos + 4 > len(header):
-            raise ROSBagFormatException('record header field runs past the header')
-        (n,) = _U32.unpack_from(header, pos)
-        field = header[pos + 4:pos + 4 + n]
-        eq = field.find(b'=')
-        if len(field) != n or eq < 0:
-            raise ROSBagFormatException('record header field without "="')
-        out[field[:eq]] = field[eq + 1:]
-        pos += 4 + n
-    return out
+            if op != OP_MSG_DATA:
+                raise ROSBagFormatException('Expecting OP_MSG_DATA, got %d' % op)
+            secs, nsecs = _read_field(header, 'time', _TIME.unpack)
+            return (_read_uint32_field(header, 'conn'), secs * 1000000000 + nsecs,
+                    chunk[at + 4:at + 4 + size])
 
 
 def _decompress(compression: str, data: memoryview) -> bytes:
