@@ -18,15 +18,15 @@ before a message are skipped, as rosbag skips them.
 What is handed over: camera frames (sensor_msgs/Image, the only large messages) as a memoryview
 of the mapping or of the decompressed chunk, everything else as bytes, as rosbag gives it.
 Compressed chunks (bz2, lz4) are decompressed by the same modules as rosbag's, the last one
-kept. Memory and a cut file: as mcap_chunks.py (every page before the chunk being read is
+kept. Memory and a cut file: mapped_file.py (every page before the chunk being read is
 unmapped; the file's size is checked before each chunk). An encrypted bag, or a rosbag whose
 reader is not this one, is read by rosbag as before (reader() returns None).
 test/sources/test_bag_chunks.py compares the two on bags rosbag writes (none, bz2, lz4 chunks).
 """
-import mmap
-import os
 import struct
 from typing import Any, Dict, Iterator, List, Optional, Tuple
+
+from .mapped_file import MappedFile
 
 _U32 = struct.Struct('<I')
 _TIME = struct.Struct('<II')
@@ -52,8 +52,7 @@ class MappedBag:
 
     def __init__(self, bag: Any) -> None:
         self.bag = bag
-        self.fd = bag._file.fileno()
-        self.map: Optional[mmap.mmap] = None
+        self.file = MappedFile(bag._file.fileno())
         self.chunk_pos: Optional[int] = None
         self.chunk: Any = None          # the current chunk's data: a view of the map or new bytes
 
@@ -76,17 +75,11 @@ class MappedBag:
         header = self.bag._chunk_headers.get(chunk_pos)
         if header is None:
             raise ROSBagException('no chunk at position %d' % chunk_pos)
-        if self.map is None:
-            self.map = mmap.mmap(self.fd, 0, access=mmap.ACCESS_READ)
-        start, end = header.data_pos, header.data_pos + header.compressed_size
-        # a file cut shorter since it was mapped: a read past its end would be SIGBUS
-        if end > min(len(self.map), os.fstat(self.fd).st_size):
-            raise ROSBagException('the bag ends inside the chunk at position %d' % chunk_pos)
+        start = header.data_pos
         self.chunk = None
-        page = chunk_pos // mmap.PAGESIZE * mmap.PAGESIZE
-        if page > 0 and hasattr(self.map, 'madvise'):     # the pages read before: see mcap_chunks
-            self.map.madvise(mmap.MADV_DONTNEED, 0, page)
-        data = memoryview(self.map)[start:end]
+        data = self.file.span(start, start + header.compressed_size)
+        if data is None:
+            raise ROSBagException('the bag ends inside the chunk at position %d' % chunk_pos)
         if header.compression != 'none':
             data = memoryview(_decompress(header.compression, data))
             if len(data) != header.uncompressed_size:

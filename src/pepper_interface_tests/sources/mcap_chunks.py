@@ -9,14 +9,11 @@ one read of each chunk into new memory (a page fault every 4 KB), 0.46 s mapped 
 2026-11-29, docs/benchmark.md). The index, the decompression (zstd, lz4) and the chunk's
 checksum stay rosbags' own (`decompress`); only the loop over a chunk's records is done here.
 
-Memory: before each chunk is read every page before it is unmapped (_sweep), so the process
-holds about the chunk being read, not what it has read (recorders write chunks in time order):
-peak RSS reading the minute's 12,652 messages 30 MB (rosbags' reading 42 MB), sensorTest on it
-93 MB (130 MB with rosbags' reading). A file cut short while it is read would make a read of a
-mapped page past its new end a SIGBUS: the file's size is checked before each chunk, and a chunk
-past it is rosbags' ReaderError("Truncated chunk"), as a truncated file is for rosbags; a frame
-held from before the cut and read after it is not guarded (nothing else cuts a recording while
-sensorTest reads it).
+Memory and a file cut while it is read: mapped_file.py (every page before the chunk being read
+is unmapped; the file's size is checked before each chunk, and a chunk past it is rosbags'
+ReaderError("Truncated chunk"), as a truncated file is for rosbags). Peak RSS reading the
+minute's 12,652 messages 30 MB (rosbags' reading 42 MB), sensorTest on it 93 MB (130 MB with
+rosbags' reading).
 
 Layouts (the MCAP specification, mcap.dev/spec, "Chunk (op=0x06)" and "Message (op=0x05)"; every
 record is an opcode byte and a uint64 length, little-endian):
@@ -34,10 +31,10 @@ nothing there. test/sources/test_mcap_chunks.py compares the two on MCAP files w
 rosbags and by the mcap library (compressed chunks, checksums, several files, time windows).
 """
 import heapq
-import mmap
-import os
 import struct
 from typing import Any, Collection, Dict, Iterator, List, Optional, Tuple
+
+from .mapped_file import MappedFile
 
 _MESSAGE = struct.Struct('<BQHIQ')        # opcode, record length, channel_id, sequence, log_time
 _LENGTH = struct.Struct('<Q')
@@ -69,8 +66,7 @@ class _Chunked:
 
     def __init__(self, storage: Any) -> None:
         self.storage = storage
-        self.map: Optional[mmap.mmap] = None      # the file, mapped at the first chunk read
-        self.map_fd = -1
+        self.file: Optional[MappedFile] = None      # the file, mapped at the first chunk read
 
     def __call__(self, connections: Collection[Any], start: Optional[int] = None,
                  stop: Optional[int] = None) -> Iterator[Tuple[Any, int, Any]]:
@@ -114,32 +110,18 @@ class _Chunked:
     def _records(self, chunk: Any) -> memoryview:
         """The chunk's records, decompressed and checked against its checksum by rosbags."""
         from rosbags.rosbag2.storage_mcap import decompress
-        if self.map is None:
-            self.map_fd = self.storage.bio.fileno()
-            self.map = mmap.mmap(self.map_fd, 0, access=mmap.ACCESS_READ)
+        if self.file is None:
+            self.file = MappedFile(self.storage.bio.fileno())
         head, at = 9 + 40 + len(chunk.compression), chunk.chunk_start_offset
-        # a file cut shorter since it was mapped: a read past its end would be SIGBUS
-        if at + head + chunk.compressed_size > min(len(self.map), os.fstat(self.map_fd).st_size):
+        view: Any = self.file.span(at, at + head + chunk.compressed_size)
+        if view is None:
             raise _error('Truncated chunk at offset %d.' % at)
-        self._sweep(at)
-        view: Any = memoryview(self.map)
-        (crc,) = _CRC.unpack_from(view, at + 9 + 24)
-        (length,) = _LENGTH.unpack_from(view, at + head - 8)
+        (crc,) = _CRC.unpack_from(view, 9 + 24)
+        (length,) = _LENGTH.unpack_from(view, head - 8)
         if length != chunk.compressed_size:
             raise _error('Chunk at offset %d: %d bytes of records where its index says %d.'
                          % (at, length, chunk.compressed_size))
-        return memoryview(decompress(view[at + head:at + head + length], chunk.compression,
-                                     chunk.uncompressed_size, crc))
-
-    def _sweep(self, upto: int) -> None:
-        """Unmaps every page of the file before `upto` (the chunk about to be read). They stay in
-        the page cache: a view still held (a camera's previous frame, a frame waiting for the
-        motion check) reads them again from there, and is unmapped again at the next chunk; the
-        process holds about the chunk being read, not what it has read. A range already unmapped
-        costs the kernel a walk of empty page tables, not of pages."""
-        end = upto // mmap.PAGESIZE * mmap.PAGESIZE
-        if self.map is not None and end > 0 and hasattr(self.map, 'madvise'):
-            self.map.madvise(mmap.MADV_DONTNEED, 0, end)
+        return memoryview(decompress(view[head:], chunk.compression, chunk.uncompressed_size, crc))
 
 
 def _order(msg: Msg) -> Tuple[int, int]:
