@@ -127,21 +127,26 @@ class BagSource:
             return
         start, stop = self._start_ns(after), self.end_ns
         start_time, end_time = genpy.Time(start // NS, start % NS), genpy.Time(stop // NS, stop % NS)
+        for ns, topic, type_name, data, conn in self._read(topics, start_time, end_time):
+            t = ns / NS
+            if start <= ns <= stop and (after is None or t > after):
+                yield t, topic, type_name, data, conn
+
+    def _read(self, topics: List[str], start_time: Any,
+              end_time: Any) -> Iterator[Tuple[int, str, str, Any, Dict[str, Any]]]:
+        """(record time ns, topic, type, data, connection) in rosbag's order: read in place
+        (bag_chunks.py) where it can, else by rosbag."""
         mapped = bag_chunks.reader(self.bag)
-        if mapped is not None:      # rosbag's index and order, the records read in place
+        if mapped is not None:
             for ns, info, data, cls in mapped.read(topics, start_time, end_time):
-                t = ns / NS
-                if start <= ns <= stop and (after is None or t > after):
-                    yield t, info.topic, info.datatype, data, self._connection(
-                        info.datatype, info.md5sum, cls, info.header)
+                yield ns, info.topic, info.datatype, data, self._connection(
+                    info.datatype, info.md5sum, cls, info.header)
             return
         for topic, raw, stamp, header in self.bag.read_messages(
                 topics=topics, raw=True, start_time=start_time, end_time=end_time,
                 return_connection_header=True):
-            ns = stamp.secs * NS + stamp.nsecs
-            t = ns / NS
-            if start <= ns <= stop and (after is None or t > after):
-                yield t, topic, raw[0], raw[1], self._connection(raw[0], raw[2], raw[4], header)
+            yield (stamp.secs * NS + stamp.nsecs, topic, raw[0], raw[1],
+                   self._connection(raw[0], raw[2], raw[4], header))
 
     def _connection(self, type_name: str, md5sum: str, cls: Any, header: Optional[Dict[str, Any]] = None):
         """What a live connection header would say of a raw record (type, md5sum, definition,
