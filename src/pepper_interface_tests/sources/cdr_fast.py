@@ -71,67 +71,55 @@ def _sequence(raw: Chunk, pos: int, item: int) -> Tuple[int, int, int]:
 
 
 def image(raw: Chunk) -> bytes:
-    out: List[Chunk] = []
-    pos = _align(_header(raw, out), 4)
-    sizes = raw[pos:pos + 8]                                  # height, width
-    encoding, pos = _string(raw, pos + 8)
-    if pos + 1 > len(raw):
-        raise ValueError('short message')
-    is_bigendian = raw[pos:pos + 1]
-    pos = _align(pos + 1, 4)
-    step = raw[pos:pos + 4]
-    n, start, end = _sequence(raw, pos + 4, 1)
-    if len(sizes) != 8 or len(step) != 4:
-        raise ValueError('short message')
-    out += [sizes, _U32.pack(len(encoding)), encoding, is_bigendian, step, _U32.pack(n),
-            memoryview(raw)[start:end]]
-    return b''.join(out)
+    return bytes(Ros2Image(raw))
 
 
 class Ros2Image:
-    """A sensor_msgs/msg/Image read in place for the checks: its fields parsed from the CDR bytes
-    and its pixels a view of them, no copy (a minute of four VGA cameras was 2.7 GB of copies).
-    message() is the genpy sensor_msgs/Image the camera checks decode from ROS 1 bytes (seq 0,
-    as cdr_to_ros1 writes it; text decoded as sensors/camera.py decodes it), bytes() its ROS 1
-    wire bytes (image()) for a listener that deserializes with genpy. Raises ValueError on
-    what image() refuses: the caller then converts with rosbags."""
+    """A sensor_msgs/msg/Image read in place: the CDR bytes parsed once into the pieces of its
+    ROS 1 bytes (a new prefix, the pixels a view), no copy until one is asked for (a minute of
+    four VGA cameras was 2.7 GB of copies). message() is the genpy sensor_msgs/Image the camera
+    checks decode from ROS 1 bytes, built from those pieces (seq 0, as cdr_to_ros1 writes it;
+    text decoded as sensors/camera.py decodes it); bytes() are the ROS 1 bytes (image()), for a
+    listener that deserializes with genpy. Raises ValueError (or struct.error) on anything
+    unusual: the caller then converts with rosbags."""
 
-    __slots__ = ('raw', 'stamp', 'frame_id', 'sizes', 'encoding', 'is_bigendian', 'step', 'data')
+    __slots__ = ('prefix', 'data')
 
     def __init__(self, raw: Chunk) -> None:
         out: List[Chunk] = []
         pos = _align(_header(raw, out), 4)
-        self.raw = raw
-        self.stamp = struct.unpack_from('<2I', raw, 4)      # as the ROS 1 bytes are read
-        self.frame_id = bytes(out[3]).decode('utf-8', 'replace')
-        if pos + 8 > len(raw):
-            raise ValueError('short message')
-        self.sizes = struct.unpack_from('<2I', raw, pos)
+        sizes = raw[pos:pos + 8]                                  # height, width
         encoding, pos = _string(raw, pos + 8)
-        self.encoding = bytes(encoding).decode('utf-8', 'replace')
         if pos + 1 > len(raw):
             raise ValueError('short message')
-        self.is_bigendian = raw[pos]
+        is_bigendian = raw[pos:pos + 1]
         pos = _align(pos + 1, 4)
-        if pos + 4 > len(raw):
+        step = raw[pos:pos + 4]
+        n, start, end = _sequence(raw, pos + 4, 1)
+        if len(sizes) != 8 or len(step) != 4:
             raise ValueError('short message')
-        (self.step,) = _U32.unpack_from(raw, pos)
-        _n, start, end = _sequence(raw, pos + 4, 1)
+        # seq, stamp, len(frame_id), frame_id, sizes, len(encoding), encoding, is_bigendian, step, len(data)
+        self.prefix = out + [sizes, _U32.pack(len(encoding)), encoding, is_bigendian, step, _U32.pack(n)]
         self.data = memoryview(raw)[start:end]
 
     def message(self) -> Any:
         from genpy import Time
 
         from .messages import message_class
+        p = self.prefix
         msg = message_class('sensor_msgs/Image')()
-        msg.header.seq, msg.header.stamp, msg.header.frame_id = 0, Time(*self.stamp), self.frame_id
-        msg.height, msg.width = self.sizes
-        msg.encoding, msg.is_bigendian, msg.step, msg.data = (self.encoding, self.is_bigendian,
-                                                               self.step, self.data)
+        msg.header.seq = 0
+        msg.header.stamp = Time(*struct.unpack('<2I', p[1]))
+        msg.header.frame_id = bytes(p[3]).decode('utf-8', 'replace')
+        msg.height, msg.width = struct.unpack('<2I', p[4])
+        msg.encoding = bytes(p[6]).decode('utf-8', 'replace')
+        msg.is_bigendian = p[7][0]
+        (msg.step,) = _U32.unpack(p[8])
+        msg.data = self.data
         return msg
 
     def __bytes__(self) -> bytes:
-        return image(self.raw)
+        return b''.join(self.prefix + [self.data])
 
 
 def audio_buffer(raw: Chunk) -> bytes:
