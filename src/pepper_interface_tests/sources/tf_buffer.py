@@ -1,5 +1,5 @@
 """The robot's transform tree as tf2 keeps it: a `tf2_ros.Buffer` fed from /tf and /tf_static
-(on ROS 2, the same tf2 without rospy: tf2_py's BufferCore, see _ros2_tf2_core).
+(on ROS 2, ROS 2's own tf2: geometry2's tf2_py BufferCore, see _ros2_tf2_core).
 
 This is the package's only module that imports tf2 (tf2_ros and its compiled tf2_py): a Python
 whose tf2 is built elsewhere replaces this one module. Every question the checks ask of the tree
@@ -24,52 +24,64 @@ tf2_core: Any = None        # ROS 2: tf2_py's BufferCore (see _ros2_tf2_core)
 
 
 def _ros2_tf2_core() -> Any:
-    """ROS 1's compiled tf2 (tf2_py, tf2's BufferCore) in a ROS 2 process. When first imported,
-    tf2_py keeps the modules `rospy` (for the Time it returns) and `geometry_msgs.msg` (for the
-    TransformStamped lookups return, and the Vector3 and Quaternion set_transform checks the
-    parts against: geometry2 tf2_py/src/tf2_py.cpp, staticInit and transform_converter). In a
-    ROS 2 environment those names are rclpy's and rosidl's, which it cannot fill; so for that
-    one import they stand for genpy's Time and Duration and the genpy classes the tree decodes
-    /tf with (messages.message_class), and ROS 2's own are put back right after. Nothing of
-    rospy runs: tf2_ros.Buffer is BufferCore plus rospy's services and waits, not used here."""
-    import struct
-    import sys
-    import types
-
-    from .messages import message_class
-    tfm = message_class('tf2_msgs/TFMessage')
-    one = tfm()
-    # one zero transform in ROS 1 bytes: its nested objects give the classes tf2_py checks
-    one.deserialize(struct.pack('<IIIIII7d', 1, 0, 0, 0, 0, 0, *([0.0] * 7)))
-    ts = one.transforms[0]
-    geometry = types.ModuleType('geometry_msgs.msg')
-    geometry.TransformStamped = type(ts)                      # type: ignore[attr-defined]
-    geometry.Transform = type(ts.transform)                   # type: ignore[attr-defined]
-    geometry.Vector3 = type(ts.transform.translation)         # type: ignore[attr-defined]
-    geometry.Quaternion = type(ts.transform.rotation)         # type: ignore[attr-defined]
-    clock = types.ModuleType('rospy')
-    clock.Time, clock.Duration = genpy.Time, genpy.Duration   # type: ignore[attr-defined]
-    names = ('rospy', 'geometry_msgs.msg')
-    saved = {n: sys.modules.get(n) for n in names}
-    sys.modules['rospy'], sys.modules['geometry_msgs.msg'] = clock, geometry
+    """ROS 2's own tf2 for Python: geometry2's tf2_py BufferCore, the one every Humble install
+    has (ros-humble-tf2-py, which tf2_ros_py depends on). The ament index says where it is
+    installed; a tf2_py found elsewhere first on the path (ROS 1's, Debian's python3-tf2) is
+    refused by name rather than fed ROS 2's types."""
+    from ament_index_python.packages import PackageNotFoundError, get_package_prefix
     try:
-        return importlib.import_module('tf2_py').BufferCore
-    finally:
-        for n in names:
-            if saved[n] is None:
-                sys.modules.pop(n, None)
-            else:
-                sys.modules[n] = saved[n]   # type: ignore[assignment]
+        prefix = os.path.realpath(get_package_prefix('tf2_py'))
+    except PackageNotFoundError as exc:
+        raise ImportError("ROS 2's tf2_py is not installed (%s)" % exc) from exc
+    module = importlib.import_module('tf2_py')
+    where = os.path.realpath(getattr(module, '__file__', '') or '')
+    if not where.startswith(prefix + os.sep):
+        raise ImportError('the tf2_py first on the path is %s, not ROS 2\'s in %s' % (where, prefix))
+    return module.BufferCore
+
+
+class _Nanoseconds:
+    """A time or duration as ROS 2's tf2_py reads one: an object with `nanoseconds` (geometry2
+    tf2_py/src/tf2_py.cpp, rostime_converter and rosduration_converter)."""
+
+    __slots__ = ('nanoseconds',)
+
+    def __init__(self, nanoseconds: int) -> None:
+        self.nanoseconds = nanoseconds
+
+
+class _Header:
+    __slots__ = ('stamp', 'frame_id')
+
+
+class _Stamped:
+    """A genpy TransformStamped in the form ROS 2's tf2_py reads (tf2_py.cpp setTransform: the
+    attributes header.stamp, header.frame_id, child_frame_id, transform.translation.x.. and
+    transform.rotation.x..; the stamp with `nanoseconds`, which a genpy Time lacks)."""
+
+    __slots__ = ('header', 'child_frame_id', 'transform')
+
+    def __init__(self, t: Any) -> None:
+        self.header = _Header()
+        self.header.stamp = _Nanoseconds(t.header.stamp.to_nsec())
+        self.header.frame_id = t.header.frame_id
+        self.child_frame_id = t.child_frame_id
+        self.transform = t.transform
+
+
+def _nsec(stamp: float) -> int:
+    """Seconds as the nanoseconds the ROS 1 path asks tf2 about (genpy.Time.from_sec)."""
+    return int(genpy.Time.from_sec(stamp).to_nsec())
 
 
 if os.environ.get('ROS_VERSION', '').strip() == '2':
     try:
         tf2_core = _ros2_tf2_core()
         TF2_MISSING = ''
-    except ImportError as exc:      # tf2_py is ROS 1's, built for one Python (docs/ros2.md)
-        TF2_MISSING = ('tf2_py cannot be imported on this Python (%s): no sensor\'s frame and no '
-                       'tree was judged; fix: install ROS 1\'s tf2_py for this Python (Debian: '
-                       'python3-tf2, for /usr/bin/python3)' % exc)
+    except ImportError as exc:      # geometry2's tf2_py, in every ROS 2 base install
+        TF2_MISSING = ('ROS 2\'s tf2_py cannot be imported (%s): no sensor\'s frame and no tree '
+                       'was judged; fix: install it (Humble: sudo apt install ros-humble-tf2-py, '
+                       'in ros-humble-ros-base) and source its setup.bash' % exc)
     except Exception as exc:  # noqa: BLE001  (the tree is one row: it never stops a run)
         TF2_MISSING = ('tf2 could not be set up on ROS 2 (%s: %s): no sensor\'s frame and no tree '
                        'was judged' % (type(exc).__name__, exc))
@@ -93,6 +105,9 @@ CACHE_TIME = 10.0
 # in the buffer", from which the gap is the difference
 _EXTRAPOLATION = re.compile(r'extrapolation ([0-9.]+)s? into the (future|past)')
 _ONLY_TIME = re.compile(r'at time ([0-9.]+), but only time ([0-9.]+)')
+# ROS 2's tf2 (humble tf2/src/cache.cpp, createExtrapolationException2/3): "Lookup would require
+# extrapolation into the future.  Requested time X but the latest data is at time Y"
+_REQUESTED = re.compile(r'Requested time ([0-9.]+) but the (?:latest|earliest) data is at time ([0-9.]+)')
 
 Pose = Tuple[Tuple[float, float, float], Tuple[float, float, float, float]]
 
@@ -127,7 +142,7 @@ def extrapolation_gap(error: str) -> Optional[float]:
     m = _EXTRAPOLATION.search(error)
     if m:
         return float(m.group(1)) * (1.0 if m.group(2) == 'future' else -1.0)
-    m = _ONLY_TIME.search(error)
+    m = _ONLY_TIME.search(error) or _REQUESTED.search(error)
     if m:
         return float(m.group(1)) - float(m.group(2))
     return None
@@ -137,8 +152,9 @@ class TfBuffer:
     """A tf2 buffer of `cache_time` seconds; thread-safe as tf2's BufferCore is (one mutex)."""
 
     def __init__(self, cache_time: float = CACHE_TIME) -> None:
-        if tf2_core is not None:        # ROS 2: the core alone, the same methods
-            self._buffer = tf2_core(genpy.Duration.from_sec(cache_time))
+        self._ros2 = tf2_core is not None
+        if self._ros2:        # ROS 2: tf2's BufferCore, the same methods
+            self._buffer = tf2_core(_Nanoseconds(int(genpy.Duration.from_sec(cache_time).to_nsec())))
         else:       # debug=False: no ~tf2_frames service (a bag run has no master)
             self._buffer = tf2_ros.Buffer(cache_time=genpy.Duration.from_sec(cache_time), debug=False)
         self.cache_time = cache_time
@@ -150,14 +166,15 @@ class TfBuffer:
         put = self._buffer.set_transform_static if static else self._buffer.set_transform
         for t in transforms:
             try:
-                put(t, authority)
+                put(_Stamped(t) if self._ros2 else t, authority)
             except Exception:
                 refused += 1
         return refused
 
     def lookup(self, frame: str, target: str, stamp: float) -> Lookup:
         """Can `frame` be transformed into `target` at `stamp` (seconds)?"""
-        ok, error = self._buffer.can_transform_core(target, frame, genpy.Time.from_sec(stamp))
+        at = _Nanoseconds(_nsec(stamp)) if self._ros2 else genpy.Time.from_sec(stamp)
+        ok, error = self._buffer.can_transform_core(target, frame, at)
         return Lookup(bool(ok), error or '')
 
     def latest(self, frame: str, target: str) -> Optional[float]:
@@ -167,12 +184,15 @@ class TfBuffer:
             t = self._buffer.get_latest_common_time(target, frame)
         except Exception:
             return None
-        return t.to_sec() if hasattr(t, 'to_sec') else float(t) * 1e-9
+        if hasattr(t, 'nanoseconds'):       # ROS 2: an rclpy Time
+            t = genpy.Time(0, t.nanoseconds)
+        return float(t.to_sec())
 
     def pose(self, target: str, frame: str, stamp: float) -> Optional[Pose]:
         """`frame`'s pose in `target` at `stamp`: ((x, y, z), (qx, qy, qz, qw)), or None."""
+        at = _Nanoseconds(_nsec(stamp)) if self._ros2 else genpy.Time.from_sec(stamp)
         try:
-            t = self._buffer.lookup_transform_core(target, frame, genpy.Time.from_sec(stamp))
+            t = self._buffer.lookup_transform_core(target, frame, at)
         except Exception:
             return None
         p, q = t.transform.translation, t.transform.rotation
