@@ -42,9 +42,13 @@ STALE_STATS = 12
 
 @pytest.fixture(scope='module')
 def python27():
-    """CPython 2.7.12 from tools/platform/python27.sh, built by tools/setup.sh --test."""
+    """CPython 2.7.12 from tools/platform/python27.sh, built by tools/setup.sh --test. Not built
+    (a clone without ../shared/python): these tests are skipped with the reason and the fix,
+    no error; on CI (CI=true, .ci/run) that fails them instead: CI runs every tier."""
     res = subprocess.run([os.path.join(ROOT, 'tools/platform/python27.sh'), '--installed'],
                          capture_output=True)
+    if res.returncode == 3 and os.environ.get('CI') != 'true':
+        pytest.skip('NOT RUN: ' + res.stderr.decode().strip().replace('[python27] ', ''))
     assert res.returncode == 0, res.stderr.decode()
     return res.stdout.decode().strip()
 

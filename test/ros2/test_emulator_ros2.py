@@ -12,7 +12,7 @@ import time
 import pytest
 
 from motion_runs import GOAL, assert_stopped_safely, expectations
-from ros2_runs import domain_env, program, results
+from ros2_runs import domain_env, program, results, signal_as_users_do
 from rosmaster import kill_group, spawn, wait_until
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
@@ -150,7 +150,7 @@ def test_a_signal_during_a_base_turn_on_ros2_leaves_a_zero_twist_last(robot_fact
     try:
         wait_until(lambda: any(r['topic'] == GOAL for r in rows_received()), 60,
                    lambda: (tmp_path / 'sensorTest.log').read_text()[-3000:])
-        proc.send_signal(sig)
+        signal_as_users_do(proc, sig)
         assert proc.wait(30) == code, (tmp_path / 'sensorTest.log').read_text()[-3000:]
     finally:
         kill_group(proc)

@@ -12,9 +12,21 @@
 #      run history (sensorTestHistory), the report's plots (matplotlib 3.1) and template
 #      (Jinja2 2.10) in a headless browser, a recording's frames placed by tf2 (tf2_py built
 #      for 3.8 by tools/platform/noetic.sh).
+# No Python 3.8 to run on (no python3.8 on PATH, no sources in $PEPPER_PYTHON_SOURCES): one line
+# "[noetic] NOT RUN: <reason and fix>" and exit 3, which tools/run-tests.sh reports.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-tools/platform/noetic.sh
+mkdir -p build
+trc=0
+tools/platform/noetic.sh 2> >(tee build/noetic-platform.err \
+  | grep --line-buffered -v '^\[python\] no python' >&2) || trc=$?
+wait $! 2>/dev/null || true
+if [ $trc = 2 ] && grep -q '^\[python\] no python' build/noetic-platform.err; then
+  echo "[noetic] NOT RUN: $(grep '^\[python\] no python' build/noetic-platform.err | tail -1 | sed 's/^\[python\] //')"
+  exit 3
+elif [ $trc != 0 ]; then
+  exit 1
+fi
 export PEPPER_PLATFORM=noetic
 source tools/env.sh
 unset PYTHONDONTWRITEBYTECODE
