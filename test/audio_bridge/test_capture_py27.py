@@ -22,7 +22,17 @@ import time
 import numpy as np
 import pytest
 
-from audio_chain import RATE, counter_starts, finish_dump, get_param, message_count, wait_messages, wait_param
+from audio_chain import (
+    RATE,
+    counter_starts,
+    finish_dump,
+    get_param,
+    message_count,
+    python27_or_skip,
+    robot_env,
+    wait_messages,
+    wait_param,
+)
 from pepper_interface_tests.audio_bridge import frame as fr
 from pepper_interface_tests.emulator.audio_source import expected_counter
 from rosmaster import NODES, ROOT, wait_until
@@ -42,23 +52,7 @@ STALE_STATS = 12
 
 @pytest.fixture(scope='module')
 def python27():
-    """CPython 2.7.12 from tools/platform/python27.sh, built by tools/setup.sh --test. Not built
-    (a clone without ../shared/python): these tests are skipped with the reason and the fix,
-    no error; on CI (CI=true, .ci/run) that fails them instead: CI runs every tier."""
-    res = subprocess.run([os.path.join(ROOT, 'tools/platform/python27.sh'), '--installed'],
-                         capture_output=True)
-    if res.returncode == 3 and os.environ.get('CI') != 'true':
-        pytest.skip('NOT RUN: ' + res.stderr.decode().strip().replace('[python27] ', ''))
-    assert res.returncode == 0, res.stderr.decode()
-    return res.stdout.decode().strip()
-
-
-def robot_env(**extra):
-    """The environment of a Python 2.7 process as on the robot: none of this machine's Python 3
-    settings (ROS's PYTHONPATH would hand it the Python 3 packages)."""
-    env = {k: v for k, v in os.environ.items() if not k.startswith('PYTHON')}
-    env.update(PYTHONUNBUFFERED='1', PYTHONDONTWRITEBYTECODE='1', PYTHONNOUSERSITE='1', **extra)
-    return env
+    return python27_or_skip()
 
 
 def capture27(procs, python27, raw, ws_port, *extra, **env):

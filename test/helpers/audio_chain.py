@@ -21,6 +21,30 @@ BUFFER = 4096
 RATE = 48000
 
 
+def python27_or_skip():
+    """CPython 2.7.12 from tools/platform/python27.sh (built by tools/setup.sh --test), the
+    capture side's Python on the robot. Not built (a clone without ../shared/python): the test
+    is skipped with the reason and the fix, no error; on CI (CI=true, .ci/run) it fails instead:
+    CI runs every tier."""
+    import pytest
+
+    from rosmaster import ROOT
+    res = subprocess.run([os.path.join(ROOT, 'tools/platform/python27.sh'), '--installed'],
+                         capture_output=True)
+    if res.returncode == 3 and os.environ.get('CI') != 'true':
+        pytest.skip('NOT RUN: ' + res.stderr.decode().strip().replace('[python27] ', ''))
+    assert res.returncode == 0, res.stderr.decode()
+    return res.stdout.decode().strip()
+
+
+def robot_env(**extra):
+    """The environment of a Python 2.7 process as on the robot: none of this machine's Python 3
+    settings (ROS's PYTHONPATH would hand it the Python 3 packages)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith('PYTHON')}
+    env.update(PYTHONUNBUFFERED='1', PYTHONDONTWRITEBYTECODE='1', PYTHONNOUSERSITE='1', **extra)
+    return env
+
+
 class Proc:
     """A spawned process with its log file."""
 

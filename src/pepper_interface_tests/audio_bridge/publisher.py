@@ -184,8 +184,10 @@ class Bridge:
     """Websocket connection handler: validate, account, publish."""
 
     def __init__(self, publish: Callable[['genpy.Message'], None], msg_class: type, token: str, log: Log,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 build: Optional[Callable[[Frame, type], 'genpy.Message']] = None) -> None:
         self.publish, self.msg_class, self.token, self.log = publish, msg_class, token, log
+        self.build = build or to_message        # the message of a frame (publisher2.py: AudioBuffer too)
         self.stats = Stats()
         self.tracker = SequenceTracker()
         self.layout = LayoutGuard()
@@ -312,7 +314,7 @@ class Bridge:
             else:
                 self.warn_limited('layout ' + kind, text)
             return 'layout mismatch'
-        msg = to_message(frame, self.msg_class)
+        msg = self.build(frame, self.msg_class)
         event: Optional[str]
         with self._track_lock:  # publish first: a frame that failed to publish counts as lost
             previous = self.tracker.last
@@ -463,6 +465,10 @@ def _write_stats(bridge: Bridge, rospy: 'ModuleType') -> None:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
+    from ..sources.live2 import ros_version
+    if ros_version() == 2:      # rclpy: publisher2.py
+        from .publisher2 import main2
+        return main2(argv)
     import rospy
 
     from pepper_interface_tests.msg import AudioCustomMsg

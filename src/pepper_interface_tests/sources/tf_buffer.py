@@ -53,6 +53,9 @@ class _Nanoseconds:
 class _Header:
     __slots__ = ('stamp', 'frame_id')
 
+    def __init__(self, stamp: _Nanoseconds, frame_id: str) -> None:
+        self.stamp, self.frame_id = stamp, frame_id
+
 
 class _Stamped:
     """A genpy TransformStamped in the form ROS 2's tf2_py reads (tf2_py.cpp setTransform: the
@@ -62,9 +65,7 @@ class _Stamped:
     __slots__ = ('header', 'child_frame_id', 'transform')
 
     def __init__(self, t: Any) -> None:
-        self.header = _Header()
-        self.header.stamp = _Nanoseconds(t.header.stamp.to_nsec())
-        self.header.frame_id = t.header.frame_id
+        self.header = _Header(_Nanoseconds(t.header.stamp.to_nsec()), t.header.frame_id)
         self.child_frame_id = t.child_frame_id
         self.transform = t.transform
 
