@@ -37,13 +37,13 @@ OWNERS = {
                    'motion/witnesses.py', 'outputs/diagnostics.py'),
     'pepperEmulator': ('emulator/node.py', 'emulator/commands.py', 'emulator/events.py', 'emulator/info.py',
                        'emulator/publishers.py', 'emulator/tf_publisher.py', 'emulator/second_publisher.py'),
-    'naoqiAudioPublisher': ('audio_bridge/publisher.py',),
+    'naoqiAudioPublisher': ('audio_bridge/publisher.py', 'audio_bridge/publisher2.py'),
 }
 # the programs and the modules whose parsers declare their command lines
 COMMAND_LINES = {
     'sensorTest': ('plan/options.py',),
     'pepperEmulator': ('emulator/node.py',),
-    'naoqiAudioPublisher': ('audio_bridge/publisher.py',),
+    'naoqiAudioPublisher': ('audio_bridge/publisher.py', 'audio_bridge/publisher2.py'),
     'naoqiAudio': ('audio_bridge/capture.py',),
     'sensorTestLaunch': ('launch/wrapper.py',),
     'sensorTestHistory': ('history_cli.py',),
@@ -117,6 +117,8 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('audio_bridge/publisher.py', "opts['topic']"):
         lambda: {('/naoqi_driver/audio', 'pepper_interface_tests/AudioCustomMsg')},
     ('audio_bridge/publisher.py', "'~' + name"): _table_params('audio_bridge.publisher', 'DEFAULTS', skip=('token',)),
+    # ROS 2 (publisher2.py): --topic, default /audio; the type by --message (AudioBuffer or AudioCustomMsg)
+    ('audio_bridge/publisher2.py', 'args.topic'): lambda: {('/audio', None)},
 }
 
 

@@ -18,7 +18,7 @@ import pytest
 from audio_chain import Procs, python27_or_skip, robot_env
 from pepper_interface_tests.emulator.audio_source import expected_counter, find_counter_start
 from ros2_runs import domain_env, program, results
-from rosmaster import NODES, wait_until
+from rosmaster import NODES
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
 STANDIN = os.path.join(NODES, 'naoqi27_standin.py')

@@ -465,10 +465,6 @@ def _write_stats(bridge: Bridge, rospy: 'ModuleType') -> None:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    from ..sources.live2 import ros_version
-    if ros_version() == 2:      # rclpy: publisher2.py
-        from .publisher2 import main2
-        return main2(argv)
     import rospy
 
     from pepper_interface_tests.msg import AudioCustomMsg
