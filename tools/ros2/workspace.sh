@@ -22,8 +22,7 @@ hash=ros2-$(cat package.xml CMakeLists.txt msg/*.msg tools/ros2/msg_packages.py 
 if [ ! -f "$WS/install/setup.bash" ] || [ "$(cat "$STAMP" 2>/dev/null)" != "$hash" ]; then
   echo "[ros2] building the ROS 2 workspace in build/ros2/ws (colcon)" >&2
   (
-    set +u; source "$core"; set -u
-    export ROS_VERSION=2
+    set +u; source "$core"; set -u      # sets ROS_VERSION=2 (ros_environment), as for a user
     for pkg in naoqi_bridge_msgs tf2_msgs; do
       rm -rf "${WS:?}/src/$pkg"
       # ROS 2's own package, by the ament index: `import tf2_msgs.msg` also finds ROS 1's

@@ -37,7 +37,12 @@ def _ros2_tf2_core() -> Any:
     where = os.path.realpath(getattr(module, '__file__', '') or '')
     if not where.startswith(prefix + os.sep):
         raise ImportError('the tf2_py first on the path is %s, not ROS 2\'s in %s' % (where, prefix))
+    from geometry_msgs.msg import Quaternion, Vector3     # ROS 2's: the types tf2_py checks
+    _ros2_geometry[:] = [Vector3, Quaternion]
     return module.BufferCore
+
+
+_ros2_geometry: List[Any] = []      # ROS 2's geometry_msgs Vector3 and Quaternion (_ros2_tf2_core)
 
 
 class _Nanoseconds:
@@ -57,22 +62,39 @@ class _Header:
         self.stamp, self.frame_id = stamp, frame_id
 
 
+class _Transform:
+    __slots__ = ('translation', 'rotation')
+
+    def __init__(self, translation: Any, rotation: Any) -> None:
+        self.translation, self.rotation = translation, rotation
+
+
 class _Stamped:
     """A genpy TransformStamped in the form ROS 2's tf2_py reads (tf2_py.cpp setTransform: the
-    attributes header.stamp, header.frame_id, child_frame_id, transform.translation.x.. and
-    transform.rotation.x..; the stamp with `nanoseconds`, which a genpy Time lacks)."""
+    attributes header.stamp, header.frame_id, child_frame_id, transform.translation and
+    transform.rotation; the stamp with `nanoseconds`, which a genpy Time lacks; the translation
+    must be a geometry_msgs Vector3 of ROS 2, checkTranslationType refuses any other object, and
+    the rotation a Quaternion, or checkRotationType warns on every call)."""
 
     __slots__ = ('header', 'child_frame_id', 'transform')
 
     def __init__(self, t: Any) -> None:
-        self.header = _Header(_Nanoseconds(t.header.stamp.to_nsec()), t.header.frame_id)
+        self.header = _Header(_Nanoseconds(_nsec(t.header.stamp.to_sec())), t.header.frame_id)
         self.child_frame_id = t.child_frame_id
-        self.transform = t.transform
+        p, q = t.transform.translation, t.transform.rotation
+        self.transform = _Transform(_ros2_geometry[0](x=float(p.x), y=float(p.y), z=float(p.z)),
+                                    _ros2_geometry[1](x=float(q.x), y=float(q.y), z=float(q.z), w=float(q.w)))
 
 
-def _nsec(stamp: float) -> int:
-    """Seconds as the nanoseconds the ROS 1 path asks tf2 about (genpy.Time.from_sec)."""
-    return int(genpy.Time.from_sec(stamp).to_nsec())
+def _nsec(seconds: float) -> int:
+    """Seconds as the nanoseconds tf2 holds on ROS 1: ROS 1's tf2_py takes every time through
+    its float seconds (tf2_py.cpp rostime_converter: to_sec(), then ros::Time::fromSec, which
+    rounds the fraction to the nanosecond), so stamps and lookups are both on that grid (about
+    240 ns apart at today's epoch). The same grid on ROS 2 gives the same answers, a lookup at a
+    message's own stamp included."""
+    sec = math.floor(seconds)
+    nsec = int(math.floor((seconds - sec) * 1e9 + 0.5))
+    return int(sec) * 1000000000 + nsec
 
 
 if os.environ.get('ROS_VERSION', '').strip() == '2':
@@ -155,7 +177,7 @@ class TfBuffer:
     def __init__(self, cache_time: float = CACHE_TIME) -> None:
         self._ros2 = tf2_core is not None
         if self._ros2:        # ROS 2: tf2's BufferCore, the same methods
-            self._buffer = tf2_core(_Nanoseconds(int(genpy.Duration.from_sec(cache_time).to_nsec())))
+            self._buffer = tf2_core(_Nanoseconds(_nsec(cache_time)))
         else:       # debug=False: no ~tf2_frames service (a bag run has no master)
             self._buffer = tf2_ros.Buffer(cache_time=genpy.Duration.from_sec(cache_time), debug=False)
         self.cache_time = cache_time
