@@ -37,7 +37,7 @@ def _ros2_tf2_core() -> Any:
     where = os.path.realpath(getattr(module, '__file__', '') or '')
     if not where.startswith(prefix + os.sep):
         raise ImportError('the tf2_py first on the path is %s, not ROS 2\'s in %s' % (where, prefix))
-    from geometry_msgs.msg import Quaternion, Vector3     # ROS 2's: the types tf2_py checks
+    from geometry_msgs.msg import Quaternion, Vector3  # ROS 2's: the types tf2_py checks
     _ros2_geometry[:] = [Vector3, Quaternion]
     return module.BufferCore
 
