@@ -17,10 +17,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 mkdir -p build
-trc=0
-tools/platform/noetic.sh 2> >(tee build/noetic-platform.err \
-  | grep --line-buffered -v '^\[python\] no python' >&2) || trc=$?
-wait $! 2>/dev/null || true
+set +e
+{ tools/platform/noetic.sh 2>&1; } | tee build/noetic-platform.err \
+  | { grep --line-buffered -v '^\[python\] no python' >&2; true; }
+trc=${PIPESTATUS[0]}
+set -e
 if [ $trc = 2 ] && grep -q '^\[python\] no python' build/noetic-platform.err; then
   echo "[noetic] NOT RUN: $(grep '^\[python\] no python' build/noetic-platform.err | tail -1 | sed 's/^\[python\] //')"
   exit 3

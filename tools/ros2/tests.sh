@@ -10,17 +10,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 mkdir -p build/ros2
-trc=0
 # the build's progress on stderr as it goes; the reason there is no ROS 2 (exit 2) said once below
-ws=$(tools/ros2/workspace.sh 2> >(tee build/ros2/platform.err \
-  | grep --line-buffered -v '^\[ros2\] \(no ROS 2\|missing Debian\)' >&2)) || trc=$?
-wait $! 2>/dev/null || true
+set +e
+{ tools/ros2/workspace.sh 2>&1 >build/ros2/ws.path; } | tee build/ros2/platform.err \
+  | { grep --line-buffered -v '^\[ros2\] \(no ROS 2\|missing Debian\)' >&2; true; }
+trc=${PIPESTATUS[0]}
+set -e
 if [ $trc = 2 ]; then
   echo "[ros2] NOT RUN: $(tail -1 build/ros2/platform.err | sed 's/^\[ros2\] //')"
   exit 3
 elif [ $trc != 0 ]; then
   exit 1
 fi
+ws=$(cat build/ros2/ws.path)
 # the ROS 1 environment, for the tests' side-by-side runs of the same data on ROS 1
 ( source tools/env.sh; env -0 ) > build/ros2/ros1.env
 export PEPPER_ROS1_ENV="$PWD/build/ros2/ros1.env"
