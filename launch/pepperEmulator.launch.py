@@ -6,8 +6,9 @@ sensorTest against it: pepperEmulator.launch's names and arguments, on ROS 2.
   ros2 launch pepper_interface_tests pepperEmulator.launch.py faults:="frontCamera:frozen;laser:nan" run_test:=true
   ros2 launch pepper_interface_tests pepperEmulator.launch.py audio:=bridge run_test:=true
 
-With run_test:=true the launch ends when sensorTest ends, with its verdict as exit status: 0
-when every row passed, 1 otherwise (its exit code named in the launch's last line;
+With run_test:=true sensorTest starts once the emulator's publishers are up, and the launch
+ends when sensorTest ends, with its verdict as exit status: 0 when every row passed, 1
+otherwise (its exit code named in the launch's last line;
 pepper_interface_tests/launch/ros2.py). The emulator ending with an error ends the launch
 (exit 1), as required="true" on ROS 1. audio: direct (default: the emulated naoqi_driver2
 publishes AudioBuffer on /audio), off, or bridge: naoqi_driver2 without microphones (as
@@ -21,7 +22,7 @@ from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, OpaqueFunction, RegisterEventHandler
 from launch_ros.actions import Node
 
-from pepper_interface_tests.launch.ros2 import ends_launch, flag, required
+from pepper_interface_tests.launch.ros2 import ends_launch, flag, required, start_when_up
 
 PKG = 'pepper_interface_tests'
 ARGS = [   # name, default, description: pepperEmulator.launch's, where ROS 2 has them
@@ -97,7 +98,8 @@ def _actions(context):
         if _given(a['sensors']):
             test_args += ['--sensors', a['sensors']]
         sensor_test = Node(package=PKG, executable='sensorTest', arguments=test_args, output='screen')
-        actions += [sensor_test, RegisterEventHandler(ends_launch(sensor_test, 'sensorTest'))]
+        actions += [RegisterEventHandler(start_when_up(emulator, sensor_test)),
+                    RegisterEventHandler(ends_launch(sensor_test, 'sensorTest'))]
     return actions
 
 

@@ -99,20 +99,25 @@ def test_sensor_test_on_ros2_hears_the_bridge_and_records_it_sample_exact(procs,
     import soundfile
     wav, rate = soundfile.read(wavs[0], dtype='int16', always_2d=True)
     assert rate == 48000 and wav.shape[1] == 4 and len(wav) >= 15 * SAMPLES, (rate, wav.shape)
-    # each recorded channel is one fed microphone, every sample exact, all from the same instant
-    starts, matched = set(), set()
+    # each recorded column is one fed microphone (whatever the WAV's channel order), and together
+    # they are the fed samples from one instant on, every sample exact
+    order = []
     for col in range(4):
-        for c in range(4):
-            try:
-                start = find_counter_start(wav[:, col], c)
-            except ValueError:
-                continue
-            if np.array_equal(wav[:, col], expected_counter(start, len(wav))[:, c]):
-                starts.add(start)
-                matched.add(c)
-                break
-        else:
-            raise AssertionError('WAV channel %d is no fed microphone, sample-exact' % col)
-    assert matched == {0, 1, 2, 3} and len(starts) == 1 and min(starts) % SAMPLES == 0, (matched, starts)
-    print('\nsensorTest on ROS 2, the bridge from Python 2.7: %s, %d messages, WAV %d samples from fed sample %d'
-          % (mic['verdict'], mic['messages'], len(wav), min(starts)))
+        found = [c for c in range(4) if _one_channel(wav[:, col], c)]
+        assert len(found) == 1, 'WAV channel %d is %s of the fed microphones' % (col, found)
+        order += found
+    assert sorted(order) == [0, 1, 2, 3], order
+    fed_order = np.empty_like(wav)
+    fed_order[:, order] = wav
+    start = find_counter_start(fed_order)
+    assert np.array_equal(fed_order, expected_counter(start, len(wav))) and start % SAMPLES == 0, start
+    print('\nsensorTest on ROS 2, the bridge from Python 2.7: %s, %d messages, WAV %d samples from fed sample %d, '
+          'WAV channels = fed %s' % (mic['verdict'], mic['messages'], len(wav), start, order))
+
+
+def _one_channel(column, c):
+    try:
+        start = find_counter_start(column, c)       # the start modulo that channel's period
+    except ValueError:
+        return False
+    return np.array_equal(column, expected_counter(start, len(column))[:, c])

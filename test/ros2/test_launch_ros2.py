@@ -40,6 +40,9 @@ def test_the_emulator_launch_with_run_test_exits_0_with_every_row_passing(tmp_pa
     assert len(rows) == 8 and all(r['verdict'] == 'PASS' for r in rows.values()), \
         {n: (r['verdict'], r['reasons']) for n, r in rows.items()}
     assert rows['microphone']['topic'] == '/audio' and rows['tf']['values']['publishers'] == ['/naoqi_driver']
+    for name in ('laser', 'imu', 'odometry', 'frontCamera', 'frontSonar'):    # placed by ROS 2's tf2
+        frame = rows[name]['frame']
+        assert frame and frame['judged'] > 0 and frame['placed'] == frame['judged'], (name, frame)
     assert 'Traceback' not in text, text[-5000:]
 
 

@@ -9,7 +9,7 @@ the launch reports in one line and ends with exit 1, as sensorTestLaunch does on
 row passed; 1: not, or no verdict). The launch's own exit status has no room for more: the
 code itself (1 FAIL, 2 a bad option, 130 interrupted) is in that line and in the results.
 """
-from typing import Any, List
+from typing import Any, List, Optional
 
 
 class LaunchEnded(RuntimeError):
@@ -47,6 +47,22 @@ def required(action: Any, name: str) -> Any:
                               'own message is above)' % (name, code))
         return []
     return OnProcessExit(target_action=action, on_exit=on_exit)
+
+
+def start_when_up(emulator: Any, action: Any, ready: str = 'publishers up') -> Any:
+    """An event handler: `action` (sensorTest) is started once `emulator` says `ready` on its
+    output (pepperEmulator's "all N publishers up" line). Started together, sensorTest's
+    windows began before the emulator's publishers existed: the tree had no /tf publisher when
+    the run began and no sensor's frame was judged."""
+    from launch.event_handlers import OnProcessIO
+    started: List[bool] = []
+
+    def on_output(event: Any) -> Optional[List[Any]]:
+        if not started and ready in event.text.decode('utf-8', 'replace'):
+            started.append(True)
+            return [action]
+        return None
+    return OnProcessIO(target_action=emulator, on_stdout=on_output, on_stderr=on_output)
 
 
 def meaning(code: int) -> str:

@@ -26,18 +26,29 @@ tf2_core: Any = None        # ROS 2: tf2_py's BufferCore (see _ros2_tf2_core)
 def _ros2_tf2_core() -> Any:
     """ROS 2's own tf2 for Python: geometry2's tf2_py BufferCore, the one every Humble install
     has (ros-humble-tf2-py, which tf2_ros_py depends on). The ament index says where it is
-    installed; a tf2_py found elsewhere first on the path (ROS 1's, Debian's python3-tf2) is
-    refused by name rather than fed ROS 2's types."""
+    installed, and it is imported from there even when another tf2_py comes first on the path
+    (ROS 1's, Debian's python3-tf2, when a ROS 1 path is ahead of ROS 2's)."""
+    import sys
+
     from ament_index_python.packages import PackageNotFoundError, get_package_prefix
     try:
         prefix = os.path.realpath(get_package_prefix('tf2_py'))
     except PackageNotFoundError as exc:
         raise ImportError("ROS 2's tf2_py is not installed (%s)" % exc) from exc
-    module = importlib.import_module('tf2_py')
+    ours = [d for d in sys.path if d and os.path.realpath(d).startswith(prefix + os.sep)
+            and os.path.isfile(os.path.join(d, 'tf2_py', '__init__.py'))]
+    if not ours:
+        raise ImportError("ROS 2's tf2_py in %s is not on this Python's path (source its setup.bash)" % prefix)
+    sys.path.insert(0, ours[0])
+    try:
+        module = importlib.import_module('tf2_py')
+    finally:
+        sys.path.remove(ours[0])
     where = os.path.realpath(getattr(module, '__file__', '') or '')
-    if not where.startswith(prefix + os.sep):
-        raise ImportError('the tf2_py first on the path is %s, not ROS 2\'s in %s' % (where, prefix))
-    from geometry_msgs.msg import Quaternion, Vector3  # ROS 2's: the types tf2_py checks
+    if not where.startswith(prefix + os.sep):       # another tf2_py was imported before this
+        raise ImportError('the tf2_py imported in this process is %s, not ROS 2\'s in %s' % (where, prefix))
+    # the classes tf2_py checks a transform's parts against: those its own import found
+    from geometry_msgs.msg import Quaternion, Vector3
     _ros2_geometry[:] = [Vector3, Quaternion]
     return module.BufferCore
 
