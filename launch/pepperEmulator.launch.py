@@ -19,8 +19,9 @@ export PEPPER_AUDIO_TOKEN_FILE=<file holding it> before ros2 launch (never an ar
 All arguments with their meaning: ros2 launch pepper_interface_tests pepperEmulator.launch.py --show-args
 """
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, OpaqueFunction, RegisterEventHandler
+from launch.actions import DeclareLaunchArgument, ExecuteProcess, OpaqueFunction, RegisterEventHandler
 from launch_ros.actions import Node
+from launch_ros.substitutions import ExecutableInPackage
 
 from pepper_interface_tests.launch.ros2 import ends_launch, flag, required, start_when_up
 
@@ -82,11 +83,12 @@ def _actions(context):
         publisher = Node(package=PKG, executable='naoqiAudioPublisher', output='screen',
                          arguments=['--host', '127.0.0.1', '--port', a['ws_port'], '--topic', '/audio',
                                     '--message', a['audio_msg']])
-        actions += [Node(package=PKG, executable='naoqiEndpoint', arguments=endpoint, output='screen'),
+        # naoqiEndpoint and naoqiAudio are no ROS nodes (launch_ros' Node would add --ros-args)
+        actions += [ExecuteProcess(cmd=[ExecutableInPackage('naoqiEndpoint', PKG)] + endpoint, output='screen'),
                     publisher, RegisterEventHandler(required(publisher, 'naoqiAudioPublisher')),
-                    Node(package=PKG, executable='naoqiAudio', output='screen',
-                         arguments=['--ip', '127.0.0.1', '--port', a['naoqi_port'],
-                                    '--ws', 'ws://127.0.0.1:%s' % a['ws_port']])]
+                    ExecuteProcess(cmd=[ExecutableInPackage('naoqiAudio', PKG), '--ip', '127.0.0.1', '--port',
+                                        a['naoqi_port'], '--ws', 'ws://127.0.0.1:%s' % a['ws_port']],
+                                   output='screen')]
     if flag(a['run_test'], 'run_test'):
         test_args = ['--platform', 'simulator' if a['profile'] == 'simulator' else 'robot',
                      '--mode', a['mode'], '--duration', a['duration'], '--wait', a['wait'],

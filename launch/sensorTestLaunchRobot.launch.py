@@ -21,9 +21,16 @@ drivers only (then: ros2 run pepper_interface_tests sensorTest).
 All arguments with their meaning: ros2 launch pepper_interface_tests sensorTestLaunchRobot.launch.py --show-args
 """
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, IncludeLaunchDescription, OpaqueFunction, RegisterEventHandler
+from launch.actions import (
+    DeclareLaunchArgument,
+    ExecuteProcess,
+    IncludeLaunchDescription,
+    OpaqueFunction,
+    RegisterEventHandler,
+)
 from launch.launch_description_sources import PythonLaunchDescriptionSource
 from launch_ros.actions import Node
+from launch_ros.substitutions import ExecutableInPackage
 
 from pepper_interface_tests.launch.ros2 import ends_launch, flag, require_package
 
@@ -67,9 +74,9 @@ def _actions(context):
             Node(package=PKG, executable='naoqiAudioPublisher', output='screen',
                  arguments=['--host', '127.0.0.1', '--port', a['ws_port'], '--topic', '/audio',
                             '--message', a['audio_msg']]),
-            Node(package=PKG, executable='naoqiAudio', output='screen',
-                 arguments=['--ip', a['robot_ip'], '--port', a['robot_port'],
-                            '--ws', 'ws://127.0.0.1:%s' % a['ws_port']])]
+            # naoqiAudio is no ROS node (launch_ros' Node would add --ros-args)
+            ExecuteProcess(cmd=[ExecutableInPackage('naoqiAudio', PKG), '--ip', a['robot_ip'], '--port',
+                                a['robot_port'], '--ws', 'ws://127.0.0.1:%s' % a['ws_port']], output='screen')]
     if flag(a['run_test'], 'run_test'):
         test_args = ['--platform', 'robot']
         for name in ('cameras', 'mode', 'duration', 'output_dir'):

@@ -57,6 +57,21 @@ def test_the_emulator_launch_with_a_fault_exits_1_naming_sensor_tests_code(tmp_p
     assert 'Traceback' not in text, text[-5000:]
 
 
+def test_the_emulator_launch_with_the_audio_bridge_on_ros2_passes_its_microphones(tmp_path):
+    """audio:=bridge: the emulated naoqi_driver2 without microphones, naoqiEndpoint ->
+    naoqiAudio -> websocket -> naoqiAudioPublisher on rclpy, which publishes naoqi_driver2's
+    AudioBuffer on /audio; sensorTest on ROS 2 hears it."""
+    out = tmp_path / 'out'
+    code, text = run_launch(tmp_path, 'run_test:=true', 'audio:=bridge', 'output_dir:=%s' % out,
+                            'sensors:=microphone,laser', *QUICK)
+    assert code == 0, text[-5000:]
+    assert 'publishing /audio (naoqi_bridge_msgs/AudioBuffer)' in text, text[-5000:]
+    _, rows = results(out)
+    mic = rows['microphone']
+    assert mic['verdict'] == 'PASS' and mic['messages'] > 10 and mic['received_type'].endswith('AudioBuffer'), mic
+    assert 'Traceback' not in text, text[-5000:]
+
+
 def test_a_bad_emulator_argument_ends_the_launch_naming_the_emulator(tmp_path):
     code, text = run_launch(tmp_path, 'run_test:=true', 'faults:=laser:no_such_fault', *QUICK, timeout=90)
     assert code == 1, text[-3000:]
