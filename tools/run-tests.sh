@@ -57,18 +57,19 @@ tier() {  # tier NAME SCRIPT: run a tier; its exit 3 = its platform is missing (
   fi
 }
 if [ "$gates" = 1 ] && [ $# = 0 ] && [ "${NOETIC_TIER:-1}" != 0 ]; then
-  tier Noetic tools/platform/noetic-tests.sh
+  tier "the Noetic tier" tools/platform/noetic-tests.sh
 fi
 if [ "$gates" = 1 ] && [ $# = 0 ] && [ "${ROS2_TIER:-1}" != 0 ]; then
-  tier "ROS 2" tools/ros2/tests.sh
+  tier "the ROS 2 tier" tools/ros2/tests.sh
 fi
 if [ "$gates" = 1 ] && [ $# = 0 ] && ! tools/platform/python27.sh --installed >/dev/null 2>&1; then
   # test_capture_py27.py skipped its tests (pytest's summary above gives the reason and the fix)
-  not_run+=("Python 2.7 capture side (test/audio_bridge/test_capture_py27.py)")
+  not_run+=("the capture side on Python 2.7 (test/audio_bridge/test_capture_py27.py)")
   if [ "${CI:-}" = true ]; then rc=1; fi
 fi
 if [ ${#not_run[@]} -gt 0 ]; then
-  echo "[tests] NOT RUN: the ${not_run[*]} tier(s), their platform missing on this machine (the" \
-    "NOT RUN lines above give the reason and the fix)$([ "${CI:-}" = true ] && echo '; CI requires every tier: FAILED')"
+  list=$(printf '%s; ' "${not_run[@]}")
+  echo "[tests] NOT RUN, their platform missing on this machine: ${list%; } (the NOT RUN lines above" \
+    "give the reason and the fix)$([ "${CI:-}" = true ] && echo '; CI requires every tier: FAILED')"
 fi
 exit $rc

@@ -45,7 +45,8 @@ tools/workspace.sh "$WS" "$ROOT/.venv" "$STAMPS/build"
 #    test that runs the audio bridge's capture side on it (test/audio_bridge/test_capture_py27.py).
 #    Built once (a few minutes) into a cache outside the work tree, shared by every checkout of
 #    this machine; a second run only checks its stamps (tools/platform/python27.sh).
-#    Without it (no CPython source, a failed build: said above) only that test fails, naming the fix.
+#    Without it (no CPython source, a failed build: said above) that test is skipped, NOT RUN with
+#    the reason and the fix (on CI, CI=true, it fails instead).
 if [ "${1:-}" = "--test" ]; then
   tools/platform/python27.sh >/dev/null || say "no Python 2.7 for test_capture_py27.py (see above)"
 fi
