@@ -140,3 +140,37 @@ def test_the_launch_files_declare_the_ros1_arguments(tmp_path):
         assert p.returncode == 0, p.stdout + p.stderr
         ros2 = set(re.findall(r"^    '([a-z_]+)':", p.stdout, re.M))
         assert ros1 - left_out <= ros2, (name, sorted(ros1 - left_out - ros2))
+
+
+# A stand-in for naoqi_driver2's package, in a prefix of its own: its launch file declares the
+# arguments of ros-naoqi/naoqi_driver2 launch/naoqi_driver.launch.py (nao_ip, nao_port,
+# username, password, network_interface, namespace) and logs the values it was given.
+FAKE_DRIVER_LAUNCH = '''
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, LogInfo
+from launch.substitutions import LaunchConfiguration
+
+NAMES = ('nao_ip', 'nao_port', 'username', 'password', 'network_interface', 'namespace')
+
+
+def generate_launch_description():
+    return LaunchDescription([DeclareLaunchArgument(n, default_value='default') for n in NAMES] + [
+        LogInfo(msg=['fake naoqi_driver2: '] + sum([[n, '=', LaunchConfiguration(n), ' '] for n in NAMES], []))])
+'''
+
+
+def test_the_robot_launch_includes_naoqi_driver2s_launch_with_the_robots_address(tmp_path):
+    prefix = tmp_path / 'prefix'
+    (prefix / 'share' / 'naoqi_driver' / 'launch').mkdir(parents=True)
+    (prefix / 'share' / 'naoqi_driver' / 'launch' / 'naoqi_driver.launch.py').write_text(FAKE_DRIVER_LAUNCH)
+    (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages').mkdir(parents=True)
+    (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages' / 'naoqi_driver').write_text('')
+    env = domain_env(AMENT_PREFIX_PATH=str(prefix) + os.pathsep + os.environ.get('AMENT_PREFIX_PATH', ''))
+    p = subprocess.run(launch('sensorTestLaunchRobot.launch.py', 'robot_ip:=10.0.0.5', 'robot_port:=9503',
+                              'network_interface:=wlan0', 'password:=s3cret', 'run_test:=false'),
+                       env=env, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)
+    text = p.stdout + p.stderr
+    assert p.returncode == 0, text
+    assert ('fake naoqi_driver2: nao_ip=10.0.0.5 nao_port=9503 username=nao password=s3cret '
+            'network_interface=wlan0 namespace=default') in text, text
+    assert 'naoqiAudio' not in text, text       # driver_audio defaults to true: no second /audio
