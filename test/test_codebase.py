@@ -6,7 +6,9 @@
   annotated, as mypy does), or a signature type comment (`# type: (int) -> str`) in the Python
   2.7-compatible files. Each offender is named as file:line:function and what it lacks.
 - Layering: nothing imports "upward" along
-  plan -> sources -> media -> motion -> sensors -> runner -> outputs -> programs; results.py, stats.py,
+  plan -> sources -> rosapi -> media -> motion -> sensors -> runner -> outputs -> programs
+  (rosapi.py, the ROS seam, is built on sources/live2 and ros2wire, so it sits above
+  sources: a source that needs a subscription is handed one); results.py, stats.py,
   interrupts.py and progress.py are the base every layer may import; observer.py (the seam
   the runner calls the outputs through) is in the runner's layer. Every import counts:
   function-level ones (they run too) and those under `if TYPE_CHECKING:` (a type a lower
@@ -32,7 +34,8 @@ BASE = {'results', 'stats', 'interrupts', 'progress', 'codec',
         'msg'}    # pepper_interface_tests.msg: the generated message classes (msg/*.msg)
 LAYERS = [
     {'plan'},
-    {'sources', 'rosapi', 'genmsgs'},   # rosapi: the ROS seam for publishers and subscriptions (rospy or rclpy)
+    {'sources'},
+    {'rosapi', 'genmsgs'},   # the ROS seam for publishers and subscriptions (rospy or rclpy), on sources/live2
     {'media'},
     {'motion'},     # the motion check's home (--move): below sensors/, whose motion Check drives it
     {'sensors'},
@@ -195,22 +198,43 @@ def import_text(node):
     return 'from %s%s import %s' % ('.' * node.level, node.module or '', names)
 
 
+def upward_in(rel, tree):
+    """The upward imports of one module (`rel` its path in the package, `tree` its ast), each
+    named as file:line, the statement, and where it sits when inside a function."""
+    top = rel.split('/')[0]
+    if top.endswith('.py'):
+        top = top[:-len('.py')]
+    if top == '__init__':
+        return []
+    own = layer_of(top)
+    found = []
+    inside = enclosing_functions(tree)
+    for node in every_import(tree):
+        for target in imported_tops(rel, node):
+            if target != top and layer_of(target) > own:
+                where = ' (inside %s())' % inside[node] if node in inside else ''
+                found.append('%s:%d `%s`%s imports %s, a later stage than %s (plan -> sources -> rosapi -> '
+                             'media -> motion -> sensors -> runner -> outputs -> programs); move the shared '
+                             'part down, or have the caller hand it in (TYPE_CHECKING and function-level '
+                             'imports count too)' % (rel, node.lineno, import_text(node), where, target, top))
+    return found
+
+
+def enclosing_functions(tree):
+    """{import node: the name of the innermost function it sits in}."""
+    out = {}
+    for fn in ast.walk(tree):
+        if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            for node in ast.walk(fn):
+                if isinstance(node, (ast.Import, ast.ImportFrom)):
+                    out[node] = fn.name      # ast.walk is breadth-first: the innermost comes last
+    return out
+
+
 def upward_imports():
     found = []
     for rel, path in source_files():
-        top = rel.split('/')[0]
-        if top.endswith('.py'):
-            top = top[:-len('.py')]
-        if top == '__init__':
-            continue
-        own = layer_of(top)
-        for node in every_import(parse(path)):
-            for target in imported_tops(rel, node):
-                if target != top and layer_of(target) > own:
-                    found.append('%s:%d `%s` imports %s, a later stage than %s (plan -> sources -> '
-                                 'media -> motion -> sensors -> runner -> outputs -> programs); move the shared '
-                                 'part down: a protocol or a value type in a leaf (TYPE_CHECKING '
-                                 'imports count too)' % (rel, node.lineno, import_text(node), target, top))
+        found.extend(upward_in(rel, parse(path)))
     return found
 
 
@@ -234,6 +258,23 @@ def test_type_checking_and_function_level_imports_count():
                      'def f():\n    from ..outputs import files\n')
     modules = [n.module for n in every_import(tree)]
     assert modules == ['typing', 'runner', 'outputs']
+
+
+def test_an_upward_import_inside_a_function_is_named():
+    """An import that runs only when a function is called still counts (issue 45: sources/
+    identity.py imported rosapi inside read_live2)."""
+    src = ('import threading\n'
+           'from .naoqi_msgs import X\n'
+           'def read_live2(graph):\n'
+           '    try:\n'
+           '        from .. import rosapi\n'
+           '    except ImportError:\n'
+           '        pass\n')
+    found = upward_in('sources/identity.py', ast.parse(src))
+    assert len(found) == 1, found
+    assert found[0].startswith('sources/identity.py:5 `from .. import rosapi` (inside read_live2()) imports '
+                               'rosapi, a later stage than sources')
+    assert upward_in('rosapi.py', ast.parse('def f():\n    from .sources import live2\n')) == []
 
 
 def test_nothing_imports_upward():

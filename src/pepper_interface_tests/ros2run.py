@@ -74,6 +74,7 @@ def read_parameters(graph: Any) -> Tuple[Options, Dict[str, str]]:
 def run_live2(cli: Options, ros_args: Optional[List[str]], execute: Callable[..., int],
               check_output_dir: Callable[[str], None]) -> int:
     """sensorTest's run on ROS 2; `execute` and `check_output_dir` are cli.py's."""
+    from . import rosapi
     from .sources import identity, live2
     try:
         graph = live2.Ros2Graph(args=['sensorTest'] + list(ros_args or []), parameters=True)
@@ -89,7 +90,7 @@ def run_live2(cli: Options, ros_args: Optional[List[str]], execute: Callable[...
             print('sensorTest: note: %s' % note, flush=True)
         check_output_dir(plan.output_dir)
         from_params = {k: v for k, v in from_params.items() if getattr(cli, k, None) is None}
-        robot = identity.read_live2(graph) if plan.platform == 'robot' else None
+        robot = identity.read_live2(graph, rosapi.subscriber) if plan.platform == 'robot' else None
         source = live2.Ros2LiveSource(graph, os.path.join(settings.package_dir(), 'msg'))
         return execute(plan, source, time.monotonic, 'live', from_params, robot)
     finally:

@@ -119,12 +119,12 @@ def read_live(caller_id: str, wait: float = WAIT) -> Identity:
         return unknown('cannot read the driver\'s info topic: %s: %s' % (type(e).__name__, e))
 
 
-def read_live2(graph: Any, wait: float = WAIT) -> Identity:
-    """The identity the driver on the ROS 2 graph publishes (sources/live2.Ros2Graph)."""
+def read_live2(graph: Any, subscriber: Callable[..., Any], wait: float = WAIT) -> Identity:
+    """The identity the driver on the ROS 2 graph publishes (sources/live2.Ros2Graph);
+    `subscriber` is rosapi.subscriber, handed in by the caller (rosapi sits above sources)."""
     try:
         from rclpy.qos import DurabilityPolicy
 
-        from .. import rosapi
         from .ros2types import ros1_name
         published = [(t, ros1_name(kinds[0])) for t, kinds in graph.topic_types().items() if kinds]
         topic = info_topic(published)
@@ -135,8 +135,8 @@ def read_live2(graph: Any, wait: float = WAIT) -> Identity:
             return unknown('%s is published volatile: naoqi_driver2 sends it once at start-up '
                            '(src/publishers/basic.hpp:72), so a node started later never receives it'
                            % topic)
-        got = _first_data(lambda take: rosapi.subscriber(topic, STRING_STAMPED_TYPE, take, queue_size=1,
-                                                         latched=True), wait)
+        got = _first_data(lambda take: subscriber(topic, STRING_STAMPED_TYPE, take, queue_size=1,
+                                                  latched=True), wait)
         if got is None:
             return unknown('%s is published but sent nothing within %g s' % (topic, wait))
         return from_text(got, topic)
