@@ -145,6 +145,46 @@ def pytest_terminal_summary(terminalreporter):
                '' if cpu <= UNIT_BUDGET_CPU_S else ': OVER BUDGET, see --durations=20'))
 
 
+# A unit test starts no process (issue 45: test_watch's demo and test_motion's lost master,
+# 25 s and 7 s of wall time, had put the unit tier over its budget): an audit hook (Python 3.8+,
+# PEP 578) sees every process start of the test process (subprocess, os.posix_spawn, os.fork,
+# os.exec*, os.system), and a unit test that started one fails in its teardown, named, with the
+# fix: its tier is integration (INTEGRATION_FILES, INTEGRATION_TESTS or @pytest.mark.integration).
+PROCESS_EVENTS = {'subprocess.Popen', 'os.posix_spawn', 'os.fork', 'os.forkpty', 'os.exec',
+                  'os.spawn', 'os.system', 'pty.spawn'}
+# Started by a library, not by the test: matplotlib runs fc-list once per machine to build its
+# font cache (font_manager._get_fontconfig_fonts), in whichever test draws the first figure.
+NOT_THE_TESTS = {'fc-list'}
+_started = {'watching': False, 'what': []}
+
+
+def _audit(event, args):
+    if _started['watching'] and event in PROCESS_EVENTS:
+        what = args[1] if event == 'subprocess.Popen' and len(args) > 1 else args[:1] if args else ()
+        if event == 'subprocess.Popen' and what and os.path.basename(str(list(what)[0])) in NOT_THE_TESTS:
+            return
+        _started['what'].append('%s %s' % (event, str(what)[:160]))
+
+
+sys.addaudithook(_audit)
+
+
+@pytest.fixture(autouse=True)
+def _unit_tests_start_no_process(request):
+    unit = request.node.get_closest_marker('unit') is not None
+    _started['what'] = []
+    _started['watching'] = unit
+    try:
+        yield
+    finally:
+        _started['watching'] = False
+    if unit and _started['what']:
+        pytest.fail('a unit test started %d process(es) (%s): the unit tier is pure computation; mark it '
+                    'integration (test/conftest.py INTEGRATION_FILES or INTEGRATION_TESTS, or '
+                    '@pytest.mark.integration)' % (len(_started['what']), '; '.join(_started['what'][:3])),
+                    pytrace=False)
+
+
 @pytest.fixture
 def master():
     """A fresh real roscore on a free port for one test."""

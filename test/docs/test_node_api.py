@@ -18,6 +18,8 @@ from typing import Callable, Dict, List, Optional, Set, Tuple
 
 import pytest
 
+import codebase_files
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))   # test/docs/ -> the repository
 SRC = os.path.join(ROOT, 'src', 'pepper_interface_tests')
 PAGE = os.path.join(ROOT, 'docs', 'node-api.md')
@@ -128,9 +130,9 @@ def _source(rel: str) -> str:
         return f.read()
 
 
-@functools.lru_cache(maxsize=None)
 def _parse(rel: str) -> ast.Module:
-    return ast.parse(_source(rel))
+    """The module's tree, the one the codebase gates parsed (one parse of each file per run)."""
+    return codebase_files.parse(os.path.join(SRC, rel))
 
 
 def _text(rel: str, node: ast.AST) -> str:

@@ -111,6 +111,7 @@ def test_a_whole_launch_leaves_the_command_its_exit_code(master, tmp_path):
     assert rc == 1 and 'broke' not in out, out
 
 
+@pytest.mark.integration     # the demo: a roscore, the emulator, the audio bridge and sensorTest
 def test_the_demo_says_the_emulator_broke_when_a_node_dies_mid_run(tmp_path):
     """The audio capture node (naoqiAudio) killed while sensorTest listens. Before: the demo
     went on, the microphone FAILed as a stopped stream (exit 1), and nothing said why."""

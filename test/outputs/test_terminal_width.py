@@ -69,6 +69,7 @@ def test_fill_never_cuts_a_path():
         'report: %s\n  (2.2 MB, 1.9 s)' % ('/p' * 30)
 
 
+@pytest.mark.integration     # a Python process of its own, its stdout a pipe
 @pytest.mark.parametrize('stderr_tty', [True, False])
 def test_through_a_pipe_the_lines_fit_the_terminal_on_stderr(stderr_tty):
     """`sensorTest | tee run.log` in a 70-column terminal: stdout is a pipe, stderr the terminal;

@@ -123,6 +123,7 @@ def test_a_signal_during_a_turn_stops_the_base_and_returns_the_head(master, robo
     assert set(rows) == {'motion', 'jointState', 'odometry', 'imu', 'laser'}
 
 
+@pytest.mark.integration     # its own roscore, the emulator and a recorder node
 def test_a_lost_master_during_a_turn_stops_the_base(tmp_path):
     with Master() as master:
         robot = Robot(master, tmp_path)
