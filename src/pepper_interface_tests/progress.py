@@ -24,6 +24,8 @@ class Progress:
     problems: Tuple[str, ...]    # provisional problems: bad headers, the check's failures so far
     wrong_type: bool             # a message of another type arrived
     periodic: bool = True        # False: an event topic (touch), where silence is normal
+    asking: bool = False         # the check waits for a person's answer on the terminal (--move's
+    #                              Enter): nothing else is printed meanwhile (outputs/terminal.py)
 
     @property
     def left(self) -> float:

@@ -357,3 +357,85 @@ def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
     assert rows['motion']['verdict'] == 'SKIPPED', rows['motion']
     assert 'skipped by the operator' in rows['motion']['reasons'][0]
     assert [r for r in robot.received() if r['topic'] in (GOAL, JOINTS, TWIST)] == []
+
+
+def screen(raw):
+    """The rows a terminal shows for `raw` output: '\\r' back to the row's start, ESC[K erases
+    the rest of the row, ESC[F goes up a row (what Terminal and the guide write)."""
+    rows, row, col = [''], 0, 0
+    i = 0
+    while i < len(raw):
+        if raw.startswith('\033[K', i):
+            rows[row] = rows[row][:col]
+            i += 3
+        elif raw.startswith('\033[F', i):
+            row, col = max(0, row - 1), 0
+            i += 3
+        elif raw[i] == '\r':
+            col, i = 0, i + 1
+        elif raw[i] == '\n':
+            row, col, i = row + 1, 0, i + 1
+            if row == len(rows):
+                rows.append('')
+        else:
+            text = rows[row]
+            rows[row] = text[:col] + raw[i] + text[col + 1:]
+            col, i = col + 1, i + 1
+    return rows
+
+
+def test_screen_renders_a_cleared_progress_line():
+    assert screen('a\n  ... x: 3 s left\r\033[Kquestion\n') == ['a', 'question', '']
+    assert screen('a\n  ... x: 3 s left\nquestion\n') == ['a', '  ... x: 3 s left', 'question', '']
+
+
+def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
+    """On a terminal (a real pty), the question stands alone: no progress line ("... motion:
+    N s left") above it, and nothing printed while it waits for Enter (the progress line
+    ticks every 0.5 s); after Enter, the run goes on (issue 45)."""
+    import fcntl
+    import pty
+    import select
+    import struct
+    import termios
+    primary, secondary = pty.openpty()
+    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack('HHHH', 40, 100, 0, 0))
+    out = tmp_path / 'out'
+    cmd = script('sensorTest') + [
+        '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
+        '--expectations', expectations(tmp_path, witness_wait=1.5), '--output-dir', str(out),
+        '--no-show', '--no-history', '--no-record', '--no-report']
+    proc = subprocess.Popen(cmd, env=master.env(), stdin=secondary, stdout=secondary, stderr=secondary,
+                            start_new_session=True)
+    os.close(secondary)
+    seen = b''
+    try:
+        deadline = time.monotonic() + 40
+        while b'Press Enter' not in seen and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                seen += os.read(primary, 4096)
+        asked = seen.decode(errors='replace')
+        assert 'Press Enter' in asked, asked
+        after = b''
+        quiet_until = time.monotonic() + 2.5           # five ticks of the progress line
+        while time.monotonic() < quiet_until:
+            if select.select([primary], [], [], 0.2)[0]:
+                after += os.read(primary, 4096)
+        shown = screen(asked)
+        question = max(i for i, row in enumerate(shown) if row.startswith('sensorTest --move:'))
+        above = [row for row in shown[:question] if '... motion' in row]
+        assert above == [], 'a progress line above the question:\n' + '\n'.join(shown)
+        assert after.strip(b'\r\n') == b'', 'printed while the question waits: %r' % after
+        os.write(primary, b's\n')
+        while proc.poll() is None and time.monotonic() < deadline:
+            if select.select([primary], [], [], 0.5)[0]:
+                try:
+                    seen += os.read(primary, 4096)
+                except OSError:
+                    break
+        proc.wait(20)
+    finally:
+        kill_group(proc)
+        os.close(primary)
+    _, rows = results(out)
+    assert rows['motion']['verdict'] == 'SKIPPED' and 'skipped by the operator' in rows['motion']['reasons'][0]

@@ -273,8 +273,8 @@ class Terminal(RunObserver):
                                             subsequent_indent='  '), FAIL))
 
     def tick(self, progress: List[Progress], now: float) -> None:
-        if not progress:
-            return
+        if not progress or any(p.asking for p in progress):
+            return    # a person is asked a question (--move's Enter): it stands alone on the screen
         if self.tty:
             if now - self._last_tty < 0.5:
                 return

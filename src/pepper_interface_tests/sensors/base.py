@@ -226,6 +226,7 @@ class Check:
     queue_size = 100        # subscriber queue (messages); cameras size it to their stream
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
     numpy_arrays = False    # numeric arrays decoded as numpy views (genpy's deserialize_numpy)
+    waits_for_answer = False   # True while the check waits for a person's answer on the terminal
 
     def __init__(self, plan: 'SensorPlan', ctx: RunContext) -> None:
         self.plan = plan

@@ -134,6 +134,7 @@ class MotionCheck(Check):
                 if self.asked_at is not None and now - self.asked_at > CONFIRM_WAIT:
                     self._skip(seq, 'nobody pressed Enter within %.0f s' % CONFIRM_WAIT)
                 return
+            self.waits_for_answer = False
             if answer.strip().lower().startswith('s'):
                 self._skip(seq, 'skipped by the operator')
                 return
@@ -146,6 +147,7 @@ class MotionCheck(Check):
             self._done = True
 
     def _skip(self, seq: Sequence, why: str) -> None:
+        self.waits_for_answer = False
         self.operator_skip = True
         seq.head_skip = seq.head_skip or why
         seq.base_skip = seq.base_skip or why
@@ -165,7 +167,10 @@ class MotionCheck(Check):
         lines = ['']
         for text_line in said:
             lines += textwrap.wrap(text_line, width, subsequent_indent='    ', break_on_hyphens=False)
-        sys.stdout.write('\n'.join(lines) + '\n')
+        # the progress line on the cursor's row is cleared first, and none is drawn while the
+        # question waits (self.waits_for_answer -> Progress.asking: outputs/terminal.py prints nothing)
+        self.waits_for_answer = True
+        sys.stdout.write('\r\033[K' + '\n'.join(lines) + '\n')
         sys.stdout.flush()
         self._say(text)
         self.asked_at = self.clock()
@@ -191,6 +196,7 @@ class MotionCheck(Check):
 
     # ---------------------------------------------------------------- the end
     def finish(self) -> None:
+        self.waits_for_answer = False
         seq = self.seq
         if seq is None:
             return

@@ -174,7 +174,7 @@ class SensorRun:
                 rate=None if drives else stats.rate, stamp_rate=None if drives else stats.stamp_rate,
                 rate_band=(float(band[0]), float(band[1])) if band else None, nominal=self.expect.nominal,
                 problems=tuple(self.problems_so_far()), wrong_type=bool(self.stream.wrong_types),
-                periodic=self.traits.periodic)
+                periodic=self.traits.periodic, asking=bool(self.check.waits_for_answer))
 
     def due(self, now: float) -> str:
         """Why the window should end now, or '' to keep listening."""
