@@ -228,3 +228,90 @@ def test_depth_that_turns_all_zero_partway_fails_from_when(tmp_path):
     c = feed(make_check('depthCamera', tmp_path, record=False, expect={'frozen_frames': None}), frames)
     assert 'depth all zero from t = 1.55 s to the end of the window (12 frames, 1.1 s)' \
         in c.failure_reasons(), c.failure_reasons()
+
+
+# ---------------------------------------------------------------- aligned depth (issue 45)
+# realsense-ros's topics as data/pepperTopics.dat names them (base_realsense_node.cpp:989)
+ALIGNED = '/camera/aligned_depth_to_color/image_raw'
+UNALIGNED = '/camera/depth/image_rect_raw'
+COLOUR_FRAME = 'camera_color_optical_frame'
+
+
+def realsense_pair(tmp_path, depth_topic=ALIGNED, sensors=('realsenseRGBCamera', 'realsenseDepthCamera')):
+    """The colour and depth checks of one run (one RunContext), from the package's real plan."""
+    from pepper_interface_tests.plan import settings
+    from pepper_interface_tests.sensors import check_class
+    from pepper_interface_tests.sensors.base import RunContext
+    topics = tmp_path / 'topics.dat'
+    topics.write_text('RealSenseCameraRGB /camera/color/image_raw\nRealSenseCameraDepth %s\n' % depth_topic)
+    plan = settings.load_plan(settings.Options(platform='robot', sensors=sensors, topics=str(topics),
+                                               output_dir=str(tmp_path / 'out'), record=False))
+    os.makedirs(plan.output_dir, exist_ok=True)
+    ctx = RunContext(plan.output_dir, plan.platform, plan.options)
+    return [check_class(sp.sensor.family)(sp, ctx) for sp in plan.sensors]
+
+
+def colour_frames(w, h, frame_id=COLOUR_FRAME, n=5):
+    from fake_pepper import camera_image
+    return [camera_image(i, w, h, frame_id=frame_id) for i in range(n)]
+
+
+def depth_frames(w, h, frame_id=COLOUR_FRAME, n=5):
+    a = np.tile(np.linspace(300, 4000, w).astype(np.uint16), (h, 1))
+    return [image(a + i, '16UC1', frame_id=frame_id) for i in range(n)]
+
+
+def run_pair(tmp_path, colour, depth, depth_topic=ALIGNED):
+    rgb, dep = realsense_pair(tmp_path, depth_topic)
+    for i, (c, d) in enumerate(zip(colour, depth)):     # both windows at once, as in parallel mode
+        rgb.feed(c, i / 15.0)
+        dep.feed(d, i / 15.0)
+    rgb.close()
+    dep.close()
+    return rgb, dep
+
+
+def test_a_healthy_aligned_pair_passes(tmp_path):
+    rgb, dep = run_pair(tmp_path, colour_frames(640, 480), depth_frames(640, 480))
+    assert rgb.failure_reasons() == [] and dep.failure_reasons() == [], dep.failure_reasons()
+
+
+def test_unaligned_depth_on_the_aligned_topic_fails_naming_both_sizes(tmp_path):
+    """realsense-ros PR #2793: the 848x480 depth stream on aligned_depth_to_color beside
+    640x480 colour. Before: PASS."""
+    rgb, dep = run_pair(tmp_path, colour_frames(640, 480), depth_frames(848, 480))
+    assert rgb.failure_reasons() == []
+    reasons = dep.failure_reasons()
+    assert any(r.startswith('aligned depth is 848x480 but realsenseRGBCamera, the colour image it is '
+                            'aligned to, is 640x480') and ALIGNED in r for r in reasons), reasons
+
+
+def test_aligned_depth_in_another_frame_than_its_colour_fails(tmp_path):
+    rgb, dep = run_pair(tmp_path, colour_frames(640, 480),
+                        depth_frames(640, 480, frame_id='camera_depth_optical_frame'))
+    reasons = dep.failure_reasons()
+    assert any('aligned depth is in frame "camera_depth_optical_frame" but realsenseRGBCamera, the colour '
+               'image it is aligned to, in "camera_color_optical_frame"' in r for r in reasons), reasons
+
+
+def test_a_frame_id_only_one_of_them_carries_is_not_compared(tmp_path):
+    _, dep = run_pair(tmp_path, colour_frames(640, 480, frame_id=''), depth_frames(640, 480))
+    assert dep.failure_reasons() == []
+
+
+def test_unaligned_depth_on_its_own_topic_passes(tmp_path):
+    """The depth stream on its own topic (depth/image_rect_raw, 848x480 in the depth optical
+    frame) is not aligned to anything: its size is its own."""
+    _, dep = run_pair(tmp_path, colour_frames(640, 480),
+                      depth_frames(848, 480, frame_id='camera_depth_optical_frame'), depth_topic=UNALIGNED)
+    assert dep.failure_reasons() == [], dep.failure_reasons()
+
+
+def test_aligned_depth_without_its_colour_in_the_run_is_noted_not_judged(tmp_path):
+    dep, = realsense_pair(tmp_path, sensors=('realsenseDepthCamera',))
+    for i, d in enumerate(depth_frames(848, 480)):
+        dep.feed(d, i / 15.0)
+    dep.close()
+    assert dep.failure_reasons() == []
+    assert 'aligned depth not compared with realsenseRGBCamera: no image of it was seen before this window ended' \
+        in dep.notes

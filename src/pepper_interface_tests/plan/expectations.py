@@ -248,6 +248,9 @@ class DepthExpect(ImageExpect):
     # [min, max] m the camera can measure: a frame with most valid pixels outside it is
     # impossible data; None: not checked
     physical_range: Optional[Tuple[float, float]] = _field(band(example='[0.0, 10.0]'))
+    # the sensor whose image an aligned depth topic (realsense-ros's aligned_depth_to_<stream>)
+    # is aligned to: its size and frame_id must be that image's (sensors/depth.py); None: not checked
+    aligned_to: Optional[str] = _field(text('realsenseRGBCamera'))
 
 
 @dataclass(frozen=True)

@@ -214,6 +214,9 @@ class RunContext:
         self.services = services if services is not None else Services()
         self.topics: Mapping[str, str] = dict(topics or {})
         self.findings = Findings()
+        # each image stream's first (width, height, frame_id) by sensor name, as its check saw it
+        # (sensors/camera.py): an aligned depth is judged against its colour stream (sensors/depth.py)
+        self.images: Dict[str, Tuple[int, int, str]] = {}
         # why the run was interrupted (Ctrl-C, SIGTERM, the master gone), once it is: a check
         # that acts on the robot (the motion check) says why it stopped
         self.interrupted_by: Optional[str] = None

@@ -195,6 +195,7 @@ class ImageCheck(Check):
         key = (msg.width, msg.height, msg.encoding)
         if self.geometry is None:
             self.geometry = (msg.width, msg.height, msg.encoding, msg.step)
+            self.ctx.images.setdefault(self.plan.name, (msg.width, msg.height, msg.header.frame_id))
         if key not in self.sizes and self.sizes:
             self.warnings.add('size_change', 'image geometry changed during the window', '%dx%d %s' % key)
         self.sizes[key] = self.sizes.get(key, 0) + 1

@@ -20,6 +20,18 @@ Data that cannot be real (reasons in config/sensorExpectations.yaml):
   * partial failure: frames with no valid pixel from some time to the end of the window
     (at least 3 frames and 1 s) fail as "depth all zero from t = ..." even when they are
     fewer than the whole window.
+Aligned depth (`aligned_to`: the colour sensor; judged when the topic is an aligned one,
+a segment `aligned_depth_to_<stream>` as realsense-ros names it): realsense-ros (ros1-legacy,
+b14ce43) base_realsense_node.cpp reprojects depth into the colour image with
+rs2::align(RS2_STREAM_COLOR) (:1259) and publishes the result under the colour stream's index
+(:1708-1718) with a copy of the colour's camera_info (:1955-1965), whose frame_id is the colour
+optical frame (:1890); the image's width and height are the aligned frame's (:2375-2382,
+:2419-2423): the colour image's. So an aligned depth of another size than its colour stream
+is not aligned (realsense-ros PR #2793: 848x480 unaligned depth on the aligned topic beside
+640x480 colour): FAIL naming both sizes; a frame_id other than the colour's, where both carry
+one, FAILs too. The colour's first image comes from its own window (RunContext.images); when
+it has not been seen by the end of this window (not in the run, or later in sequential mode),
+a note says the pair was not compared.
 Reported: min / median / max depth (m), valid share. The image is a numpy view over the
 message's bytes (no copy); the valid share (and so "all zero") counts every pixel, the median,
 min and max use every 4th row and column (19,200 pixels of a 640x480 frame).
@@ -52,6 +64,7 @@ MM_ENCODINGS = ('16UC1', 'mono16')
 M_ENCODINGS = ('32FC1',)
 STRIDE = 4        # statistics sample every 4th row and column
 DTYPES = {'16UC1': 'u2', 'mono16': 'u2', '32FC1': 'f4'}
+ALIGNED_PREFIX = 'aligned_depth_to_'    # realsense-ros's aligned topics (base_realsense_node.cpp:989)
 
 
 def jet_table() -> np.ndarray:
@@ -109,6 +122,28 @@ class DepthCheck(ImageCheck):
 
     def settled(self) -> bool:
         return self.count >= 5
+
+    def _judge_alignment(self) -> None:
+        """The aligned depth against the colour image it is aligned to (the docstring above)."""
+        colour = self.expect.aligned_to
+        topic = self.plan.topic or ''
+        if not colour or not any(p.startswith(ALIGNED_PREFIX) for p in topic.split('/')) \
+                or self.geometry is None:
+            return
+        mine = self.ctx.images.get(self.plan.name)
+        theirs = self.ctx.images.get(colour)
+        if mine is None or theirs is None:
+            self.notes.append('aligned depth not compared with %s: no image of it was seen before this '
+                              'window ended' % colour)
+            return
+        (w, h, frame), (cw, ch, cframe) = mine, theirs
+        if (w, h) != (cw, ch):
+            self.fail('aligned depth is %dx%d but %s, the colour image it is aligned to, is %dx%d: depth '
+                      'aligned to colour has the colour image\'s size (the driver is publishing unaligned '
+                      'depth on %s; realsense-ros: align_depth)' % (w, h, colour, cw, ch, topic))
+        if frame and cframe and frame != cframe:
+            self.fail('aligned depth is in frame "%s" but %s, the colour image it is aligned to, in "%s": '
+                      'aligned depth carries the colour image\'s frame_id' % (frame, colour, cframe))
 
     def on_message(self, msg: 'genpy.Message', t: float) -> None:
         if not self.check_layout(msg):
@@ -272,6 +307,7 @@ class DepthCheck(ImageCheck):
             longest_identical_run=self.stuck.longest if converted else None,
             centre_depth_m=self.centre.spread(4).mean,
             median_depth_m=list(self.median_series), valid_series=list(self.valid_series))
+        self._judge_alignment()
         if not converted:
             return
         mean_share = self.share.total / self.share.n if self.share.n else 0.0
