@@ -10,6 +10,8 @@ websocket-client package), because one browser session then gives everything at 
   * the DOM as rendered (document.documentElement.outerHTML), so section ids can be checked,
     the page's visible text (document.body.innerText), every link's href and media src, and
     the number of <script> elements;
+  * the page's scroll width against the window's width (`scroll_width`, `inner_width`) and the
+    outermost elements that run past the right edge (`wide`);
   * a PNG screenshot of the whole page (the viewport is resized to the page's height).
 `--dump-dom` and `--screenshot` would each need their own Chromium start and say nothing about
 console errors or broken media.
@@ -47,7 +49,19 @@ PAGE_STATE_JS = r'''
       s => [s.id, [s.offsetTop, s.offsetTop + s.offsetHeight]]));
   const hrefs = [...document.querySelectorAll('a[href]')].map(a => a.getAttribute('href'));
   const mediaSrcs = [...document.querySelectorAll('video, audio')].map(m => m.getAttribute('src') || '');
+  // what runs past the window's right edge (the page then scrolls sideways): the outermost
+  // such elements not inside a box of their own that scrolls or clips, each as tag.class and
+  // the start of its text
+  const clipped = e => { for (let a = e.parentElement; a && a !== document.body; a = a.parentElement) {
+      if (getComputedStyle(a).overflowX !== 'visible') return true; } return false; };
+  const over = [...document.body.querySelectorAll('*')].filter(
+      e => e.getBoundingClientRect().right > window.innerWidth + 0.5 && !clipped(e));
+  const wide = over.filter(e => !over.includes(e.parentElement)).slice(0, 10).map(
+      e => e.tagName.toLowerCase() + (e.className ? '.' + e.className : '') + ' ' +
+           Math.round(e.getBoundingClientRect().right) + 'px: ' + (e.textContent || '').slice(0, 60));
   return JSON.stringify({imgs, media, sections, boxes, title: document.title, hrefs, mediaSrcs,
+                         scroll_width: document.documentElement.scrollWidth, inner_width: window.innerWidth,
+                         wide,
                          scripts: document.querySelectorAll('script').length,
                          text: document.body.innerText, alltext: document.body.textContent,
                          height: document.documentElement.scrollHeight});

@@ -332,3 +332,49 @@ def test_media_budget_embeds_short_clips_and_links_the_rest(tmp_path):
     assert files.embedded == 900000
     missing = files.media('video', 'gone.mp4', 'video/mp4')
     assert isinstance(missing, Para) and 'gone.mp4 not found' in missing.parts[0]
+
+
+def assert_fits(page, width):
+    """The page does not scroll sideways: nothing runs past the window's right edge (a table
+    wider than its place scrolls inside its own box)."""
+    state = page.state
+    assert state['inner_width'] == width, state['inner_width']
+    assert state['scroll_width'] <= state['inner_width'], (
+        'the page is %dpx wide in a %dpx window; past the right edge: %s'
+        % (state['scroll_width'], state['inner_width'], state['wide']))
+
+
+def test_long_reasons_on_every_row_and_a_wide_steps_table_fit_1024_and_1280_pixels(tmp_path):
+    """Issue 45: the summary's reasons and the motion check's steps table (a column per
+    witness) ran past a 1280-pixel window. Every row with long reasons and warnings (a long
+    word among them: a path), long topics, and the steps table of a --move run with every
+    witness: the page fits 1024 and 1280 px, the reasons shown whole."""
+    from pepper_interface_tests.outputs import report
+    from report_fixtures import run_of, sensor
+    folder = str(tmp_path)
+    long_reason = ('the 60 s window saw 3 of the 10 expected messages, %s, the rest too late or never '
+                   'sent: the publisher stopped at t = 4.2 s and did not come back, check the driver '
+                   'and /very/long/path/to/the/driver/configuration/file/that/does/not/break/anywhere.yaml')
+    names = ['frontSonar', 'backSonar', 'frontCamera', 'realsenseDepthCamera', 'laser', 'microphone',
+             'jointState', 'odometry', 'imu']
+    rows = [sensor(n, 'FAIL', topic='/naoqi_driver/a/very/long/namespace/for/%s/image_raw_compressed_depth' % n,
+                   reasons=[long_reason % ('reason %d' % i) for i in range(3)],
+                   warnings=['warning: ' + long_reason % 'also'])
+            for n in names]
+    witnesses = ['HeadYaw', 'frontCamera', 'bottomCamera', 'stereoCamera', 'depthCamera', 'realsenseRGBCamera',
+                 'odometry', 'gyro_z', 'gyro_x', 'gyro_y', 'laser', 'wheels', 'frontSonar', 'backSonar']
+    steps = [{'part': part, 'commanded': c, 'sent': 1.0 + i, 'ended': 2.0 + i, 'settled': True,
+              'measured': {w: c * 0.97 for w in witnesses}}
+             for i, (part, c) in enumerate([('head', 0.5), ('head', -1.0), ('base', 0.5), ('base', -0.5)])]
+    motion = sensor('motion', 'FAIL', topic='/move_base_simple/goal', reasons=[long_reason % 'moved'],
+                    values={'head': 'moved', 'base': 'moved', 'steps': steps})
+    run = run_of(folder, [motion] + rows)
+    path = report.write_report(run)
+    for width in (1024, 1280):
+        png = str(tmp_path / ('long-%d.png' % width))
+        page = render_page(path, png, width=width)
+        keep_screenshot(png, 'long-reasons-%d.png' % width)
+        assert page.problems() == []
+        assert_fits(page, width)
+        # each shown whole, in the summary and in its section
+        assert page.state['text'].count('reason 2, the rest too late') == 2 * len(rows)

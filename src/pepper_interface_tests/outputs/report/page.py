@@ -6,6 +6,7 @@ the page. Verdicts other than PASS / FAIL / SKIPPED (e.g. a future INTERRUPTED) 
 with their own name in a neutral grey badge.
 """
 import os
+import re
 from collections import Counter
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple
 
@@ -240,7 +241,11 @@ def summary_rows(run: RunResult, files: RunFiles) -> List[Dict[str, Any]]:
     for r in run.sensors:
         art = r.artifacts if isinstance(r.artifacts, dict) else {}
         rec = [n for k, n in art.items() if k in ('video', 'audio', 'wav') or str(k).startswith('audio_')]
-        rows.append({'anchor': anchor(r.name), 'name': r.name, 'topic': r.topic or '-', 'verdict': r.verdict,
+        rows.append({'anchor': anchor(r.name), 'name': r.name, 'verdict': r.verdict,
+                     # where a narrow column may break a name: before each capital (a sensor's
+                     # camelCase name), after each '/' of a topic
+                     'name_parts': re.split(r'(?<=[a-z])(?=[A-Z])', r.name),
+                     'topic': r.topic or '-',
                      'vcls': verdict_class(r.verdict), 'messages': '-' if r.verdict == SKIPPED else num(r.messages),
                      'rate': num(r.rate_hz), 'out': in_band(r) is False,
                      'band': '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-',
