@@ -18,7 +18,7 @@ An observer subclasses RunObserver and overrides what it needs; the others do no
 the others still run (Ctrl-C, a KeyboardInterrupt, still ends the run).
 """
 import sys
-from typing import Callable, Iterable, List, Optional
+from typing import Callable, Iterable, List, Optional, Sequence
 
 from .plan.model import TestPlan
 from .progress import Progress
@@ -39,7 +39,7 @@ class RunObserver:
     def sensor_started(self, progress: Progress) -> None:
         pass
 
-    def tick(self, progress: List[Progress], now: float) -> None:
+    def tick(self, progress: Sequence[Progress], now: float) -> None:
         pass
 
     def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
@@ -72,7 +72,7 @@ class Observers(RunObserver):
     def sensor_started(self, progress: Progress) -> None:
         self._each('sensor_started', lambda o: o.sensor_started(progress))
 
-    def tick(self, progress: List[Progress], now: float) -> None:
+    def tick(self, progress: Sequence[Progress], now: float) -> None:
         self._each('tick', lambda o: o.tick(progress, now))
 
     def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:

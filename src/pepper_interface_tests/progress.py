@@ -1,7 +1,7 @@
 """A running sensor window as observers see it: a frozen snapshot taken by the runner every
 tick (sensors/window.py SensorRun.progress), never the window itself or its lock."""
 from dataclasses import dataclass
-from typing import Optional, Tuple
+from typing import Callable, Iterator, List, Optional, Sequence, Tuple, overload
 
 
 @dataclass(frozen=True)
@@ -31,3 +31,35 @@ class Progress:
     def left(self) -> float:
         """Seconds the window still runs."""
         return max(0.0, self.window - self.elapsed)
+
+
+class Snapshots(Sequence[Progress]):
+    """The running windows' snapshots at one tick, taken on first use: observers read them
+    only when they show something (the terminal every 0.5 s or 5 s, /diagnostics every
+    second), and a recording's run ticks every 50 ms of record time, 1,200 ticks a minute of
+    a dozen windows each (a snapshot formats the window's provisional problems).
+    `len()` and truth need no snapshot."""
+
+    def __init__(self, take: Sequence[Callable[[float], Progress]], now: float) -> None:
+        self._take, self._now = list(take), now
+        self._items: Optional[List[Progress]] = None
+
+    def _all(self) -> List[Progress]:
+        if self._items is None:
+            self._items = [take(self._now) for take in self._take]
+        return self._items
+
+    def __len__(self) -> int:
+        return len(self._take)
+
+    @overload
+    def __getitem__(self, i: int) -> Progress: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> Sequence[Progress]: ...
+
+    def __getitem__(self, i):  # type: ignore[no-untyped-def]
+        return self._all()[i]
+
+    def __iter__(self) -> Iterator[Progress]:
+        return iter(self._all())

@@ -21,6 +21,7 @@ from .motion import recorded
 from .motion.record import Recording
 from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
 from .plan.settings import SensorPlan, TestPlan
+from .progress import Snapshots
 from .results import FAIL, SKIPPED, RunResult, SensorResult
 from .sensors import cross, tree
 from .sensors.base import RunContext
@@ -190,7 +191,8 @@ class Runner:
                     self._finish(i, now, '')
                     self._start_next(i, self.clock())
                 self._collect()
-                self.observers.tick([r.progress(now) for r in self.current if r], now)
+                # snapshots taken only when an observer reads them (progress.Snapshots)
+                self.observers.tick(Snapshots([r.progress for r in self.current if r], now), now)
                 # an interrupt whose exception was swallowed (by a C library, a broad except)
                 self.signals.raise_pending()
                 self.source.sleep(TICK)

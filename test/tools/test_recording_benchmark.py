@@ -72,6 +72,18 @@ def test_every_topic_starts_at_the_same_nanosecond_and_keeps_its_rate():
     assert sum(1 for _, s, _ in sched if s == 'jointState') == 100
 
 
+def test_the_recording_without_tf_is_the_sensors_alone_and_make_bench_measures_both():
+    """Issue 45: users record what they record: make bench reads a recording with the driver's
+    /tf and one of the sensors alone, each form judged on both."""
+    alone = list(recording._schedule(2.0, tf=False))
+    assert {s for _, s, _ in alone} == set(recording.STREAMS) - {'tf', 'tf_static'}
+    assert [x for x in recording._schedule(2.0) if x[1] not in ('tf', 'tf_static')] == alone
+    assert 'tf' not in recording.sensors(False).split(',') and 'tf' in recording.sensors(True).split(',')
+    with pytest.raises(SystemExit):
+        rb.main(['--tf', 'sometimes'])
+    assert rb.VARIANTS['with'][1] is True and rb.VARIANTS['without'][1] is False
+
+
 @pytest.mark.integration
 def test_the_recording_carries_the_drivers_tree_in_every_form(tmp_path):
     """/tf with every joint state (the driver's tree, its transforms stamped at their record

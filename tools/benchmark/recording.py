@@ -45,6 +45,14 @@ STREAMS: Dict[str, Tuple[str, str, float]] = {
     'tf_static': ('/tf_static', '/tf_static', 0.0),    # once: the RealSense's frames and mount
 }
 SENSORS = ','.join(s for s in STREAMS if s != 'tf_static')
+TF_STREAMS = ('tf', 'tf_static')
+# the sensors alone (a recording without the driver's /tf: users record what they record)
+SENSORS_ALONE = ','.join(s for s in STREAMS if s not in TF_STREAMS)
+
+
+def sensors(tf: bool) -> str:
+    """sensorTest's --sensors for a recording with or without /tf."""
+    return SENSORS if tf else SENSORS_ALONE
 
 
 def _frame(sensor: str, i: int) -> Any:
@@ -123,18 +131,22 @@ class _Message:
         return bytes(self.ros1), bytes(self.cdr)
 
 
-def _schedule(seconds: float) -> Iterator[Tuple[int, str, int]]:
-    """(record time ns, sensor, index) of every message, in record-time order."""
+def _schedule(seconds: float, tf: bool = True) -> Iterator[Tuple[int, str, int]]:
+    """(record time ns, sensor, index) of every message, in record-time order; `tf` False:
+    without /tf and /tf_static."""
     out = []
     for sensor, (_, _, rate) in STREAMS.items():
+        if not tf and sensor in TF_STREAMS:
+            continue
         for i in range(int(seconds * rate) if rate else 1):
             out.append((T0_NS + (int(round(i * NS / rate)) if rate else 0), sensor, i))
     out.sort()
     return iter(out)
 
 
-def write(folder: str, seconds: float, log: Callable[[str], None] = print) -> Dict[str, str]:
-    """Write the three forms into `folder`; {'ros1': bag, 'sqlite3': folder, 'mcap': folder}."""
+def write(folder: str, seconds: float, log: Callable[[str], None] = print, tf: bool = True) -> Dict[str, str]:
+    """Write the three forms into `folder`; {'ros1': bag, 'sqlite3': folder, 'mcap': folder};
+    `tf` False: the sensors alone, without the driver's /tf and /tf_static."""
     import genpy
     import rosbag
     from rosbags.rosbag2 import StoragePlugin, Writer
@@ -149,7 +161,7 @@ def write(folder: str, seconds: float, log: Callable[[str], None] = print) -> Di
         w.open()
     try:
         with rosbag.Bag(paths['ros1'], 'w') as bag:
-            for ns, sensor, i in _schedule(seconds):
+            for ns, sensor, i in _schedule(seconds, tf):
                 ring = rings.setdefault(sensor, [])
                 camera = 'Camera' in sensor
                 if sensor in ('tf', 'tf_static'):

@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """recordingBenchmark: sensorTest --bag against the libraries' own reading.
 
-One synthetic recording of Pepper's streams (recording.py: four 640x480
+Two synthetic recordings of Pepper's streams (recording.py: four 640x480
 cameras at 10 Hz, depth, laser, sonars, IMU, odometry, joints, microphones;
---seconds 60 is about 2.1 GB per form) is written in one pass as a ROS 1 bag,
-a rosbag2 sqlite3 folder and a rosbag2 MCAP folder (or the ones already in
---folder are reused). Then, per form and one after the other:
+--seconds 60 is about 2.1 GB per form), one with the driver's /tf (50 Hz, 84
+transforms a message) and one of the sensors alone, without /tf (users record
+what they record: --tf chooses), each written in one pass as a ROS 1 bag, a
+rosbag2 sqlite3 folder and a rosbag2 MCAP folder (or the ones already in
+--folder, in its with_tf/ and without_tf/, are reused). Then, per recording and
+form, one after the other:
   the floor: the library's own read of the same recording, every message
     deserialized (readers.py: rosbag's read_messages for the bag, rosbags'
     Reader and deserialize_cdr for a ROS 2 recording);
@@ -16,7 +19,7 @@ children), not wall time: the machine is shared, and wall time counts the
 other work on it. Printed: both CPU times and their ratio per run, and the
 peak RSS of each process (wait4's ru_maxrss), then per form the median ratio
 against the target (<= 1.5x) and whether the verdicts and message counts are
-those of the ROS 1 bag. Both run byte-compiled, as installed
+those of the ROS 1 bag, for each recording: each form must meet it on both. Both run byte-compiled, as installed
 (probes.byte_compiled).
 Exit code 0 when every form met the target with the same verdicts, 1 when
 not, 2 when a process failed.
@@ -66,8 +69,11 @@ def _verdicts(out: str) -> Dict[str, Tuple[str, int]]:
         return {s['name']: (s['verdict'], s['messages']) for s in json.load(f)['sensors']}
 
 
-def measure_form(name: str, path: str, tmp: str, env: Dict[str, str], label: str) -> Dict[str, Any]:
-    """One measurement of one form: its floor reader, then sensorTest --bag (one after the other)."""
+def measure_form(name: str, path: str, tmp: str, env: Dict[str, str], label: str,
+                 sensors: str = recording.SENSORS) -> Dict[str, Any]:
+    """One measurement of one form: its floor reader, then sensorTest --bag on `sensors`
+    (one after the other)."""
+    load = os.getloadavg()[0]     # printed beside the numbers: the machine may be shared
     log = os.path.join(tmp, 'floor-%s.log' % label)
     reader = [sys.executable, os.path.join(HERE, 'readers.py'), FLOOR[name], path]
     code, floor_cpu, _, floor_rss = _measure(reader, log, env)
@@ -76,24 +82,27 @@ def measure_form(name: str, path: str, tmp: str, env: Dict[str, str], label: str
     out = os.path.join(tmp, 'out-' + label)
     log = os.path.join(tmp, 'sensorTest-%s.log' % label)
     cmd = [sys.executable, os.path.join(package_dir(), 'scripts', 'sensorTest'), '--bag', path,
-           '--sensors', recording.SENSORS, '--output-dir', out] + QUIET
+           '--sensors', sensors, '--output-dir', out] + QUIET
     code, cpu, wall, rss = _measure(cmd, log, env)
     if code not in (0, 1):
         return {'error': '%s: sensorTest ended with %s (%s)' % (name, code, log)}
-    return {'form': name, 'floor': FLOOR[name], 'floor_cpu': floor_cpu, 'cpu': cpu, 'wall': wall,
+    return {'form': name, 'floor': FLOOR[name], 'floor_cpu': floor_cpu, 'cpu': cpu, 'wall': wall, 'load': load,
             'rss': rss, 'floor_rss': floor_rss, 'verdicts': _verdicts(out)}
 
 
-def _recording(args: argparse.Namespace, folder: str) -> Dict[str, str]:
+VARIANTS = {'with': ('with_tf', True), 'without': ('without_tf', False)}
+
+
+def _recording(args: argparse.Namespace, folder: str, tf: bool = True) -> Dict[str, str]:
     paths = {'ros1': os.path.join(folder, 'pepper.bag'), 'sqlite3': os.path.join(folder, 'pepper_sqlite3'),
              'mcap': os.path.join(folder, 'pepper_mcap')}
     if all(os.path.exists(p) for p in paths.values()):
         print('reusing the recording in %s' % folder)
         return paths
     os.makedirs(folder, exist_ok=True)
-    print('writing %g s of recording in three forms...' % args.seconds)
+    print('writing %g s of recording %s /tf in three forms...' % (args.seconds, 'with' if tf else 'without'))
     t0 = time.monotonic()
-    paths = recording.write(folder, args.seconds)
+    paths = recording.write(folder, args.seconds, tf=tf)
     print('  written in %.0f s' % (time.monotonic() - t0))
     return paths
 
@@ -104,19 +113,27 @@ def run(args: argparse.Namespace) -> int:
     print('recordingBenchmark: %d CPUs, load average %s; output in %s'
           % (os.cpu_count() or 0, ' '.join('%.2f' % x for x in os.getloadavg()), tmp))
     try:
-        paths = _recording(args, args.folder or tmp)
-        rows = []
-        print('run, form, size; CPU seconds (user + system) of sensorTest --bag, of the floor:')
-        for i in range(args.runs):
-            for name in args.forms:
-                row = measure_form(name, paths[name], tmp, env, '%s-%d' % (name, i + 1))
-                if 'error' in row:
-                    print(row['error'])
-                    return 2
-                row['size'] = recording.size(paths[name])
-                rows.append(row)
-                print(row_line(row, i + 1))
-        return 0 if summary(rows) else 1
+        ok = True
+        for variant in args.tf:
+            sub, tf = VARIANTS[variant]
+            paths = _recording(args, os.path.join(args.folder or tmp, sub), tf)
+            rows = []
+            print('the recording %s /tf (load average %s); run, form, size; CPU seconds (user + system) '
+                  'of sensorTest --bag, of the floor:'
+                  % (variant, ' '.join('%.2f' % x for x in os.getloadavg())))
+            for i in range(args.runs):
+                for name in args.forms:
+                    row = measure_form(name, paths[name], tmp, env, '%s-%s-%d' % (sub, name, i + 1),
+                                       recording.sensors(tf))
+                    if 'error' in row:
+                        print(row['error'])
+                        return 2
+                    row['size'] = recording.size(paths[name])
+                    rows.append(row)
+                    print(row_line(row, i + 1))
+            print('%s /tf (load average %s):' % (variant, ' '.join('%.2f' % x for x in os.getloadavg())))
+            ok = summary(rows) and ok
+        return 0 if ok else 1
     finally:
         if args.keep:
             print('kept: %s' % tmp)
@@ -128,9 +145,10 @@ def row_line(row: Dict[str, Any], run: int) -> str:
     """One measurement in 80 columns: CPU seconds of sensorTest and of the floor, their ratio;
     the peak RSS of each (MB)."""
     return ('  %d %-7s %5.0f MB  sensorTest %5.2f s  %-7s %5.2f s  %.2fx  wall %.1f s\n'
-            '            peak RSS: sensorTest %.0f MB, %s %.0f MB'
+            '            peak RSS: sensorTest %.0f MB, %s %.0f MB; load average %.2f'
             % (run, row['form'], row['size'] / 1e6, row['cpu'], row['floor'], row['floor_cpu'],
-               row['cpu'] / row['floor_cpu'], row['wall'], row['rss'], row['floor'], row['floor_rss']))
+               row['cpu'] / row['floor_cpu'], row['wall'], row['rss'], row['floor'], row['floor_rss'],
+               row.get('load', 0.0)))
 
 
 def summary(rows: Sequence[Dict[str, Any]]) -> bool:
@@ -169,6 +187,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                    help='length of the recording written (default 60: about 2.1 GB per form)')
     p.add_argument('--folder', help='write the recording here, or reuse the one already there')
     p.add_argument('--forms', default='ros1,sqlite3,mcap', help='forms measured (default ros1,sqlite3,mcap)')
+    p.add_argument('--tf', default='with,without', help='the recordings measured: with the driver\'s /tf, '
+                   'without it (the sensors alone), or both (default with,without)')
     p.add_argument('--runs', type=int, default=3, help='measure every form this many times; the '
                    'median ratio is judged (default 3: one form\'s floor moves by a tenth between runs)')
     p.add_argument('--keep', action='store_true', help="keep the temporary folder (logs, results; "
@@ -177,6 +197,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args.forms = [f.strip() for f in args.forms.split(',') if f.strip()]
     if not args.forms or any(f not in FLOOR for f in args.forms):
         p.error('--forms takes ros1, sqlite3, mcap separated by commas')
+    args.tf = [v.strip() for v in args.tf.split(',') if v.strip()]
+    if not args.tf or any(v not in VARIANTS for v in args.tf):
+        p.error('--tf takes with, without or with,without')
     if args.runs < 1 or args.seconds <= 0:
         p.error('--runs and --seconds take a positive number')
     return run(args)

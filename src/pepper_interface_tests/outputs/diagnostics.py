@@ -290,7 +290,7 @@ class LiveDiagnostics(RunObserver):
             return
         self.publish()
 
-    def tick(self, progress: List[Progress], now: float) -> None:
+    def tick(self, progress: Sequence[Progress], now: float) -> None:
         if self.updater is None or (self.last is not None and time.monotonic() - self.last < self.period):
             return
         for p in progress:

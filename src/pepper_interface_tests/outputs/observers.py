@@ -13,7 +13,7 @@ Guidance: in guided mode, an operator that prompts is offered to the touch check
 import os
 import sys
 import time
-from typing import TYPE_CHECKING, List, Optional, TextIO
+from typing import TYPE_CHECKING, List, Optional, Sequence, TextIO
 
 from .. import results
 from ..observer import RunObserver
@@ -167,7 +167,7 @@ class LiveView(RunObserver):
         if self.viewer is not None:
             self.ctx.services.viewer = self.viewer
 
-    def tick(self, progress: List[Progress], now: float) -> None:
+    def tick(self, progress: Sequence[Progress], now: float) -> None:
         if self.viewer is not None:
             self.viewer.pump()
 

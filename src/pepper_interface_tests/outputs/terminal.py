@@ -272,20 +272,22 @@ class Terminal(RunObserver):
         self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 
-    def tick(self, progress: List[Progress], now: float) -> None:
-        if not progress or any(p.asking for p in progress):
-            return    # a person is asked a question (--move's Enter): it stands alone on the screen
+    def tick(self, progress: Sequence[Progress], now: float) -> None:
+        if not progress:
+            return
         if self.tty:
             if now - self._last_tty < 0.5:
                 return
             self._last_tty = now
+            if any(p.asking for p in progress):
+                return    # a person is asked a question (--move's Enter): it stands alone on the screen
             self.out.write('\r\033[K' + progress_text(progress, now, self._failed, columns(100)))
             self.out.flush()
             self._status_shown = True
         else:
             if self._last_plain is None:
                 self._last_plain = now
-            if now - self._last_plain >= self.plain_every:
+            if now - self._last_plain >= self.plain_every and not any(p.asking for p in progress):
                 self._last_plain = now
                 self.line(progress_text(progress, now, self._failed, columns()))
 
