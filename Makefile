@@ -7,7 +7,8 @@
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
 # make docs   regenerate docs/options.md from sensorTest's options (a test fails when it is stale)
 # make bench  the benchmark (docs/benchmark.md): listening and recording next to rostopic hz,
-#             then reading a 60 s recording in three forms next to a deserializing read
+#             then reading a 60 s recording in three forms next to a deserializing read, one
+#             recording with the driver's /tf and one of the sensors alone
 # make bench-recording  only the reading of recordings
 .PHONY: demo test test-fast lint setup docs bench bench-recording clean
 
