@@ -42,6 +42,8 @@ INTEGRATION_FILES = {
 # simulator's laser as its driver publishes it (in the integration tier with the other drivers'
 # semantics, sensors/test_driver_semantics.py)
 INTEGRATION_TESTS = {'sensors/test_audio.py': ('real_topic',),
+                     # every /tf of a real driver's golden bag, read by rosbag (1.3 s of CPU)
+                     'sensors/test_tf_layout.py': ('real_drivers_tf',),
                      'sensors/test_laser.py': ('test_simulator_laser_',
                                                'test_robot_layout_is_not_applied_to_the_simulator')}
 
