@@ -84,7 +84,7 @@ done
 # exit code is then 2: the verdicts of the sensors it fed say nothing about a robot.
 python -m pepper_interface_tests.launch.watch "$LAUNCH" "$LOG" -- \
     python scripts/sensorTest --platform robot --mode parallel \
-    --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,bumper,robotHealth,tf \
+    --sensors "$(python -m pepper_interface_tests.plan.declaration)" \
     --guided --no-show "${MOVE[@]}" "$@"
 rc=$?
 stop

@@ -8,13 +8,15 @@ import subprocess
 
 import pytest
 
+from pepper_interface_tests.plan import declaration
+from pepper_interface_tests.plan.declaration import SENSORS
 from rosmaster import script
 
-ROBOT = ['backSonar', 'frontSonar', 'frontCamera', 'bottomCamera', 'depthCamera', 'stereoCamera',
-         'realsenseRGBCamera', 'realsenseDepthCamera', 'laser', 'microphone', 'jointState',
-         'odometry', 'imu']
-SIMULATOR = ['backSonar', 'frontSonar', 'frontCamera', 'bottomCamera', 'depthCamera', 'laser',
-             'jointState', 'odometry']
+# the sensors a bag of each platform is judged on (plan/declaration.py): every periodic stream
+# of the emulated drivers but /tf (judged in test/sensors/test_tf_recordings.py)
+PERIODIC = [n for n, s in SENSORS.items() if s.family not in ('touch', 'health', 'speech', 'motion', 'tf')]
+ROBOT = [n for n in PERIODIC if SENSORS[n].stream(declaration.FORK) or SENSORS[n].stream(declaration.REALSENSE)]
+SIMULATOR = [n for n in PERIODIC if SENSORS[n].simulator]
 # the faults recordTestBags injects (emulator/bags.py VARIANTS), and how sensorTest names them.
 # The emulator now publishes what the real drivers do (issue 8): the good bags carry sonar
 # readings above the advertised 2.55 m, raw laser distances above 3.0 m, IMU covariance -1,

@@ -12,7 +12,7 @@ import pytest
 
 from bag_facts import bag_facts
 from pepper_interface_tests.emulator.profiles import build_profile
-from pepper_interface_tests.plan import settings
+from pepper_interface_tests.plan import declaration, settings
 from rosmaster import script
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -45,7 +45,7 @@ EXPECTED = {
     # (test/motion/test_recorded.py judges it further); the stereo pair is not recorded (size)
     'move': {'stereoCamera': ('FAIL', 'stereo/image_raw is not in the bag')},
 }
-TOUCH = ('headTouch', 'handTouch', 'bumper')
+TOUCH = declaration.sensors_of('touch')
 
 
 def sensors_in(bag):

@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 
+from pepper_interface_tests.plan import declaration
 from report_helpers import sensor_test
 from rosmaster import NODES, kill_group, spawn, wait_for_publishers
 
@@ -13,7 +14,7 @@ HERE = NODES   # the node scripts' folder (test/nodes/)
 MEDIA = os.path.join(HERE, 'media_publisher.py')
 # the shipped data/pepperTopics.dat names these topics
 REALSENSE_RGB, REALSENSE_DEPTH = '/camera/color/image_raw', '/camera/aligned_depth_to_color/image_raw'
-PEPPER_CAMS = ['bottomCamera', 'frontCamera', 'depthCamera', 'stereoCamera']
+PEPPER_CAMS = list(declaration.sensors_of(camera='pepper'))
 
 
 def media(master, *args):
@@ -63,7 +64,7 @@ def test_cameras_realsense_tests_the_realsense_with_the_shipped_input_file(modul
     said = notes(proc.stdout)
     assert any(n.startswith('cameras: realsenseRGBCamera, realsenseDepthCamera (--cameras realsense, '
                             'whatever sensorTestInput.ini says)') for n in said), proc.stdout
-    assert any(n.startswith('skipped: bottomCamera, frontCamera, depthCamera, stereoCamera') for n in said)
+    assert any(n.startswith('skipped: ' + ', '.join(PEPPER_CAMS)) for n in said)
     # the notes come right under the run header, before any sensor starts, wrapped to 80 columns
     lines = proc.stdout.splitlines()
     first_start = next(i for i, line in enumerate(lines) if line.strip().startswith('start '))

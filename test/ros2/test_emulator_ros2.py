@@ -12,15 +12,14 @@ import time
 import pytest
 
 from motion_runs import GOAL, assert_stopped_safely, expectations
+from pepper_interface_tests.plan import declaration
 from ros2_runs import domain_env, program, results, signal_as_users_do
 from rosmaster import kill_group, spawn, wait_until
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
 # the demo's sensors (tools/demo.sh), the tree with them: /tf as naoqi_driver2 publishes it
 # (tf2_msgs generated into the workspace by tools/ros2/msg_packages.py)
-DEMO = ('tf,backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,'
-        'realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,'
-        'bumper,robotHealth')
+DEMO = ','.join(['tf'] + [n for n, s in declaration.SENSORS.items() if not s.opt_in and n != 'tf'])
 
 
 class Ros2Robot:

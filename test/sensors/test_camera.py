@@ -252,6 +252,7 @@ def test_sensor_test_judges_and_records_cameras(module_master, tmp_path):
         pubs.add('bottomCamera', 'camera', '--rate', 10, '--fault', 'frozen')
         pubs.add('stereoCamera', 'stereo', '--rate', 10)
         pubs.add('realsenseRGBCamera', 'camera', '--rate', 10, '--fault', 'wrong_step')
+        # scenario: the four publishers above, not a list of the colour cameras
         done, res = sensor_test(module_master, tmp_path, ['frontCamera', 'bottomCamera', 'stereoCamera',
                                                           'realsenseRGBCamera'], duration=5,
                                 expect={'frontCamera': {'max_gap_factor': 5}})
