@@ -15,6 +15,7 @@ import numpy as np
 
 from .. import rosapi
 from ..genmsgs import Bumper, DiagnosticArray, Image, Imu, JointState, LaserScan, Odometry, Range
+from ..media import encodings
 from ..plan import declaration
 from . import estimate
 from .record import Recording, Scan
@@ -101,7 +102,8 @@ class Recorder:
             return
         try:
             img: np.ndarray
-            if msg.encoding in ('16UC1', 'mono16'):
+            enc = encodings.lookup(msg.encoding)
+            if enc is not None and enc.dtype == 'u2':     # depth in mm, an infrared image
                 img = np.frombuffer(msg.data, dtype=np.uint16)[:msg.height * msg.width]
                 img = img.reshape(msg.height, msg.width)
             else:
