@@ -68,18 +68,26 @@ def literals(path):
             if found and not marked(node.lineno):
                 yield node.lineno, found
         return
-    inside = False
-    for i, line in enumerate(lines, 1):
+    inside, table, start = False, set(), 0
+    for i, line in enumerate(lines + [''], 1):
         if GENERATED.search(line):
             inside = True
         elif END in line:
             inside = False
         elif not inside and not marked(i):
-            yield i, set(re.findall(r'\w+', line)) & set(SENSORS)
+            found = set(re.findall(r'\w+', line)) & set(SENSORS)
+            yield i, found
+            if line.startswith('|'):          # a table: the sensors of its first column together
+                table |= set(re.findall(r'\w+', line.strip('|').split('|')[0])) & set(SENSORS)
+                start = start or i
+                continue
+        if table:
+            yield start, table
+        table, start = set(), 0
 
 
 def project_files():
-    for top in ('src', 'tools', 'test'):
+    for top in ('src', 'tools', 'test', 'docs'):
         for folder, _, files in os.walk(os.path.join(ROOT, top)):
             for name in sorted(files):
                 if name.endswith(('.py', '.sh', '.md')):
