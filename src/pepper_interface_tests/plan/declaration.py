@@ -248,5 +248,11 @@ def sensors_of(family: Optional[str] = None, head: Optional[str] = None,
                  and (camera is None or s.camera == camera))
 
 
-if __name__ == '__main__':     # the demo's --sensors: every sensor the input file can turn on
-    print(','.join(n for n, s in SENSORS.items() if not s.opt_in))
+def on_head(head: Optional[str] = None) -> Tuple[str, ...]:
+    """Every sensor the input file can turn on that a robot with `head` has (None: any head)."""
+    return tuple(n for n, s in SENSORS.items() if not s.opt_in and (head is None or head in s.heads))
+
+
+if __name__ == '__main__':     # the demo's --sensors: `python -m ...declaration [HEAD]`
+    import sys
+    print(','.join(on_head(sys.argv[1] if len(sys.argv) > 1 else None)))
