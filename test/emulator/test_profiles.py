@@ -72,12 +72,3 @@ def test_an_unknown_profile_asked_for_names_the_known_ones():
     with pytest.raises(ConfigError, match='naoqi_driver, cssr4africa_naoqi_driver'):
         expectations.load(SHIPPED, 'robot', driver='naoqi_driver3')
 
-
-def test_every_stream_has_a_noise_seed_of_its_own():
-    """Seeded by the sensor's name (emulator/node.py stream_seed), not by its place in the
-    profile: a sensor added to the declaration changes no other stream's noise."""
-    from pepper_interface_tests.emulator.node import stream_seed
-    from pepper_interface_tests.plan.declaration import SENSORS
-    seeds = [stream_seed(0, n) for n in SENSORS]
-    assert len(set(seeds)) == len(seeds)
-    assert stream_seed(1, 'laser') == 1000 + stream_seed(0, 'laser')

@@ -44,7 +44,6 @@ Exit codes: 0 after a normal shutdown, 2 when it could not start (bad params, no
 import argparse
 import sys
 import threading
-import zlib
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Sequence, Type, Union
 
 from .. import rosapi
@@ -69,12 +68,6 @@ DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127
                 audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
                 audio_buffer=0, operator=False, touch='', robot_id=DEFAULT_BODY_ID)
 
-
-
-def stream_seed(seed: int, name: str) -> int:
-    """The noise seed of sensor `name`'s stream: its own (from its name), so that a sensor added
-    to a profile changes no other stream's noise (test/emulator/test_profiles.py: no two alike)."""
-    return seed * 1000 + zlib.crc32(name.encode('utf-8')) % 1000
 
 class EmulatorConfig:
     """Validated settings of one emulator run (read once)."""
@@ -263,12 +256,12 @@ class Emulator:
             if rospy.get_param('/use_sim_time', False) is not True:
                 rospy.set_param('/use_sim_time', True)
                 self.set_sim_time = True
-        for spec in cfg.profile_spec.sensors:
+        for i, spec in enumerate(cfg.profile_spec.sensors):
             fault = cfg.faults.get(spec.name)
             pub: StreamPublisher
             cls: Type[StreamPublisher] = EVENT_PUBLISHERS.get(spec.family) or \
                 (TfPublisher if spec.family == TfPublisher.family else publisher_class(spec))
-            seed = stream_seed(cfg.seed, spec.name)
+            seed = cfg.seed * 1000 + i
             if issubclass(cls, AudioPublisher):
                 from .audio_source import AudioSource
                 # with after=T the publisher silences them itself from T on
