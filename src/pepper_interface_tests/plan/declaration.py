@@ -172,6 +172,16 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
                Stream(NAOQI, '/naoqi_driver/camera/stereo/image_raw', 10.0, 'CameraDepth_optical_frame',
                       'rgb8', (640, 180), ('stereo',), 1.0472,
                       source='src/naoqi_driver.cpp:733-750 (a stereo head only); kQQ720px2 640x180'),)),
+    # the Xtion head's infrared camera: ir_camera resolution 1 (QVGA), 10 fps in both drivers'
+    # share/boot_config.json; off on a stereo head. naoqi_driver2 publishes it alike
+    # (ros-naoqi/naoqi_driver2 10c4ca9 src/naoqi_driver.cpp:640-643, 667, 810-820)
+    Sensor('irCamera', 'IR CAMERA', ('IRCamera', 'infraredCamera', 'InfraredCamera', 'ir'), 'sensor_msgs/Image',
+           'camera', 'pepper', 'irCameraOutput.mp4', streams=(
+               Stream(NAOQI, '/naoqi_driver/camera/ir/image_raw', 10.0, 'CameraDepth_optical_frame', '16UC1',
+                      (320, 240), ('xtion',), 1.0123,
+                      source='src/naoqi_driver.cpp:584-587 (ir_camera QVGA, 10 fps), :610-611 (off on a stereo '
+                             'head), :753-762 (camera/ir/image_raw); src/converters/camera.cpp:215-224 (16UC1, '
+                             'CameraDepth_optical_frame)'),)),
     Sensor('laser', 'LASER', ('Laser', 'laserSensor'), 'sensor_msgs/LaserScan', 'laser', streams=(
         Stream(NAOQI, '/naoqi_driver/laser', 10.0, 'base_footprint',
                source='src/converters/laser.cpp:213-237; boot_config.json "laser" 10 Hz'),
