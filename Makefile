@@ -5,7 +5,8 @@
 # make test-fast  only the unit tier (pure tests, no ROS master, under 8 s of CPU): pytest -m unit
 # make lint   only the gates (ruff and mypy, configured in pyproject.toml)
 # make setup  only set up (Debian packages, .venv, catkin workspace in build/)
-# make docs   regenerate docs/options.md from sensorTest's options (a test fails when it is stale)
+# make docs   regenerate docs/options.md from sensorTest's options, and the sensor tables, name lists
+#             and topics/input files' sensor lines from plan/declaration.py (tests fail when stale)
 # make bench  the benchmark (docs/benchmark.md): listening and recording next to rostopic hz,
 #             then reading a 60 s recording in three forms next to a deserializing read, one
 #             recording with the driver's /tf and one of the sensors alone
@@ -33,7 +34,7 @@ setup:
 
 docs:
 	@tools/setup.sh
-	@bash -c 'source tools/env.sh && python tools/gen_options.py'
+	@bash -c 'source tools/env.sh && python tools/gen_options.py && python tools/gen_sensors.py'
 
 bench:
 	@tools/setup.sh

@@ -49,6 +49,7 @@ def test_lanes_parallel_in_the_simulator_cameras_share_one_lane(tmp_path):
     order = ['laser', 'frontCamera', 'backSonar', 'depthCamera', 'stereoCamera', 'bottomCamera']
     plan = _plan(tmp_path, 'simulator', 'parallel', order)
     lanes = [[s.name for s in lane] for lane in lanes_for(plan)]
+    # scenario: the order above, not a list of the simulator's cameras
     assert lanes == [['laser'], ['frontCamera', 'depthCamera', 'bottomCamera'], ['backSonar'],
                      ['stereoCamera']]     # stereo is skipped in the simulator: its own lane
 
@@ -193,7 +194,7 @@ def test_runner_simulator_cameras_one_at_a_time_in_parallel_mode(tmp_path):
     run = Runner(plan2, RunContext(plan2.output_dir, plan2.platform, plan2.options), source,
                  clock=source.clock, observers=[ResultFiles(str(out2), out=io.StringIO())]).execute()
     assert {s.name: s.started_at for s in run.sensors if s.name.endswith('Camera')} == \
-        {'frontCamera': 0.0, 'bottomCamera': 0.0, 'depthCamera': 0.0}
+        {'frontCamera': 0.0, 'bottomCamera': 0.0, 'depthCamera': 0.0}     # scenario: the bag's cameras
 
 
 def test_a_failing_observer_does_not_stop_the_run(tmp_path, capsys):

@@ -82,9 +82,11 @@ done
 # While sensorTest runs, the launch is watched (launch/watch.py): a node of the emulator that
 # ends mid-run is named at once with its own last words, said again after the summary, and the
 # exit code is then 2: the verdicts of the sensors it fed say nothing about a robot.
+# --sensors: every sensor the emulator's robot has (its launch's head: stereo), from the
+# declaration (plan/declaration.py).
 python -m pepper_interface_tests.launch.watch "$LAUNCH" "$LOG" -- \
     python scripts/sensorTest --platform robot --mode parallel \
-    --sensors backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,bumper,robotHealth,tf \
+    --sensors "$(python -m pepper_interface_tests.plan.declaration stereo)" \
     --guided --no-show "${MOVE[@]}" "$@"
 rc=$?
 stop

@@ -71,3 +71,4 @@ def test_mistakes_name_the_line_and_the_fix(tmp_path, text, words, line):
 def test_an_unknown_profile_asked_for_names_the_known_ones():
     with pytest.raises(ConfigError, match='naoqi_driver, cssr4africa_naoqi_driver'):
         expectations.load(SHIPPED, 'robot', driver='naoqi_driver3')
+

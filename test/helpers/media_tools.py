@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 
+from pepper_interface_tests.plan import declaration
 from rosmaster import NODES, ROOT, kill_group, script, spawn
 
 HERE = NODES   # the node scripts' folder (test/nodes/)
@@ -21,8 +22,9 @@ TOPICS = {
     'realsenseDepthCamera': '/media/aligned_depth/image_raw',
     'microphone': '/media/audio',
 }
-FRAME_IDS = {'frontCamera': 'CameraTop_optical_frame', 'bottomCamera': 'CameraBottom_optical_frame',
-             'stereoCamera': 'CameraDepth_optical_frame', 'depthCamera': 'CameraDepth_optical_frame'}
+# the head cameras' frames as naoqi_driver publishes them (plan/declaration.py)
+FRAME_IDS = {n: s.stream(declaration.STOCK).frame for n, s in declaration.SENSORS.items()
+             if s.camera == 'pepper' and s.stream(declaration.STOCK)}
 
 
 def topics_file(tmp):

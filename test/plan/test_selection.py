@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 
+from pepper_interface_tests.plan import declaration
 from report_helpers import sensor_test
 from rosmaster import NODES, kill_group, spawn, wait_for_publishers
 
@@ -13,7 +14,7 @@ HERE = NODES   # the node scripts' folder (test/nodes/)
 MEDIA = os.path.join(HERE, 'media_publisher.py')
 # the shipped data/pepperTopics.dat names these topics
 REALSENSE_RGB, REALSENSE_DEPTH = '/camera/color/image_raw', '/camera/aligned_depth_to_color/image_raw'
-PEPPER_CAMS = ['bottomCamera', 'frontCamera', 'depthCamera', 'stereoCamera']
+PEPPER_CAMS = list(declaration.sensors_of(camera='pepper'))
 
 
 def media(master, *args):
@@ -63,12 +64,13 @@ def test_cameras_realsense_tests_the_realsense_with_the_shipped_input_file(modul
     said = notes(proc.stdout)
     assert any(n.startswith('cameras: realsenseRGBCamera, realsenseDepthCamera (--cameras realsense, '
                             'whatever sensorTestInput.ini says)') for n in said), proc.stdout
-    assert any(n.startswith('skipped: bottomCamera, frontCamera, depthCamera, stereoCamera') for n in said)
+    assert any(n.startswith('skipped: ' + ', '.join(PEPPER_CAMS)) for n in said)
     # the notes come right under the run header, before any sensor starts, wrapped to 80 columns
     lines = proc.stdout.splitlines()
     first_start = next(i for i, line in enumerate(lines) if line.strip().startswith('start '))
     header = lines[:first_start]
-    assert header[0].startswith('sensorTest: 19 sensors') and len(said) >= 2
+    # the input file's sensors and, by --cameras realsense, the RealSense's: every declared one
+    assert header[0].startswith('sensorTest: %d sensors' % len(declaration.on_head())) and len(said) >= 2
     # each line fits, or is one unbreakable word (the results folder's path on its own line)
     assert all(len(line) <= 80 or len(line.split()) == 1 for line in header[1:]), header
 
@@ -134,6 +136,7 @@ def test_emulator_launch_with_realsense_tests_the_realsense(master, tmp_path):
     r = results_of(out_dir)
     for name in ('realsenseRGBCamera', 'realsenseDepthCamera'):
         assert r[name]['verdict'] != 'SKIPPED' and r[name]['messages'] > 0, (name, r[name], text[-3000:])
-    assert all(r[n]['verdict'] != 'SKIPPED' for n in PEPPER_CAMS)        # both = Pepper's cameras too
+    # both = Pepper's cameras too: those of the emulator's head (stereo)
+    assert all(r[n]['verdict'] != 'SKIPPED' for n in PEPPER_CAMS if 'stereo' in declaration.SENSORS[n].heads)
     assert any(n.startswith('cameras: bottomCamera, frontCamera, realsenseRGBCamera, realsenseDepthCamera')
                for n in notes(text)), text

@@ -12,15 +12,15 @@ import time
 import pytest
 
 from motion_runs import GOAL, assert_stopped_safely, expectations
+from pepper_interface_tests.plan import declaration
 from ros2_runs import domain_env, program, results, signal_as_users_do
 from rosmaster import kill_group, spawn, wait_until
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
 # the demo's sensors (tools/demo.sh), the tree with them: /tf as naoqi_driver2 publishes it
 # (tf2_msgs generated into the workspace by tools/ros2/msg_packages.py)
-DEMO = ('tf,backSonar,frontSonar,frontCamera,bottomCamera,depthCamera,stereoCamera,realsenseRGBCamera,'
-        'realsenseDepthCamera,laser,microphone,jointState,odometry,imu,speech,headTouch,handTouch,'
-        'bumper,robotHealth')
+# (the emulator's head: stereo)
+DEMO = ','.join(['tf'] + [n for n in declaration.on_head('stereo') if n != 'tf'])
 
 
 class Ros2Robot:
@@ -70,7 +70,7 @@ def test_the_demo_on_ros2_passes_every_row_and_publishes_its_statuses(robot_fact
                              '--guided', '--move', '--yes', '--no-record')
     assert proc.wait(240) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
     data, rows = results(out)
-    assert len(rows) == 20 and all(r['verdict'] == 'PASS' for r in rows.values()), \
+    assert len(rows) == len(DEMO.split(',')) + 1 and all(r['verdict'] == 'PASS' for r in rows.values()), \
         {n: (r['verdict'], r['reasons']) for n, r in rows.items() if r['verdict'] != 'PASS'}
     assert {n: r['warnings'] for n, r in rows.items() if r['warnings']} == {}
     # naoqi_driver2's names, and this node's statuses on /diagnostics over rclpy (the driver's too)

@@ -134,11 +134,13 @@ def test_wrong_encoding_and_size_fail(tmp_path):
 
 @pytest.mark.integration     # the real cv_bridge, which imports OpenCV (half a second)
 def test_cv_bridge_error_is_a_counted_failure_not_a_crash(tmp_path):
-    depth = np.full((120, 160), 1000, np.uint16)
-    frames = [image(depth, '16UC1') for _ in range(3)]
+    # depth in metres on a colour camera's topic: not an image cv_bridge turns into colour
+    # (16UC1 is read in place since media/encodings.py: test/media/test_encodings.py)
+    depth = np.full((120, 160), 1.5, np.float32)
+    frames = [image(depth, '32FC1') for _ in range(3)]
     c = feed(make_check('frontCamera', tmp_path, record=False), frames)
     reasons = ' | '.join(c.failure_reasons())
-    assert 'cv_bridge cannot convert 16UC1 to bgr8 in 3 of 3 messages' in reasons
+    assert 'cv_bridge cannot convert 32FC1 to bgr8 in 3 of 3 messages' in reasons
 
 
 @pytest.mark.parametrize('repeats,frozen', [(4, False), (5, True)])
@@ -252,6 +254,7 @@ def test_sensor_test_judges_and_records_cameras(module_master, tmp_path):
         pubs.add('bottomCamera', 'camera', '--rate', 10, '--fault', 'frozen')
         pubs.add('stereoCamera', 'stereo', '--rate', 10)
         pubs.add('realsenseRGBCamera', 'camera', '--rate', 10, '--fault', 'wrong_step')
+        # scenario: the four publishers above, not a list of the colour cameras
         done, res = sensor_test(module_master, tmp_path, ['frontCamera', 'bottomCamera', 'stereoCamera',
                                                           'realsenseRGBCamera'], duration=5,
                                 expect={'frontCamera': {'max_gap_factor': 5}})

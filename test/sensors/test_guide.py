@@ -15,12 +15,13 @@ import rosbag
 import rospy
 
 from pepper_interface_tests.emulator.events import JOINTS, driver_array
+from pepper_interface_tests.plan import declaration
 from pepper_interface_tests.sources import naoqi_msgs
 from rosmaster import NODES, Master, kill_group, script, spawn, wait_registered, wait_until
 
 pytestmark = pytest.mark.integration     # every test here starts real processes
 HERE = NODES   # the node scripts' folder (test/nodes/)
-TOUCH = ['headTouch', 'handTouch', 'bumper']
+TOUCH = list(declaration.sensors_of('touch'))
 
 
 class Emulator:

@@ -21,6 +21,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', '..', 'test', 'helpers'))
 
 import fake_pepper as fake  # noqa: E402  (test/helpers, put on the path above)
+from pepper_interface_tests.plan import catalog  # noqa: E402
 
 RING = 20          # distinct frames per camera, cycled (frozen_frames is 5 in the expectations)
 NS = 1000000000
@@ -57,7 +58,7 @@ def sensors(tf: bool) -> str:
 
 def _frame(sensor: str, i: int) -> Any:
     """The i-th message of `sensor` (ROS 1 class), stamp left to the caller."""
-    if sensor in ('frontCamera', 'bottomCamera', 'realsenseRGBCamera'):
+    if catalog.SENSORS[sensor].family == 'camera':
         frame = {'frontCamera': 'CameraTop_optical_frame', 'bottomCamera': 'CameraBottom_optical_frame'}
         return fake.camera_image(i + 7 * len(sensor), 640, 480,
                                  frame_id=frame.get(sensor, 'camera_color_optical_frame'))

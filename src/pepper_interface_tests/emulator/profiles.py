@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Tuple
 
-from ..plan import catalog, settings
+from ..plan import catalog, declaration, settings
 from ..sensors import families
 
 PROFILES = ('robot', 'robot-stock', 'simulator')
@@ -142,92 +142,113 @@ def default_resolution(profile: str) -> str:
     return 'VGA' if profile == 'robot' else 'QVGA'
 
 
+# What the emulator adds to a declared stream (plan/declaration.py) to model it, per family and
+# platform: the parts of a message the declaration does not hold (a sonar's geometry, a laser's
+# layout, the noise), each with its driver's source.
+# sonar.cpp:64-72: min 0.25, max 2.55, fov 0.523598776, ULTRASOUND; range = the raw ALMemory
+# value, not clipped (sonar.cpp:111-115). pepperGazeboCPU.xacro:658-736: ray sensors 5x5 rays
+# over +-0.52 rad, 0..5 m, gazebo_ros_range with gaussianNoise 0.05, fov 1.05, radiation ultrasound.
+# laser.cpp:213-237 and boot_config.json "laser": 0.1..3.0 m advertised; laser_publisher.py:386-395:
+# range 0.1..7.0, three 15-ray lasers (pepperGazeboCPU.xacro:778-871, noise mean 0.01 sd 0.01).
+# pepper_control (pepper_virtual pepper_control/config/pepper_trajectory_control.yaml:3-5):
+# velocity and effort of every joint with a transmission (pepper_robot pepperTransmission.xacro).
+# odom.cpp:78-80: odom -> base_link; pepperGazeboCPU.xacro:741-765: odom -> base_footprint.
+MODEL: Dict[Tuple[str, str], Dict[str, Any]] = {
+    ('range', 'robot'): dict(range_min=0.25, range_max=2.55, field_of_view=0.523598776, layout='raw', noise=0.01),
+    ('range', 'simulator'): dict(range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo', noise=0.05),
+    ('laser', 'robot'): dict(range_min=0.1, range_max=3.0, layout='naoqi', noise=0.01),
+    ('laser', 'simulator'): dict(range_min=0.1, range_max=7.0, layout='gazebo', noise=0.01),
+    ('joints', 'simulator'): dict(layout='gazebo'),
+    ('odometry', 'robot'): dict(child_frame_id='base_link'),
+    ('odometry', 'simulator'): dict(child_frame_id='base_footprint'),
+}
+# the order in which a profile's streams start (each stream's noise seed is its place in it):
+# the driver's periodic streams, the RealSense's, the events, the microphone
+PERIODIC = (('range',), ('camera', 'depth'), ('laser',), ('joints',), ('odometry',), ('imu',), ('tf',))
+EVENT_POLL_HZ = {'touch': 20.0}    # how often the emulator looks for a touch event to publish
+
+
+def camera_view(sensor: catalog.Sensor) -> str:
+    """Which camera of the scene (emulator/scene.py) a declared camera shows."""
+    return 'realsense' if sensor.camera == 'realsense' else sensor.name[:-len('Camera')]
+
+
+def declared_spec(name: str, driver: str, head: Optional[str], topic: str, platform: str,
+                  **changes: Any) -> Optional[SensorSpec]:
+    """The SensorSpec of sensor `name` as `driver` publishes it on `head` (the declaration's
+    rate, frame, encoding, size and field of view, the emulator's MODEL of its family), on
+    `topic` (the topics file's); None when that driver does not publish it there."""
+    sensor = catalog.SENSORS[name]
+    stream = sensor.stream(driver, head)
+    if stream is None:
+        return None
+    w, h = stream.size
+    values: Dict[str, Any] = dict(rate=stream.rate, frame_id=stream.frame, width=w, height=h,
+                                  encoding=stream.encoding, hfov=stream.hfov)
+    if stream.encoding:
+        values['view'] = camera_view(sensor)
+    values.update(MODEL.get((sensor.family, platform), {}))
+    values.update(changes)
+    return SensorSpec(name, sensor.family, topic, **values)
+
+
+def _periodic(driver: str, head: Optional[str], topics: Dict[str, str], path: str, platform: str,
+              changes: Dict[str, Dict[str, Any]]) -> List[SensorSpec]:
+    out = []
+    for group in PERIODIC:
+        for name in [n for n, s in catalog.SENSORS.items() if s.family in group]:
+            stream = catalog.SENSORS[name].stream(driver, head)
+            if stream is None:
+                continue
+            topic = topics.get(name, stream.topic) if group == ('tf',) else _need(topics, name, path)
+            spec = declared_spec(name, driver, head, topic, platform, **changes.get(name, {}))
+            if spec is not None:
+                out.append(spec)
+    return out
+
+
 def robot_profile(path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',
                   resolution: Optional[str] = None, stock: bool = False, head: str = 'stereo',
                   audio_buffer: Optional[int] = None, touch: Optional[bool] = None) -> Profile:
     """naoqi_driver on a physical Pepper (NAOqi 2.5): the CSSR4Africa fork (robot) or stock
     ros-naoqi/naoqi_driver (robot-stock), plus the RealSense D435i when asked.
-    Every number is the driver's; file:line references are to ros-naoqi/naoqi_driver master
-    unless the CSSR fork (cssr4africa/naoqi_driver master) is named; see docs/drivers.md."""
+    Every stream is the declaration's (plan/declaration.py, with the driver's file:line); the
+    emulator's own parts are MODEL's; see docs/drivers.md."""
     name = 'robot-stock' if stock else 'robot'
+    driver = declaration.STOCK if stock else declaration.FORK
     path = topics_file(name, path)
     topics = settings.read_topics(path)
-    w, h = RESOLUTIONS[resolution or default_resolution(name)]
-    if head == 'stereo':
-        # depth from the stereo pair: stereo_resolution 9 = kQ720p 640x360, in both
-        # boot_config.json files; src/tools/alvisiondefinitions.h:54
-        dw, dh = 640, 360
-    else:
-        # Xtion: xtion_resolution 1 (QVGA) in stock share/boot_config.json, 2 (VGA) in the fork's
-        dw, dh = (320, 240) if stock else (640, 480)
     t = lambda n: _need(topics, n, path)                 # noqa: E731
+    changes: Dict[str, Dict[str, Any]] = {}
+    if resolution:       # the front and bottom cameras' resolution, asked of the emulator
+        for cam in ('frontCamera', 'bottomCamera'):
+            changes[cam] = dict(zip(('width', 'height'), RESOLUTIONS[resolution]))
     imu_topic = t('imu')
     torso = imu_topic[:-len('base')] + 'torso' if imu_topic.endswith('/base') else None
-    # sonar.cpp:64-72: min 0.25, max 2.55, fov 0.523598776, ULTRASOUND; range = the raw
-    # ALMemory value, not clipped (sonar.cpp:111-115); 10 Hz (boot_config.json "sonar")
-    sonar: Dict[str, Any] = dict(rate=10.0, range_min=0.25, range_max=2.55, field_of_view=0.523598776,
-                 layout='raw', noise=0.01)
-    sensors = [
-        SensorSpec('backSonar', 'range', t('backSonar'), frame_id='SonarBack_frame', **sonar),
-        SensorSpec('frontSonar', 'range', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
-        # camera.cpp:193-205, 286-289: rgb8, CameraTop/Bottom_optical_frame; 10 fps (boot_config)
-        SensorSpec('frontCamera', 'camera', t('frontCamera'), 10.0, 'CameraTop_optical_frame',
-                   w, h, 'rgb8', view='front', hfov=0.9826),
-        SensorSpec('bottomCamera', 'camera', t('bottomCamera'), 10.0,
-                   'CameraBottom_optical_frame', w, h, 'rgb8', view='bottom', hfov=0.9826),
-        # camera.cpp:194, 207-213: 16UC1 (mm), CameraDepth_optical_frame. An Xtion head also
-        # has the infrared camera (naoqi_driver.cpp:607-613, 753-762; camera.cpp:215-224:
-        # 16UC1, CameraDepth_optical_frame, 10 fps): published here alike, as the depth's
-        # companion (same size; stock's ir_camera resolution 1 = QVGA is the Xtion depth's too)
-        SensorSpec('depthCamera', 'depth', t('depthCamera'), 10.0, 'CameraDepth_optical_frame',
-                   dw, dh, '16UC1', view='depth', hfov=1.0123,
-                   extra=() if head == 'stereo' else
-                   ((catalog.head_sign_topic('stereoCamera', topics.get('stereoCamera')) or '',
-                     'CameraDepth_optical_frame'),)),
-    ]
-    if head == 'stereo':
-        # naoqi_driver.cpp:733-750: only on a stereo head; kQQ720px2 = 640x180 rgb8, two views
-        sensors.append(SensorSpec('stereoCamera', 'camera', t('stereoCamera'), 10.0,
-                                  'CameraDepth_optical_frame', 640, 180, 'rgb8', view='stereo',
-                                  hfov=1.0472))
-    sensors += [
-        # laser.cpp:213-237 and boot_config.json "laser": 0.1..3.0 m advertised, 10 Hz
-        SensorSpec('laser', 'laser', t('laser'), 10.0, 'base_footprint',
-                   range_min=0.1, range_max=3.0, layout='naoqi', noise=0.01),
-        # joint_state.cpp:99 (no frame id), boot_config.json "joint_states": 50 Hz
-        SensorSpec('jointState', 'joints', t('jointState'), 50.0),
-        # odom.cpp:78-80: odom -> base_link; boot_config.json "odom": 15 Hz
-        SensorSpec('odometry', 'odometry', t('odometry'), 15.0, 'odom', child_frame_id='base_link'),
-        # imu.cpp:45-70: base_footprint (imu/base), base_link (imu/torso); 10 Hz (boot_config)
-        SensorSpec('imu', 'imu', imu_topic, 10.0, 'base_footprint',
-                   extra=((torso, 'base_link'),) if torso else ()),
-        # joint_state.cpp:147-201: the URDF's tree with every joint state (tf_publisher.py)
-        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0, layout='realsense' if realsense else ''),
-    ]
+    # imu.cpp:45-70: base_footprint (imu/base), base_link (imu/torso)
+    changes['imu'] = dict(extra=((torso, 'base_link'),) if torso else ())
+    changes['tf'] = dict(layout='realsense' if realsense else '')
+    # the driver's sign of this head (declaration.HEADS) when no declared sensor publishes it:
+    # carried by the depth camera alike (same frame and size), as the driver's companion stream
+    sign = declaration.HEADS[head]
+    if not any(sign.sign_part in s.topic for n in catalog.SENSORS
+               for s in [catalog.SENSORS[n].stream(driver, head)] if s and n != 'depthCamera'):
+        other = next(n for n in catalog.SENSORS if head not in catalog.SENSORS[n].heads)
+        changes['depthCamera'] = dict(extra=((catalog.head_sign_topic(other, topics.get(other)) or '',
+                                              'CameraDepth_optical_frame'),))
+    sensors = _periodic(driver, head, topics, path, 'robot', changes)
     if realsense:
-        # realsense2_camera (ros1-legacy) base_realsense_node.cpp: colour RGB8 (:116), depth 16UC1 (:95-96),
-        # aligned depth on aligned_depth_to_color/image_raw (:989) in the colour optical frame (:1918);
-        # 640x480 at 15 fps as the robot launches it (docs/drivers.md)
-        sensors += [
-            SensorSpec('realsenseRGBCamera', 'camera', t('realsenseRGBCamera'), 15.0,
-                       'camera_color_optical_frame', 640, 480, 'rgb8', view='realsense',
-                       hfov=1.2043),
-            SensorSpec('realsenseDepthCamera', 'depth', t('realsenseDepthCamera'), 15.0,
-                       'camera_color_optical_frame', 640, 480, '16UC1', view='realsense',
-                       hfov=1.2043),
-        ]
-    # naoqi_driver.cpp:838-894: the touch events (one message per change: the rate here is how
-    # often the emulator looks for one), when boot_config.json enables them: stock
-    # share/boot_config.json does (bumper, touch_hand, touch_head "enabled": true), the CSSR fork's
-    # does not ("enabled": false), so `touch` defaults to `stock`; :648-660 the diagnostics on
-    # /diagnostics at 1 Hz ("diag", enabled in both). A topics file without these keys: not published.
-    touch = stock if touch is None else touch
-    events = [('robotHealth', 'health', 1.0)]
-    if touch:
-        events = [('headTouch', 'touch', 20.0), ('handTouch', 'touch', 20.0), ('bumper', 'touch', 20.0)] + events
-    for key, family, hz in events:
-        if key in topics:
-            sensors.append(SensorSpec(key, family, topics[key], hz))
+        sensors += _periodic(declaration.REALSENSE, head, topics, path, 'robot', changes)
+    # the touch events (one message per change: the rate here is how often the emulator looks for
+    # one), when boot_config.json enables them (declaration: stock's does, the CSSR fork's does
+    # not), so `touch` defaults to the driver's; /diagnostics ("diag", enabled in both). A topics
+    # file without these keys: not published.
+    for family in ('touch', 'health'):
+        for key in declaration.sensors_of(family):
+            stream = catalog.SENSORS[key].stream(driver, head)
+            on = stream is not None and (stream.enabled if touch is None or family != 'touch' else touch)
+            if on and stream is not None and key in topics:
+                sensors.append(SensorSpec(key, family, topics[key], EVENT_POLL_HZ.get(family, stream.rate)))
     notes = []
     if stock:
         # src/event/audio.cpp:62-66, 107-113, 177-186: AudioBuffer, 48 kHz, channelMap [3,5,0,2],
@@ -251,42 +272,13 @@ def simulator_profile(path: Optional[str] = None) -> Profile:
     """The Gazebo simulator CSSR4Africa installs: awesomebytes/pepper_robot branch
     correct_chain_model_and_gazebo_enabled (pepper_description/urdf/pepper1.0_generated_urdf/
     pepperGazeboCPU.xacro, loaded by pepper_upload_CPU.launch) and awesomebytes/pepper_virtual
-    branch simulation_that_works (laser_publisher.py). No microphone, IMU, stereo, speech.
-    Runs on sim time (/clock)."""
+    branch simulation_that_works (laser_publisher.py): the declaration's pepper_virtual streams.
+    No microphone, IMU, stereo, speech. Runs on sim time (/clock)."""
     path = topics_file('simulator', path)
     topics = settings.read_topics(path)
-    t = lambda n: _need(topics, n, path)                 # noqa: E731
-    # pepperGazeboCPU.xacro:658-736: ray sensors 5x5 rays over +-0.52 rad, 0..5 m, 20 Hz,
-    # gazebo_ros_range with gaussianNoise 0.05, fov 1.05, radiation ultrasound
-    sonar: Dict[str, Any] = dict(rate=20.0, range_min=0.0, range_max=5.0, field_of_view=1.05, layout='gazebo',
-                 noise=0.05)
-    sensors = (
-        SensorSpec('backSonar', 'range', t('backSonar'), frame_id='SonarBack_frame', **sonar),
-        SensorSpec('frontSonar', 'range', t('frontSonar'), frame_id='SonarFront_frame', **sonar),
-        # pepperGazeboCPU.xacro:453-524: 640x480 R8G8B8 (rgb8), update_rate 5, horizontal_fov 1.0
-        SensorSpec('frontCamera', 'camera', t('frontCamera'), 5.0, 'CameraTop_optical_frame',
-                   640, 480, 'rgb8', view='front', hfov=1.0),
-        SensorSpec('bottomCamera', 'camera', t('bottomCamera'), 5.0, 'CameraBottom_optical_frame',
-                   640, 480, 'rgb8', view='bottom', hfov=1.0),
-        # pepperGazeboCPU.xacro:528-575: gazebo_ros_openni_kinect 320x240, update_rate 30,
-        # useDepth16UC1Format true (16UC1 in mm, 0 outside 0.4..8.0 m), hfov 58 deg
-        SensorSpec('depthCamera', 'depth', t('depthCamera'), 30.0, 'CameraDepth_optical_frame',
-                   320, 240, '16UC1', view='depth', hfov=math.radians(58.0)),
-        # laser_publisher.py:386-395: base_footprint, range 0.1..7.0; three 15-ray lasers at
-        # update_rate 6.25 (pepperGazeboCPU.xacro:778-871, 0.3..7.0 m, noise mean 0.01 sd 0.01)
-        SensorSpec('laser', 'laser', t('laser'), 6.25, 'base_footprint',
-                   range_min=0.1, range_max=7.0, layout='gazebo', noise=0.01),
-        # joint_state_controller of pepper_control (pepper_virtual pepper_control/config/
-        # pepper_trajectory_control.yaml:3-5, publish_rate 50): velocity and effort of every joint
-        # with a transmission (pepper_robot pepperTransmission.xacro)
-        SensorSpec('jointState', 'joints', t('jointState'), 50.0, layout='gazebo'),
-        # pepperGazeboCPU.xacro:741-765: odometryRate 20, odom -> robotBaseFrame base_footprint
-        SensorSpec('odometry', 'odometry', t('odometry'), 20.0, 'odom',
-                   child_frame_id='base_footprint'),
-        # robot_state_publisher and the planar-move plugin (tf_publisher.py, urdf_tree.py)
-        SensorSpec('tf', 'tf', topics.get('tf', '/tf'), 50.0, layout='gazebo'),
-    )
-    return Profile('simulator', sensors, speech_topic=None, topics_file=path, sim_time=True)
+    sensors = _periodic(declaration.SIMULATOR, None, topics, path, 'simulator',
+                        {'tf': dict(layout='gazebo')})
+    return Profile('simulator', tuple(sensors), speech_topic=None, topics_file=path, sim_time=True)
 
 
 def build_profile(name: str, path: Optional[str] = None, realsense: bool = False, audio: str = 'bridge',

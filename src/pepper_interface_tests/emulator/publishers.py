@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import rosapi
 from ..genmsgs import Image, Imu, JointState, LaserScan, Odometry, Quaternion, Range, String
+from ..media import encodings
 from . import scene
 from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
@@ -40,10 +41,8 @@ if TYPE_CHECKING:
     from .audio_source import AudioSource
 
 
-BYTES_PER_PIXEL = {'rgb8': 3, '16UC1': 2}
 LOADED_CAMERA_HZ = 1.3
 DARK_FACTOR = 0.12                 # a dark room: colour images at about an eighth of the light
-WRONG_ENCODING = {'rgb8': 'bgr8', '16UC1': '32FC1'}
 BROKEN_QUATERNION_SCALE = 1.8
 
 
@@ -264,15 +263,21 @@ class ImagePublisher(StreamPublisher):
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
         super().__init__(spec, faults, clock, stop, rate_factor, seed, condition)
-        self.dark = condition == 'dark' and spec.family != 'depth'
+        # the encoding's row (media/encodings.py): its bytes, and how a camera of it is drawn
+        self.enc = encodings.ENCODINGS[spec.encoding]
+        infrared = spec.family != 'depth' and self.enc.render == 'infrared'
+        # a dark room: the colour cameras; depth and infrared light the scene themselves
+        self.dark = condition == 'dark' and spec.family != 'depth' and not infrared
         self.renderer: Any
         if spec.family == 'depth':
             self.renderer = scene.DepthCamera(spec.width, spec.height, spec.hfov, seed=seed)
+        elif infrared:
+            self.renderer = scene.InfraredCamera(spec.width, spec.height, spec.hfov, view=spec.view)
         elif spec.view == 'stereo':
             self.renderer = scene.StereoCamera(spec.width, spec.height, spec.hfov)
         else:
             self.renderer = scene.ColourCamera(spec.width, spec.height, spec.hfov, view=spec.view)
-        self.bpp = BYTES_PER_PIXEL[spec.encoding]
+        self.bpp = self.enc.bytes_per_pixel
         self.cached: Optional[bytes] = None
 
     def msg_class(self) -> type:
@@ -282,8 +287,7 @@ class ImagePublisher(StreamPublisher):
         f = self.faults
         if f.black and self.partial_on(t):
             if self.cached is None:
-                shape = (self.spec.height, self.spec.width) + ((3,) if self.bpp == 3 else ())
-                self.cached = np.zeros(shape, np.uint8 if self.bpp == 3 else np.uint16).tobytes()
+                self.cached = bytes(self.spec.height * self.spec.width * self.bpp)
             return self.cached
         if f.frozen and self.partial_on(t):
             if self.cached is None:
@@ -293,7 +297,7 @@ class ImagePublisher(StreamPublisher):
         if self.dark:
             img = (img * DARK_FACTOR).astype(img.dtype)
         if f.dim is not None:       # a dusty lens lets less light through
-            img = np.clip(img * f.dim, 0, 255).astype(img.dtype)
+            img = np.clip(img * f.dim, 0, encodings.full_scale(self.enc)).astype(img.dtype)
         if f.blur:                  # out of focus: each pixel the mean of its 5 x 5 neighbours
             img = _box_blur(img)
         if f.far_depth:         # every pixel ~20 m: beyond what the camera measures
@@ -318,7 +322,7 @@ class ImagePublisher(StreamPublisher):
         s, f = self.spec, self.faults
         msg = Image()
         msg.height, msg.width = s.height, s.width
-        msg.encoding = WRONG_ENCODING[s.encoding] if f.wrong_encoding else s.encoding
+        msg.encoding = self.enc.mislabel if f.wrong_encoding else s.encoding
         msg.is_bigendian = 0
         msg.step = s.width * self.bpp
         if f.wrong_step:

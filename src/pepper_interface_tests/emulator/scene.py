@@ -192,6 +192,22 @@ class ColourCamera:
         return img
 
 
+class InfraredCamera:
+    """An infrared camera's 16-bit frames (naoqi_driver's camera/ir, 16UC1: camera.cpp:215-224):
+    the room's grey as the colour cameras see it, in 10 bits (0-1023, the Xtion's IR range),
+    lit by the camera's own projector (no room light needed)."""
+
+    BITS = 10
+
+    def __init__(self, width: int, height: int, hfov: float, view: str = 'ir') -> None:
+        self.colour = ColourCamera(width, height, hfov, view=view)
+
+    def render(self, t: float, view: Optional[Pose] = None) -> np.ndarray:
+        rgb = self.colour.render(t, view=view).astype(np.uint16)
+        grey = (rgb[:, :, 0] * 77 + rgb[:, :, 1] * 150 + rgb[:, :, 2] * 29) >> 8     # BT.601 luma, 0-255
+        return (grey << (self.BITS - 8)).astype(np.uint16)
+
+
 class StereoCamera:
     """Pepper's stereo camera: two views side by side (each half the width), slightly shifted."""
 

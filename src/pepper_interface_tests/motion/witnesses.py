@@ -15,11 +15,14 @@ import numpy as np
 
 from .. import rosapi
 from ..genmsgs import Bumper, DiagnosticArray, Image, Imu, JointState, LaserScan, Odometry, Range
+from ..media import encodings
+from ..plan import declaration
 from . import estimate
 from .record import Recording, Scan
 
-# witness role -> the sensor whose topic it listens to (plan/catalog.py names)
-HEAD_CAMERAS = ('frontCamera', 'bottomCamera', 'stereoCamera', 'depthCamera')
+# witness role -> the sensor whose topic it listens to (plan/catalog.py names); the head's
+# cameras are the declaration's (plan/declaration.py: the 'pepper' camera group), colour first
+HEAD_CAMERAS = declaration.sensors_of('camera', camera='pepper') + declaration.sensors_of('depth', camera='pepper')
 ROLES = ('jointState', 'odometry', 'imu', 'laser', 'frontSonar', 'backSonar', 'bumper',
          'robotHealth') + HEAD_CAMERAS
 FRAME_PERIOD = 0.09    # s between two kept frames of one camera (naoqi_driver's 10 fps: each)
@@ -99,7 +102,8 @@ class Recorder:
             return
         try:
             img: np.ndarray
-            if msg.encoding in ('16UC1', 'mono16'):
+            enc = encodings.lookup(msg.encoding)
+            if enc is not None and enc.dtype == 'u2':     # depth in mm, an infrared image
                 img = np.frombuffer(msg.data, dtype=np.uint16)[:msg.height * msg.width]
                 img = img.reshape(msg.height, msg.width)
             else:

@@ -1,83 +1,16 @@
-"""The sensor table: one row per sensor sensorTest knows.
+"""Lookups over the sensor table (the rows: plan/declaration.py, one per sensor).
 
 Every part of the package looks sensors up here: their canonical name (the input-file name),
 every spelling the original configuration files use, the ROS message type, the check family
-that validates them, and where they exist. Behaviour is driven by this table, not by one copy
-of the code per sensor.
+that validates them, and where they exist, with the skip rules derived from the rows (a head
+variant, the simulator). Behaviour is driven by this table, not by one copy of the code per
+sensor.
 """
-from collections import OrderedDict
-from typing import Dict, NamedTuple, Optional, Tuple
+from typing import Dict, Optional, Tuple
 
+from .declaration import HEADS, SENSORS, Sensor
 
-class Sensor(NamedTuple):
-    name: str                  # canonical name, as in sensorTestInput.ini
-    title: str                 # heading in sensorTestOutput.dat ("BACK SONAR")
-    aliases: Tuple[str, ...]   # other spellings found in the original files (matched case-insensitively)
-    msg_type: str              # ROS message type, "pkg/Type"
-    family: str                # check family (sensors/families.py): range, laser, camera, ... touch, health
-    camera: Optional[str]      # camera group for --cameras: 'pepper', 'realsense' or None
-    simulator: bool            # True when the Gazebo simulator provides this sensor
-    video: Optional[str]       # file name of the recording, or None
-    also: Tuple[str, ...] = ()   # other message types accepted on the topic, besides msg_type
-    # the robot's topic when the topics file has no key for it (a file older than the sensor)
-    driver_topic: Optional[str] = None
-    # the option that adds this row to a run (never the input file): `--move` adds `motion`
-    opt_in: Optional[str] = None
-
-
-SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
-    Sensor('backSonar', 'BACK SONAR', ('BackSonar', 'sonarBack'), 'sensor_msgs/Range',
-           'range', None, True, None),
-    Sensor('frontSonar', 'FRONT SONAR', ('FrontSonar', 'sonarFront'), 'sensor_msgs/Range',
-           'range', None, True, None),
-    Sensor('bottomCamera', 'BOTTOM CAMERA', ('BottomCamera',), 'sensor_msgs/Image',
-           'camera', 'pepper', True, 'bottomCameraOutput.mp4'),
-    Sensor('frontCamera', 'FRONT CAMERA', ('FrontCamera',), 'sensor_msgs/Image',
-           'camera', 'pepper', True, 'frontCameraOutput.mp4'),
-    Sensor('realsenseRGBCamera', 'REALSENSE RGB CAMERA',
-           ('RealSenseCameraRGB', 'realsenseCameraRGB', 'realsenseRGB'), 'sensor_msgs/Image',
-           'camera', 'realsense', False, 'realsenseRGBOutput.mp4'),
-    Sensor('realsenseDepthCamera', 'REALSENSE DEPTH CAMERA',
-           ('RealSenseCameraDepth', 'realsenseCameraDepth', 'realsenseDepth'), 'sensor_msgs/Image',
-           'depth', 'realsense', False, 'realsenseDepthOutput.mp4'),
-    Sensor('depthCamera', 'DEPTH CAMERA', ('DepthCamera',), 'sensor_msgs/Image',
-           'depth', 'pepper', True, 'depthCameraOutput.mp4'),
-    Sensor('stereoCamera', 'STEREO CAMERA', ('StereoCamera',), 'sensor_msgs/Image',
-           'camera', 'pepper', False, 'stereoCameraOutput.mp4'),
-    Sensor('laser', 'LASER', ('Laser', 'laserSensor'), 'sensor_msgs/LaserScan',
-           'laser', None, True, None),
-    Sensor('microphone', 'MICROPHONE', ('Microphone', 'mic', 'audio'),
-           'pepper_interface_tests/AudioCustomMsg', 'audio', None, False, None,
-           ('naoqi_driver/AudioCustomMsg', 'naoqi_bridge_msgs/AudioBuffer')),
-    Sensor('jointState', 'JOINT STATE', ('JointState', 'jointStates', 'joint_states'),
-           'sensor_msgs/JointState', 'joints', None, True, None),
-    Sensor('odometry', 'ODOMETRY', ('Odometry', 'odom'), 'nav_msgs/Odometry',
-           'odometry', None, True, None),
-    Sensor('imu', 'IMU', ('IMU', 'imuBase'), 'sensor_msgs/Imu', 'imu', None, False, None),
-    Sensor('speech', 'SPEECH', ('Speech', 'speaker', 'loudspeaker'), 'std_msgs/String',
-           'speech', None, False, None),
-    # naoqi_driver's touch events (src/naoqi_driver.cpp:838-894): naoqi_bridge_msgs types, read
-    # from the definition their connection carries (sources/naoqi_msgs.py); this package's own
-    # copies (msg/, same md5sums) are accepted too
-    # (topics in the driver's private namespace, NodeHandle("~"): naoqi_driver.cpp:991)
-    Sensor('headTouch', 'HEAD TOUCH', ('HeadTouch', 'head_touch', 'tactile'), 'naoqi_bridge_msgs/HeadTouch',
-           'touch', None, False, None, ('pepper_interface_tests/HeadTouch',), '/naoqi_driver/head_touch'),
-    Sensor('handTouch', 'HAND TOUCH', ('HandTouch', 'hand_touch'), 'naoqi_bridge_msgs/HandTouch',
-           'touch', None, False, None, ('pepper_interface_tests/HandTouch',), '/naoqi_driver/hand_touch'),
-    Sensor('bumper', 'BUMPER', ('Bumper', 'bumpers'), 'naoqi_bridge_msgs/Bumper',
-           'touch', None, False, None, ('pepper_interface_tests/Bumper',), '/naoqi_driver/bumper'),
-    # naoqi_driver's own health on /diagnostics (src/converters/diagnostics.cpp; naoqi_driver.cpp:652)
-    Sensor('robotHealth', 'ROBOT HEALTH', ('RobotHealth', 'health', 'diagnostics'),
-           'diagnostic_msgs/DiagnosticArray', 'health', None, False, None, (), '/diagnostics'),
-    # the robot's transform tree on /tf (sensors/tf.py, sensors/tree.py): naoqi_driver publishes
-    # it with every joint state (src/converters/joint_state.cpp:147-201)
-    Sensor('tf', 'TRANSFORMS', ('TF', 'transforms', 'tfTree'), 'tf2_msgs/TFMessage', 'tf', None,
-           True, None, (), '/tf'),
-    # the motion check (--move, sensors/motion.py, motion/): its topic is the command it sends,
-    # naoqi_driver's bounded moveTo (src/subscribers/moveto.cpp; naoqi_driver.cpp:938)
-    Sensor('motion', 'MOTION', ('Motion', 'move'), 'geometry_msgs/PoseStamped', 'motion', None,
-           False, None, (), '/move_base_simple/goal', opt_in='--move'),
-])
+__all__ = ['SENSORS', 'Sensor']
 
 # Keys of the topics files that belong to the actuator test; sensorTest ignores them.
 ACTUATOR_KEYS = ('head', 'rarm', 'larm', 'rhand', 'lhand', 'leg', 'wheels')
@@ -110,21 +43,20 @@ NO_PUBLISHER_HINTS = {
 }
 
 # A sensor the robot's head variant does not have: SKIPPED (not FAILED) when its topic is
-# absent and the robot shows the other head. naoqi_driver asks ALMotion.getSensorNames() for
-# "CameraStereo" (ros-naoqi/naoqi_driver src/helpers/driver_helpers.cpp:373-394, isDepthStereo,
-# read at src/naoqi_driver.cpp:128); without it (Pepper 1.7, ASUS Xtion head) it registers
-# no stereo camera (naoqi_driver.cpp:733-747: `has_stereo && camera_stereo_enabled`) and
-# publishes the Xtion's infrared image on camera/ir/image_raw instead (naoqi_driver.cpp:
-# 607-613 and 753-762; "ir_camera" enabled in share/boot_config.json). A topic on camera/ir
-# is the driver's own sign of an Xtion head.
+# absent and the robot shows another head, derived from the declaration (declaration.HEADS and
+# each stream's `heads`). naoqi_driver asks ALMotion.getSensorNames() for "CameraStereo"
+# (ros-naoqi/naoqi_driver src/helpers/driver_helpers.cpp:373-394, isDepthStereo, read at
+# src/naoqi_driver.cpp:128); without it (Pepper 1.7, ASUS Xtion head) it registers no stereo
+# camera (naoqi_driver.cpp:733-747: `has_stereo && camera_stereo_enabled`) and publishes the
+# Xtion's infrared image on camera/ir/image_raw instead (naoqi_driver.cpp:607-613 and 753-762;
+# "ir_camera" enabled in share/boot_config.json). A topic on camera/ir is the driver's own sign
+# of an Xtion head, one on camera/stereo of a stereo head.
 # sensor -> (its topic's part, the sign topic's part replacing it, the driver's default sign
 # topic, the reason)
 HEAD_VARIANT_SKIPS = {
-    'stereoCamera': ('/camera/stereo/', '/camera/ir/', '/naoqi_driver/camera/ir/image_raw',
-                     'this robot has an Xtion head (Pepper 1.7): naoqi_driver publishes its '
-                     'infrared camera on %s and, without "CameraStereo" in ALMotion\'s sensor '
-                     'names, no stereo camera; the IR camera is the one to look at on this head'),
-}
+    s.name: (HEADS[s.heads[0]].sign_part, HEADS[other].sign_part, HEADS[other].sign_topic,
+             'this robot has %s: %s' % (HEADS[other].title, HEADS[other].shows))
+    for s in SENSORS.values() if len(s.heads) == 1 for other in HEADS if other != s.heads[0]}
 
 
 def head_sign_topic(name: str, topic: Optional[str]) -> Optional[str]:

@@ -4,9 +4,12 @@ Per message (counted FAIL reasons):
   * layout: `step * height == len(data)` and `step >= width * bytes per pixel` of the encoding;
     a message with a broken layout is not converted further;
   * encoding, width and height as expected (`encoding`, `width`, `height`, when configured);
-  * conversion: 8-bit encodings (rgb8, bgr8, rgba8, bgra8, mono8, 8UC1/3/4) are read as a numpy
-    view over the message's bytes (no copy, no colour conversion); any other encoding goes
-    through cv_bridge to BGR, and a conversion error is counted, never raised;
+  * conversion: an encoding of the table (media/encodings.py: rgb8, bgr8, mono8, yuv422,
+    16UC1, mono16, ...) is read as a numpy view over the message's bytes (no copy, no colour
+    conversion) and brought to 8 bits there (a 16-bit image on its own range: the bits its
+    stream's brightest pixel so far fills, so an infrared image filling 10 bits is not black);
+    any other encoding goes through cv_bridge to BGR, and a conversion error is counted,
+    never raised;
   * stereo (stereoCamera, or `stereo: true`): an even width (two views of width/2 side by
     side) and left and right views that are not identical.
 Over the window (FAIL at the end):
@@ -31,6 +34,7 @@ from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple, Type, TypeVa
 
 import numpy as np
 
+from ..media import encodings
 from ..media.recording import VideoRecorder, save_jpeg, to_bgr
 from ..sources.cdr_fast import Ros2Image
 from .base import Acc, Check, StuckRun, TrailingRun, fmt, same_bytes
@@ -45,13 +49,6 @@ if TYPE_CHECKING:
     from ..plan.settings import SensorPlan
     from .base import RunContext
 
-# bytes per pixel of the encodings cameras use (sensor_msgs/image_encodings.h)
-BYTES_PER_PIXEL = {
-    'rgb8': 3, 'bgr8': 3, 'rgba8': 4, 'bgra8': 4, 'rgb16': 6, 'bgr16': 6, 'rgba16': 8, 'bgra16': 8,
-    'mono8': 1, 'mono16': 2, '8UC1': 1, '8UC3': 3, '8UC4': 4, '16UC1': 2, '16SC1': 2,
-    '32FC1': 4, '32SC1': 4, '64FC1': 8, 'yuv422': 2, 'uyvy': 2, 'yuyv': 2,
-    'bayer_rggb8': 1, 'bayer_bggr8': 1, 'bayer_gbrg8': 1, 'bayer_grbg8': 1,
-}
 SERIES_MAX = 2000
 V = TypeVar('V', bound=ImageValues)   # an image family's values
 _U32 = struct.Struct('<I')
@@ -63,11 +60,6 @@ STRIDE = 8        # statistics sample every 8th row and column
 # frame): one a second, 10 over a 10 s window, whatever the rate (their means are the drift's;
 # a still robot's frames differ by their noise, which each frame's 76,800 grey pixels average)
 WEAR_PERIOD = 1.0
-# 8-bit encodings read in place: encoding -> (channels, ffmpeg pixel format of the raw bytes)
-RAW_FORMATS = {'rgb8': (3, 'rgb24'), 'bgr8': (3, 'bgr24'), '8UC3': (3, 'bgr24'),
-               'rgba8': (4, 'rgba'), 'bgra8': (4, 'bgra'), '8UC4': (4, 'bgra'),
-               'mono8': (1, 'gray'), '8UC1': (1, 'gray')}
-
 
 def _string(view, pos):
     """(position after, text) of the length-prefixed UTF-8 string at `pos`."""
@@ -76,17 +68,6 @@ def _string(view, pos):
     if end > len(view):
         raise struct.error('string runs past the end of the message')
     return end, bytes(view[pos + 4:end]).decode('utf-8', 'replace')
-
-
-def bytes_per_pixel(encoding: str) -> Optional[int]:
-    if encoding in BYTES_PER_PIXEL:
-        return BYTES_PER_PIXEL[encoding]
-    try:
-        from cv_bridge import CvBridge
-        dtype, channels = CvBridge().encoding_to_dtype_with_channels(encoding)
-        return np.dtype(dtype).itemsize * channels
-    except Exception:
-        return None
 
 
 # glibc malloc settings (mallopt) for a process that receives image streams. rospy allocates
@@ -149,6 +130,7 @@ class ImageCheck(Check):
                                           preview=self.colour_map)
         self.viewer = ctx.services.viewer
         self.converted = 0
+        self.top = 0            # a 16-bit stream's brightest value so far (its own range)
         self.sizes: Dict[Tuple[int, int, str], int] = {}   # (w, h, encoding) -> count, when it changes
         self.video: Optional[VideoSummary] = None          # the recorder's summary, once closed
 
@@ -183,7 +165,7 @@ class ImageCheck(Check):
 
     def start(self) -> None:
         # cv_bridge (and OpenCV) are imported only for an encoding that is not read in place
-        # (RAW_FORMATS, depth.DTYPES): they cost more CPU to import than a window of checks
+        # (media/encodings.py): they cost more CPU to import than a window of checks
         # a video of an earlier run must not pass for this one's
         if self.recorder is not None and os.path.exists(self.recorder.path):
             os.unlink(self.recorder.path)
@@ -214,7 +196,7 @@ class ImageCheck(Check):
             self.failures.add('datalen', 'step x height (%d x %d = %d) is not the data length'
                               % (msg.step, msg.height, msg.step * msg.height), len(msg.data))
             ok = False
-        bpp = bytes_per_pixel(msg.encoding)
+        bpp = encodings.bytes_per_pixel(msg.encoding)
         if bpp is None:
             self.failures.add('unknown_enc', 'unknown encoding "%s"' % msg.encoding)
             ok = False
@@ -242,16 +224,22 @@ class ImageCheck(Check):
         return image
 
     def pixels(self, msg: 'genpy.Message') -> Tuple[Optional[np.ndarray], Optional[str]]:
-        """(uint8 array (h, w, channels), ffmpeg pixel format): a view over the message's bytes
-        for the 8-bit encodings, else cv_bridge's BGR conversion; (None, None) when it fails."""
-        raw = RAW_FORMATS.get(msg.encoding)
-        if raw is None:
+        """(uint8 array (h, w, channels), ffmpeg pixel format): the table's encodings read in
+        place and brought to 8 bits (media/encodings.py; a 16-bit image on its stream's own
+        range, `self.top`), else cv_bridge's BGR conversion; (None, None) when it fails."""
+        enc = encodings.lookup(msg.encoding)
+        if enc is None or enc.dtype == 'f4':
             image = self.convert(msg, 'bgr8')
             return (None, None) if image is None else (image, 'bgr24')
-        channels, pix_fmt = raw
-        rows = np.frombuffer(msg.data, np.uint8, msg.step * msg.height).reshape(msg.height, msg.step)
+        try:
+            raw = encodings.view(msg, enc)
+        except ValueError as e:
+            self.failures.add('convert', 'cannot read %s' % msg.encoding, str(e))
+            return None, None
+        if enc.dtype == 'u2':
+            self.top = max(self.top, int(raw[::STRIDE, ::STRIDE].max()))
         self.converted += 1
-        return rows[:, :msg.width * channels].reshape(msg.height, msg.width, channels), pix_fmt
+        return encodings.to_8bit(raw, enc, self.top)
 
     def show_and_record(self, frame: np.ndarray, t: float, pix_fmt: str = 'bgr24') -> None:
         if self.viewer is not None:
@@ -393,6 +381,9 @@ class CameraCheck(ImageCheck):
             return
         self.notes.append('Brightness mean %s; spread (std) %s (0-255, every %dth row and column)'
                           % (self.brightness.text(), self.spread.text(), STRIDE))
+        if self.top:
+            self.notes.append('16-bit image judged on its own range: %d bits (brightest value %d), '
+                              'brought to 0-255' % (encodings.bits(self.top), self.top))
         for word, frames, limit_text in (
                 ('black', self.black, 'mean brightness below %s' % fmt(self.min_brightness)),
                 ('constant', self.constant, 'pixel spread below %s' % fmt(self.min_spread))):

@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from ..media import encodings
 from ..media.recording import YUV420P, to_bgr
 from .base import Acc, StuckRun, TrailingRun, fmt, same_bytes
 from .camera import SERIES_MAX, ImageCheck
@@ -60,10 +61,10 @@ if TYPE_CHECKING:
     from ..plan.settings import SensorPlan
     from .base import RunContext
 
-MM_ENCODINGS = ('16UC1', 'mono16')
-M_ENCODINGS = ('32FC1',)
+# the depth encodings of the table (media/encodings.py): in millimetres, in metres
+MM_ENCODINGS = tuple(e.name for e in encodings.ENCODINGS.values() if e.metres == 0.001)
+M_ENCODINGS = tuple(e.name for e in encodings.ENCODINGS.values() if e.metres == 1.0)
 STRIDE = 4        # statistics sample every 4th row and column
-DTYPES = {'16UC1': 'u2', 'mono16': 'u2', '32FC1': 'f4'}
 ALIGNED_PREFIX = 'aligned_depth_to_'    # realsense-ros's aligned topics (base_realsense_node.cpp:989)
 
 
@@ -221,14 +222,11 @@ class DepthCheck(ImageCheck):
     def depth_view(self, msg: 'genpy.Message') -> Optional[np.ndarray]:
         """The depth image as a numpy view over the message's bytes (cv_bridge for anything
         unusual); None (and a counted failure) when it cannot be read."""
-        code = DTYPES.get(msg.encoding)
-        size = np.dtype(code).itemsize if code else 0
-        if not code or msg.step % size:
+        enc = encodings.lookup(msg.encoding)
+        if enc is None or enc.metres is None or msg.step % np.dtype(enc.dtype).itemsize:
             return self.convert(msg, 'passthrough')
-        dtype = np.dtype(('>' if msg.is_bigendian else '<') + code)
-        rows = np.frombuffer(msg.data, dtype, msg.step * msg.height // size).reshape(msg.height, msg.step // size)
         self.converted += 1
-        return rows[:, :msg.width]
+        return encodings.view(msg, enc)[:, :, 0]
 
     def _millimetres(self, depth, kind):
         return kind == 'depth_mm' and depth.dtype.kind == 'u' and depth.dtype.itemsize == 2

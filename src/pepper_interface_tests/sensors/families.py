@@ -8,14 +8,16 @@ stage (the runner's lanes, the sources, the observers, the report) follows.
 Derived from this table or checked against it by a test (test/sensors/test_families.py):
 - plan/expectations.py `FAMILIES` (family -> its Expect class; the plan reads the YAML before
   any check exists, so it keeps its own map, and the test checks it names the same families);
-- plan/catalog.py (each sensor row names its family; the test checks every name is a row here);
+- plan/declaration.py (each sensor row names its family; the test checks every name is a row here);
 - the report's views (outputs/report/views/<Family.view>.py, found by name);
 - the values each family's check hands over (`Family.values`, its dataclass in
   sensors/values/): the JSON is written from them and read back into them (codec.py), and the
   report's views render them;
 - the emulator's publishers (emulator/publishers.py names its streams by these family names).
 
-How to add a family (e.g. `bumper`: event messages, published only on a press or a release):
+How to add a sensor to an existing family: docs/architecture.md, "Adding a sensor to a family"
+(one row in plan/declaration.py). How to add a family (e.g. `bumper`: event messages,
+published only on a press or a release):
 1. its check module sensors/<family>.py: a `Check` subclass (sensors/base.py) whose docstring
    states each rule with the upstream driver line it follows (the one authoritative statement
    of the rule: docs/checks.md points to it);
@@ -33,13 +35,16 @@ How to add a family (e.g. `bumper`: event messages, published only on a press or
    and `values=` its dataclass;
 4. its `<Family>Expect` in plan/expectations.py (+ its `FAMILIES` entry) and its defaults in
    config/sensorExpectations.yaml;
-5. its sensors' rows in plan/catalog.py and their keys in data/*Topics.dat;
+5. its sensors' rows in plan/declaration.py, each with its drivers' streams (`make docs` then
+   writes their lines in data/*Topics.dat, config/sensorTestInput.ini and the docs' tables);
 6. its emulator publisher (emulator/publishers.py, or emulator/events.py for event topics)
-   shaped after the driver, and its faults;
+   shaped after the driver, its place in emulator/profiles.py (PERIODIC, or an event family's
+   own loop; its MODEL entry when the emulator adds to the declared stream), and its faults;
 7. its report view outputs/report/views/<view>.py (`render(result, values, ctx)`: the values
    dataclass as the check handed it over), found by the row's `view` (nothing else lists it);
-8. its rows in docs/checks.md (the family table: a test checks it) and docs/drivers.md, and
-   its values' keys in docs/results.md;
+8. its rules' pointer in tools/gen_sensors.py FAMILY_RULES (docs/checks.md's family table is
+   generated; a test checks it), its prose rows in docs/drivers.md, and its values' keys in
+   docs/results.md; then `make docs`;
 9. its tests in test/sensors/test_<family>.py (the test tree mirrors the package).
 Nothing else (the runner, the sources, the outputs) names a family.
 """
