@@ -134,6 +134,36 @@ def test_the_topics_files_agree_with_the_declaration(platform):
             pytest.fail('%s has no line for %s (the declaration: %s)' % (name, sensor, declared))
 
 
+def test_the_naoqi_driver2_topics_file_is_its_declared_streams():
+    """data/naoqi_driver2Topics.dat (ROS 2's default) has a line for every sensor naoqi_driver2
+    publishes, its declared topic at the root; its RealSense lines are the RealSense's."""
+    path = os.path.join(ROOT, 'data', 'naoqi_driver2Topics.dat')
+    topics = settings.read_topics(path)
+    for sensor, row in SENSORS.items():
+        s = next((x for d in declaration.ROS2_DRIVERS for x in [row.stream(d)] if x), None)
+        if s is None or row.opt_in:
+            assert sensor not in topics or row.opt_in, (sensor, topics.get(sensor))
+            continue
+        assert topics.get(sensor) == s.topic, (sensor, topics.get(sensor), s.topic)
+        if declaration.DRIVER2 in s.drivers:
+            assert not s.topic.startswith('/naoqi_driver/'), (sensor, s.topic)
+
+
+def test_naoqi_driver2_publishes_what_stock_naoqi_driver_does_on_its_own_topics():
+    """Its converters and boot_config.json are stock naoqi_driver's (declaration.DRIVER2_TOPICS):
+    every sensor stock naoqi_driver publishes, on every head, with the same rate, frame,
+    encoding and size; only the topic (at the root) and the source differ."""
+    for name, row in SENSORS.items():
+        for head in HEADS:
+            stock, drv2 = row.stream(declaration.STOCK, head), row.stream(declaration.DRIVER2, head)
+            assert (stock is None) == (drv2 is None), (name, head)
+            if stock is not None and drv2 is not None:
+                assert 'naoqi_driver2' in drv2.source, (name, drv2)
+                assert drv2._replace(drivers=stock.drivers, topic=stock.topic, source=stock.source) == stock
+    assert SENSORS['irCamera'].stream(declaration.DRIVER2, 'xtion').size == (320, 240)
+    assert SENSORS['irCamera'].stream(declaration.DRIVER2, 'stereo') is None
+
+
 def test_the_expectations_agree_with_the_declaration():
     """The YAML's frame, encoding and nominal rate of a sensor are its driver's, as declared."""
     path = os.path.join(ROOT, 'config', 'sensorExpectations.yaml')

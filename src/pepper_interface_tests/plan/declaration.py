@@ -23,12 +23,17 @@ from typing import Dict, NamedTuple, Optional, Tuple
 # cssr4africa_naoqi_driver: the CSSR4Africa fork (the emulator's robot); pepper_virtual: the
 # Gazebo simulator CSSR4Africa installs (the emulator's simulator); realsense2_camera: the
 # RealSense D435i on the robot (ros1-legacy).
+# naoqi_driver2: ros-naoqi/naoqi_driver2 (ROS 2; its streams: DRIVER2_TOPICS below).
 STOCK, FORK, SIMULATOR, REALSENSE = ('naoqi_driver', 'cssr4africa_naoqi_driver', 'pepper_virtual',
                                      'realsense2_camera')
+DRIVER2 = 'naoqi_driver2'
 NAOQI = (STOCK, FORK)
-DRIVERS = (STOCK, FORK, SIMULATOR, REALSENSE)
+DRIVERS = (STOCK, FORK, SIMULATOR, REALSENSE, DRIVER2)
 # the drivers of each platform (plan/settings.py PLATFORMS)
 PLATFORM_DRIVERS = {'robot': (STOCK, FORK, REALSENSE), 'simulator': (SIMULATOR,)}
+# the drivers of data/naoqi_driver2Topics.dat (sensorTest's and the emulator's default on ROS 2):
+# naoqi_driver2, and the RealSense lines as the ROS 1 wrapper names them
+ROS2_DRIVERS = (DRIVER2, REALSENSE)
 
 
 class Head(NamedTuple):
@@ -248,6 +253,45 @@ SENSORS: Dict[str, Sensor] = OrderedDict((s.name, s) for s in [
            driver_topic='/move_base_simple/goal', opt_in='--move', streams=(
                Stream(NAOQI, '/move_base_simple/goal', source='src/subscribers/moveto.cpp'),)),
 ])
+
+# naoqi_driver2 (ros-naoqi/naoqi_driver2 2.1.2, 10c4ca9) is naoqi_driver ported to ROS 2: the
+# same converters (frames, encodings: src/converters/*.cpp) and the same share/boot_config.json
+# (:5-103: resolutions, fps, frequencies, enabled as stock naoqi_driver's), so each of its
+# streams is stock naoqi_driver's, on its own topic: the node (named naoqi_driver, :124)
+# publishes relative names and its launch file gives it no namespace
+# (launch/naoqi_driver.launch.py:33-47), so every topic is at the root (docs/drivers.md,
+# "naoqi_driver2"). {sensor: (topic, where naoqi_driver2 says so)}; a sensor not named here
+# naoqi_driver2 does not publish.
+_DRV2 = 'ros-naoqi/naoqi_driver2 10c4ca9 src/naoqi_driver.cpp:'
+DRIVER2_TOPICS: Dict[str, Tuple[str, str]] = OrderedDict([
+    ('backSonar', ('/sonar/back', _DRV2 + '860; src/converters/sonar.cpp:45-46, 63-66; boot_config.json:78-82')),
+    ('frontSonar', ('/sonar/front', _DRV2 + '859; src/converters/sonar.cpp:45-46, 63-66; boot_config.json:78-82')),
+    ('bottomCamera', ('/camera/bottom/image_raw', _DRV2 + '759-761; src/converters/camera.cpp:194, 200-216; '
+                                                  'boot_config.json:12-18')),
+    ('frontCamera', ('/camera/front/image_raw', _DRV2 + '747-749; src/converters/camera.cpp:194, 200-216; '
+                                                'boot_config.json:5-11')),
+    ('depthCamera', ('/camera/depth/image_raw', _DRV2 + '774; src/converters/camera.cpp:194, 207-213; '
+                                                'boot_config.json:19-26')),
+    ('stereoCamera', ('/camera/stereo/image_raw', _DRV2 + '793; boot_config.json:27-33')),
+    ('irCamera', ('/camera/ir/image_raw', _DRV2 + '640, 667 (off on a stereo head), 810-820; '
+                                          'boot_config.json:34-40')),
+    ('laser', ('/laser', _DRV2 + '841; src/converters/laser.cpp:159-198, 230; boot_config.json:71-77')),
+    ('microphone', ('/audio', _DRV2 + '878; src/event/audio.cpp:61-64, 173-182')),
+    ('jointState', ('/joint_states', _DRV2 + '826; boot_config.json:66-70')),
+    ('odometry', ('/odom', _DRV2 + '958; src/converters/odom.cpp:50-73; boot_config.json:99-103')),
+    ('imu', ('/imu/base', _DRV2 + '734; src/converters/imu.cpp:41, 54; boot_config.json:61-65')),
+    ('speech', ('/speech', _DRV2 + '998 (its subscriber)')),
+    ('headTouch', ('/head_touch', _DRV2 + '940-951; boot_config.json:95-97')),
+    ('handTouch', ('/hand_touch', _DRV2 + '920-934; boot_config.json:91-94')),
+    ('bumper', ('/bumper', _DRV2 + '908-914; boot_config.json:87-90')),
+    ('robotHealth', ('/diagnostics', _DRV2 + '708-709 ("diag", 1 Hz: boot_config.json:51-55)')),
+    ('tf', ('/tf', 'ros-naoqi/naoqi_driver2 10c4ca9 src/publishers/joint_state.cpp:41, 48')),
+    ('motion', ('/move_base_simple/goal', _DRV2 + '997 (its subscriber)')),
+])
+for _name, (_topic, _source) in DRIVER2_TOPICS.items():
+    _row = SENSORS[_name]
+    SENSORS[_name] = _row._replace(streams=_row.streams + tuple(
+        s._replace(drivers=(DRIVER2,), topic=_topic, source=_source) for s in _row.streams if STOCK in s.drivers))
 
 
 def sensors_of(family: Optional[str] = None, head: Optional[str] = None,
