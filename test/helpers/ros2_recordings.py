@@ -18,22 +18,16 @@ import genpy
 import numpy as np
 
 import fake_pepper as fake
+from pepper_interface_tests.plan import declaration
 
 T0 = 1700000000.0
 SECONDS = 3.0
 
-# the ROS 1 driver's names and naoqi_driver2's (data/pepperTopics.dat, data/naoqi_driver2Topics.dat)
-TOPICS = {
-    'backSonar': ('/naoqi_driver/sonar/back', '/sonar/back'),
-    'frontSonar': ('/naoqi_driver/sonar/front', '/sonar/front'),
-    'frontCamera': ('/naoqi_driver/camera/front/image_raw', '/camera/front/image_raw'),
-    'depthCamera': ('/naoqi_driver/camera/depth/image_raw', '/camera/depth/image_raw'),
-    'laser': ('/naoqi_driver/laser', '/laser'),
-    'microphone': ('/naoqi_driver/audio', '/audio'),
-    'jointState': ('/joint_states', '/joint_states'),
-    'odometry': ('/naoqi_driver/odom', '/odom'),
-    'imu': ('/naoqi_driver/imu/base', '/imu/base'),
-}
+# the ROS 1 driver's names and naoqi_driver2's, as declared (plan/declaration.py; the topics files
+# data/pepperTopics.dat and data/naoqi_driver2Topics.dat are written from it)
+TOPICS = {name: tuple(declaration.SENSORS[name].stream(d).topic for d in (declaration.STOCK, declaration.DRIVER2))
+          for name in ('backSonar', 'frontSonar', 'frontCamera', 'depthCamera', 'laser', 'microphone',
+                       'jointState', 'odometry', 'imu')}   # scenario: the sensors these recordings hold
 SENSORS = ','.join(TOPICS)
 RATES = {'backSonar': 10.0, 'frontSonar': 10.0, 'frontCamera': 10.0, 'depthCamera': 10.0,
          'laser': 10.0, 'microphone': 48000.0 / 8192, 'jointState': 50.0, 'odometry': 15.0,
