@@ -115,6 +115,24 @@ FAULTS = {   # one per family: the emulator's fault -> what the row must say
 }
 
 
+def test_an_xtion_head_on_ros2_publishes_its_infrared_camera_and_no_stereo_camera(robot_factory, tmp_path):
+    """naoqi_driver2 on an Xtion head (src/naoqi_driver.cpp:640, 667, 810-820): its infrared
+    camera at the root, from the declaration's naoqi_driver2 stream (data/naoqi_driver2Topics.dat,
+    written by make docs); the stereo camera is SKIPPED by the head rule."""
+    robot = robot_factory('--head', 'xtion', '--camera-resolution', 'QQVGA')
+    out = tmp_path / 'out'
+    cameras = declaration.sensors_of(camera='pepper')
+    proc = robot.sensor_test(out, '--mode', 'parallel', '--duration', '4', '--no-report', '--no-record',
+                             '--sensors', ','.join(cameras))
+    assert proc.wait(120) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
+    _, rows = results(out)
+    ir = declaration.SENSORS['irCamera'].stream(declaration.DRIVER2, 'xtion')
+    assert ir is not None and rows['irCamera']['topic'] == ir.topic == '/camera/ir/image_raw'
+    assert {n: r['verdict'] for n, r in rows.items() if n in cameras} == \
+        {n: 'PASS' if 'xtion' in declaration.SENSORS[n].heads else 'SKIPPED' for n in cameras}, \
+        {n: (r['verdict'], r['reasons']) for n, r in rows.items()}
+
+
 def test_faults_injected_in_the_ros2_emulator_fail_by_name(robot_factory, tmp_path):
     spec = ';'.join('%s:%s' % (s, f) for s, (f, _) in FAULTS.items())
     robot = robot_factory('--camera-resolution', 'QQVGA', '--faults', spec)
