@@ -376,6 +376,14 @@ class AudioCheck(Check):
                       % (rate, self.rate, fmt(100 * self.tolerance, 1)))
         elif off > self.tolerance:
             longest = max((g for _, g in self.gaps), default=0.0)
+            lag = self.own_lag
+            if lag is not None and lag.busy:
+                self.not_judged('PC busy: sample rate %.0f Hz is outside %d Hz +- %s%%, but the buffers came '
+                                'too unevenly to tell (the two halves of the stream differ by %s%%) while this '
+                                'PC was busy (%s); test again when it is quieter'
+                                % (rate, self.rate, fmt(100 * self.tolerance, 1), fmt(100 * spread, 1),
+                                   lag.describe()))
+                return
             self.warn('sample rate not judged: %.0f Hz is outside %d Hz +- %s%%, but the buffers came '
                       'too unevenly to tell (the two halves of the stream differ by %s%%; longest pause '
                       '%.2f s): test again when the PC and the network are quieter'
