@@ -33,6 +33,9 @@ from typing import Deque, Optional, Tuple
 # already waiting: two of CPython's 5 ms interpreter-lock switch intervals (a topic at 50 Hz,
 # the fastest naoqi_driver publishes, leaves ~19 ms between its callbacks when keeping up)
 GAP = 0.01
+# share of the window a topic's callbacks took above which sensorTest could not keep up with it:
+# rospy then drops the oldest messages of a full subscriber queue, and the rate reads low
+SATURATED = 0.8
 # load average per core above which the PC counts as busy: more runnable processes than cores
 BUSY_LOAD_PER_CORE = 1.0
 # the stall probe: wakes every TICK s; a wake-up STALL s late or more is a stall of the process
@@ -89,6 +92,7 @@ class OwnLag:
         self.load = 0.0             # the highest 1-minute load average seen while listening
         self.cores = os.cpu_count() or 1
         self._load_at = -1.0
+        self._first = 0.0           # the first callback's start
         self._cpu0 = 0.0
         self._t0 = 0.0
 
@@ -103,6 +107,8 @@ class OwnLag:
             self._load_at = now
             self.load = max(self.load, os.getloadavg()[0])
         self._t0, self._cpu0 = now, time.thread_time()
+        if not self._first:
+            self._first = now
         return self.busy_since
 
     def end(self, now: float) -> None:
@@ -116,6 +122,14 @@ class OwnLag:
         wait = (t - since) + (self.probe.waited(since) if self.probe is not None else 0.0)
         self.longest = max(self.longest, wait)
         return wait
+
+    def saturated(self, elapsed: float) -> bool:
+        """This topic's callbacks took SATURATED of the window or more: sensorTest could not
+        keep up with it (messages dropped from its queue), or it waited through stalls as long."""
+        stalled = 0.0
+        if self.probe is not None and self._first:
+            stalled = self.probe.stalled(self._first, self._first + elapsed)
+        return elapsed > 0 and (self.wall + stalled) >= SATURATED * elapsed
 
     @property
     def cpu_share(self) -> Optional[float]:
@@ -132,6 +146,7 @@ class OwnLag:
         """'load average 7.9 on 2 cores; sensorTest up to 5.20 s behind on this topic, its
         callbacks on a CPU 31 % of their time'."""
         share = self.cpu_share
-        return 'load average %.1f on %d cores; sensorTest up to %.2f s behind on this topic%s' % (
-            self.load, self.cores, self.longest,
+        return 'load average %.1f on %d cores; sensorTest up to %.2f s behind on this topic, its callbacks ' \
+            'busy %.1f s%s' % (
+            self.load, self.cores, self.longest, self.wall,
             ', its callbacks on a CPU %.0f %% of their time' % (100 * share) if share is not None else '')

@@ -280,6 +280,8 @@ class SensorRun:
         summary = stats.summary()
         values = check.result_values()
         notes = list(check.notes)
+        if self.own_lag.probe is not None:     # listened live: sensorTest's own lag (sensors/lag.py)
+            notes.append('sensorTest\'s own lag: ' + self.own_lag.describe())
         clock_end: Optional[float] = now
         if self.clock.on_sim_time:
             clock_end = self.clock.sim_stopped_at
