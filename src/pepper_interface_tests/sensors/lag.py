@@ -103,6 +103,7 @@ class OwnLag:
             self.probe = StallProbe.shared()
         if self.busy_since is None or self.last_end is None or now - self.last_end > GAP:
             self.busy_since = now
+        self.longest = max(self.longest, now - self.busy_since)
         if now - self._load_at >= 1.0:
             self._load_at = now
             self.load = max(self.load, os.getloadavg()[0])
