@@ -215,8 +215,9 @@ class StreamStats:
 class CarriedRate:
     """Units per second a stream carried (samples of audio), and how sure the measure is."""
     rate: float
-    # relative uncertainty: how far the two halves of the stream, measured alone, are from the
-    # whole (0.003 on a steady or bursty stream; tenths when delivery was too uneven to tell)
+    # relative uncertainty: the farther of the stream's two halves from the line, in seconds
+    # below it, over half the span (0 when both halves have a message on time; tenths when one
+    # half came all late and the line could tilt that much)
     spread: float
     points: int
 
@@ -238,16 +239,17 @@ def _upper_hull(points: List[Tuple[float, float]]) -> List[Tuple[float, float]]:
     return hull
 
 
-def _hull_rate(points: List[Tuple[float, float]]) -> Optional[float]:
+def _hull_line(points: List[Tuple[float, float]]) -> Optional[Tuple[float, float, float]]:
+    """(slope, x, y) of the upper hull's edge at the mean time (a point it passes through)."""
     hull = _upper_hull(points)
     if len(hull) < 2:
         return None
     mean_t = sum(p[0] for p in points) / len(points)
     for (x1, y1), (x2, y2) in zip(hull, hull[1:]):
         if mean_t < x2:
-            return (y2 - y1) / (x2 - x1)
+            return (y2 - y1) / (x2 - x1), x1, y1
     (x1, y1), (x2, y2) = hull[-2], hull[-1]
-    return (y2 - y1) / (x2 - x1)
+    return (y2 - y1) / (x2 - x1), x1, y1
 
 
 def carried_rate(points: List[Tuple[float, float]]) -> Optional[CarriedRate]:
@@ -265,16 +267,22 @@ def carried_rate(points: List[Tuple[float, float]]) -> Optional[CarriedRate]:
     The median of per-message rates (units / time since the previous message) did not: after a
     pause most intervals are short, and a healthy 48 kHz stream read 52-64 kHz (issue 41).
 
-    `spread`: the rate of each half of the messages measured alone, the farther from the whole,
-    relative; None with fewer than 2 distinct times."""
-    whole = _hull_rate(points)
-    if whole is None or whole <= 0:
+    `spread`: how far the line could tilt, relative, the larger of two measures: in each half
+    of the messages the one nearest the line is some seconds below it (0: on time), over half
+    the span; and each half measured alone against the whole. None with fewer than 2 distinct
+    times."""
+    line = _hull_line(points)
+    if line is None or line[0] <= 0:
         return None
+    rate, x0, y0 = line
     spread = 0.0
-    if len(points) >= 8:
-        ordered = sorted(points)
+    ordered = sorted(points)
+    span = ordered[-1][0] - ordered[0][0]
+    if len(ordered) >= 8 and span > 0:
         half = len(ordered) // 2
-        for part in (ordered[:half + 1], ordered[half:]):
-            r = _hull_rate(part)
-            spread = max(spread, abs(r - whole) / whole if r is not None else 1.0)
-    return CarriedRate(whole, spread, len(points))
+        for part in (ordered[:half], ordered[half:]):
+            late = min(((y0 + rate * (x - x0)) - y) / rate for x, y in part)
+            alone = _hull_line(part)
+            spread = max(spread, late / (span / 2.0),
+                         abs(alone[0] - rate) / rate if alone is not None else 1.0)
+    return CarriedRate(rate, spread, len(points))
