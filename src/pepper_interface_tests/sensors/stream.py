@@ -310,7 +310,10 @@ class StreamCheck:
 
     def _stale(self, worst: float, out: List[str]) -> None:
         """Stamps older than max_delay: the sensor's, unless every such delay is explained by
-        how long its message waited in this process (sensors/lag.py): then NOT JUDGED."""
+        how long its message waited in this process (sensors/lag.py), or the PC was busy
+        (lag.busy) and the same stream came with fresh stamps when sensorTest kept up (its
+        smallest delay within max_delay: a driver stamping old data is old in every message):
+        then NOT JUDGED."""
         limit = self.expect.max_delay
         lag = self.own_lag
         own = None
@@ -321,6 +324,13 @@ class StreamCheck:
                 'PC busy: header stamps up to %.2f s behind ROS time (at most %g s), but the messages '
                 'waited in sensorTest itself (%s): without that wait they were at most %.2f s old; '
                 'test again when the PC is quieter' % (worst, limit, lag.describe(), max(0.0, own)))
+            return
+        freshest = min(self.stats.delays) if self.stats.delays else None
+        if lag is not None and lag.probe is not None and lag.busy and freshest is not None and freshest <= limit:
+            self._unjudged.append(
+                'PC busy: header stamps up to %.2f s behind ROS time (at most %g s) while this PC was busy (%s), '
+                'and %.2f s when sensorTest kept up: the delay is this PC\'s, not the sensor\'s; test again '
+                'when the PC is quieter' % (worst, limit, lag.describe(), max(0.0, freshest)))
             return
         out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)' % (worst, limit))
 
