@@ -25,7 +25,8 @@ Over the window (FAIL at the end):
     the tolerance by more than the measure's own spread (the two halves of the stream measured
     alone) fails; one outside it by less is not judged: a warning saying the buffers came too
     unevenly to tell, with the spread and the longest pause (NOT JUDGED on a busy PC, and so is
-    a rate below it on a PC too busy to take every buffer: sensors/lag.py);
+    a rate below it when sensorTest fell BEHIND s or more behind on the topic, or could not
+    keep up with it at all: buffers are dropped then; sensors/lag.py);
   * silent channel: a channel whose RMS is below `silence_dbfs` (default -70 dBFS) or whose
     samples are all zero fails, named by its place (e.g. "frontLeft");
   * message rate: no fixed band; NAOqi delivers a buffer when it is full, so the rate follows
@@ -91,6 +92,11 @@ if TYPE_CHECKING:
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 FULL_SCALE = 32768.0
 SERIES_MAX = 2000
+# s sensorTest fell behind on the microphones' topic from which buffers are lost on this PC (the
+# bridge's publisher queue holds 50 buffers, 4.3 s, and TCP and sensorTest's queue the rest; beside
+# six busy loops it was 2.4 s behind
+# and 75 of ~130 buffers arrived)
+BEHIND = 0.5
 
 
 def dbfs(rms: float) -> float:
@@ -373,7 +379,9 @@ class AudioCheck(Check):
     def _judge_rate(self, rate: float, spread: float) -> None:
         off = abs(rate - self.rate) / float(self.rate)
         lag = self.own_lag
-        if off > self.tolerance and rate < self.rate and lag is not None and lag.probe is not None and lag.busy:
+        span = self.carried[-1][0] - self.carried[0][0] if self.carried else 0.0
+        if off > self.tolerance and rate < self.rate and lag is not None and lag.probe is not None and \
+                (lag.longest >= BEHIND or lag.saturated(span)):
             # fewer samples than the rate makes, on a PC too busy to take them all: the bridge's
             # publisher and sensorTest's queue drop buffers there (a wrong rate may hide: not judged)
             self.not_judged('PC busy: sample rate %.0f Hz is below %d Hz +- %s%%, but this PC was too busy to '
