@@ -92,10 +92,10 @@ if TYPE_CHECKING:
 CHANNELS = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
 FULL_SCALE = 32768.0
 SERIES_MAX = 2000
-# s sensorTest fell behind on the microphones' topic from which buffers are lost on this PC (the
-# bridge's publisher queue holds 50 buffers, 4.3 s, and TCP and sensorTest's queue the rest; beside
-# six busy loops it was 2.4 s behind
-# and 75 of ~130 buffers arrived)
+# s sensorTest fell behind on the microphones' topic from which it counts as evidence that this PC
+# starved the audio path: a starved capture or bridge loses buffers from its queues (the emulated
+# NAOqi keeps 8 per subscriber) as sensorTest's own queue backs up; beside six busy loops
+# sensorTest was 2.4 s behind and 75 of ~130 buffers arrived
 BEHIND = 0.5
 
 
