@@ -51,8 +51,11 @@ def test_beside_one_busy_process_per_core_every_row_passes(tmp_path):
 
 def test_beside_three_busy_processes_per_core_no_sensor_fails(tmp_path):
     rc, rows, said = demo(tmp_path, 3)
-    assert len(rows) == 20 and verdicts(rows, but=('PASS', 'NOT JUDGED')) == {}, said
-    unjudged = verdicts(rows)
+    assert len(rows) == 20 and verdicts(rows, but=('PASS', 'NOT JUDGED', 'SKIPPED')) == {}, said
+    # the motion check may skip its base part when no laser or sonar reading reached it in time
+    # (seen once in four runs beside six busy loops): no sensor is faulted for it
+    assert all(n == 'motion' for n, (v, _) in verdicts(rows).items() if v == 'SKIPPED'), said
+    unjudged = {n: v for n, v in verdicts(rows).items() if v[0] == 'NOT JUDGED'}
     for name, (_, reasons) in unjudged.items():    # the PC named, with its load and the lag
         assert reasons and all(r.startswith('PC busy: ') and 'load average' in r for r in reasons), (name, reasons)
     assert rc == (4 if unjudged else 0), said
