@@ -32,6 +32,7 @@ ARGS = [   # name, default, description: pepperEmulator.launch's, where ROS 2 ha
     ('head', 'stereo', 'robot profiles: stereo (Pepper 1.8 head) | xtion (Pepper 1.7 head)'),
     ('real_time_factor', '0.6', 'simulator: simulated seconds per wall second (/clock)'),
     ('condition', 'normal', 'normal | loaded | still | dark | resting'),
+    ('network', 'none', 'none | wifi (a busy WiFi between robot and PC: holds of 0.30-0.45 s every 1.5-3.5 s)'),
     ('realsense', 'false', 'true: also publish the RealSense D435i topics (and sensorTest tests them)'),
     ('faults', 'none', 'none, or the faults to inject, e.g. frontCamera:frozen;laser:nan '
      '(ros2 run pepper_interface_tests pepperEmulator --list-faults)'),
@@ -67,6 +68,7 @@ def _actions(context):
     a = {name: context.launch_configurations[name] for name, _, _ in ARGS}
     bridge = a['audio'] == 'bridge'
     emulator_args = ['--profile', a['profile'], '--head', a['head'], '--condition', a['condition'],
+                     '--network', a['network'],
                      '--realsense', a['realsense'], '--audio', 'off' if bridge else a['audio'],
                      '--rate-factor', a['rate_factor'], '--real-time-factor', a['real_time_factor'],
                      '--robot-id', a['robot_id'], '--operator', a['operator']]
@@ -77,7 +79,7 @@ def _actions(context):
     emulator = Node(package=PKG, executable='pepperEmulator', arguments=emulator_args, output='screen')
     actions = [emulator, RegisterEventHandler(required(emulator, 'pepperEmulator'))]
     if bridge:
-        endpoint = ['--host', '127.0.0.1', '--port', a['naoqi_port']]
+        endpoint = ['--host', '127.0.0.1', '--port', a['naoqi_port'], '--network', a['network']]
         if _given(a['silent_channel']):
             endpoint += ['--silent-channel', a['silent_channel']]
         publisher = Node(package=PKG, executable='naoqiAudioPublisher', output='screen',

@@ -64,3 +64,36 @@ def test_stats_rate_series_and_summary():
     d = s.summary()
     assert d.messages == 30 and d.zero_stamps == 0 and d.delay_s.max == pytest.approx(0.02)
     json.dumps(codec.to_json(d))
+
+
+# ------------------------------------------------------------------ carried_rate (issue 41)
+
+def _carried(true_rate, handed, n=4096, count=60):
+    """(handed-over time, samples so far) of `count` buffers of `n` samples made at `true_rate`,
+    buffer i handed over at handed(i, made_i)."""
+    from pepper_interface_tests.stats import carried_rate
+    period = n / float(true_rate)
+    return carried_rate([(handed(i, (i + 1) * period), float((i + 1) * n)) for i in range(count)])
+
+
+def test_the_carried_rate_is_right_however_the_buffers_come():
+    shapes = {
+        'steady': lambda i, made: made,
+        'catch-up burst at the start': lambda i, made: max(made, 8 * 0.0853),
+        'pauses then bursts': lambda i, made: made if made % 2.0 < 1.6 else (made // 2.0 + 1) * 2.0,
+        'two or three at a time': lambda i, made: made + (0.0853 * (2 - i % 3)),
+        'a backlog in sensorTest, drained at twice the pace': lambda i, made: max(made, 2.0 + (i - 10) * 0.04)
+        if i >= 10 else made,
+    }
+    for true_rate in (48000, 44100, 16000):
+        for name, shape in shapes.items():
+            found = _carried(true_rate, shape)
+            assert found is not None and abs(found.rate - true_rate) <= 0.01 * true_rate, (name, true_rate, found)
+            if 'backlog' not in name:   # sure enough to fail a wrong rate (the spread is ~0.1 there)
+                assert found.spread < 0.02, (name, true_rate, found)
+
+
+def test_the_carried_rate_needs_two_times():
+    from pepper_interface_tests.stats import carried_rate
+    assert carried_rate([(1.0, 4096.0), (1.0, 8192.0)]) is None
+    assert carried_rate([]) is None

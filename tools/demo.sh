@@ -13,6 +13,8 @@
 # there), the launch is stopped and started again on other ports, up to DEMO_ATTEMPTS (3)
 # times. Any other start-up failure is reported at once with the dead process's own words.
 # DEMO_PORTS="master naoqi websocket" fixes the first attempt's ports (used by the tests).
+# DEMO_NETWORK=wifi runs the emulator on a busy WiFi (network:=wifi, docs/emulator.md);
+# DEMO_FAULTS="frontCamera:frozen" injects emulator faults (faults:=..., the tests).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 source tools/env.sh
@@ -54,7 +56,7 @@ for attempt in $(seq "$attempts"); do
     echo "  ports: master $MASTER_PORT, NAOqi $NAOQI_PORT, websocket $WS_PORT; log:"
     echo "  $LOG"
     setsid roslaunch -p "$MASTER_PORT" pepper_interface_tests pepperEmulator.launch \
-        realsense:=true touch:=true operator:=true condition:="$CONDITION" naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
+        realsense:=true touch:=true operator:=true condition:="$CONDITION" network:="${DEMO_NETWORK:-none}" faults:="${DEMO_FAULTS:-none}" naoqi_port:="$NAOQI_PORT" ws_port:="$WS_PORT" >"$LOG" 2>&1 &
     LAUNCH=$!
     disown "$LAUNCH"  # stop() reaps it; no "Killed" line from bash
     # Prints the failure's lines and exits 3 when a port was taken (retry), 2 for anything else.

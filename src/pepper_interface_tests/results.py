@@ -24,6 +24,9 @@ class Verdict(str, Enum):
     FAIL = 'FAIL'
     SKIPPED = 'SKIPPED'
     INTERRUPTED = 'INTERRUPTED'   # the window was cut short by an interrupt: not judged, not a failure
+    # the PC running sensorTest was too busy to judge the sensor (its load and sensorTest's own
+    # lag explain what was seen): not judged, not a failure of the sensor (issue 41)
+    NOT_JUDGED = 'NOT JUDGED'
 
     def __str__(self):
         return self.value
@@ -33,6 +36,7 @@ class Verdict(str, Enum):
 
 
 PASS, FAIL, SKIPPED, INTERRUPTED = Verdict.PASS, Verdict.FAIL, Verdict.SKIPPED, Verdict.INTERRUPTED
+NOT_JUDGED = Verdict.NOT_JUDGED
 OUTPUT_FILE = 'sensorTestOutput.dat'
 JSON_FILE = 'sensorTestResults.json'
 JUNIT_FILE = 'sensorTestResults.xml'
@@ -41,6 +45,7 @@ SCHEMA_VERSION = 1
 
 EXIT_PASS, EXIT_FAIL, EXIT_CANNOT_START, EXIT_INTERRUPTED = 0, 1, 2, 130
 EXIT_NOT_WRITTEN = 3    # a results file could not be written (full disk, removed folder, ...)
+EXIT_NOT_JUDGED = 4     # no sensor failed, but the PC was too busy to judge at least one
 
 # C0 controls but tab and newline, DEL, C1 controls, and what XML 1.0 cannot hold
 _CONTROL = re.compile('[\x00-\x08\x0b-\x1f\x7f-\x9f\u2028\u2029\ud800-\udfff\ufffe\uffff]')
@@ -165,12 +170,17 @@ class RunResult:
             return EXIT_NOT_WRITTEN
         if self.interrupted:
             return EXIT_INTERRUPTED
+        if any(s.verdict == FAIL for s in self.sensors):
+            return EXIT_FAIL
+        if any(s.verdict == NOT_JUDGED for s in self.sensors):
+            return EXIT_NOT_JUDGED
         return EXIT_PASS if all(s.ok for s in self.sensors) else EXIT_FAIL
 
     def counts(self) -> Dict[Verdict, int]:
+        """Sensors per verdict; NOT JUDGED only when a sensor has it (the JSON's summary as before)."""
         out = {PASS: 0, FAIL: 0, SKIPPED: 0, INTERRUPTED: 0}
         for s in self.sensors:
-            out[s.verdict] += 1
+            out[s.verdict] = out.get(s.verdict, 0) + 1
         return out
 
     def to_dict(self, with_series: bool = False) -> Dict[str, Any]:
@@ -259,6 +269,7 @@ def frame_line(r: SensorResult) -> str:
 
 def count_line(c: Dict[Verdict, int]) -> str:
     text = '%d passed, %d failed, %d skipped' % (c[PASS], c[FAIL], c[SKIPPED])
+    text += ', %d not judged (the PC was too busy)' % c[NOT_JUDGED] if c.get(NOT_JUDGED) else ''
     return text + (', %d interrupted' % c[INTERRUPTED] if c.get(INTERRUPTED) else '')
 
 

@@ -16,6 +16,10 @@ Faults
       fake_pepper.MIC_TONES), lengths (frontRight one sample short)
 --loud-after S (audio): quiet noise (about -50 dBFS) for S seconds, then loud noise (about
 -15 dBFS); the time.monotonic() of the switch is written to --loud-file.
+--delivery SHAPE (audio): buffers made at --sample-rate, handed over as a busy network or PC
+does (the start waits for a subscriber): steady (each when made), start-burst (the 8 buffers
+made while the bridge connected at once, then steady), pauses (every 2 s the last 0.4 s held,
+then sent at once: the 0.30-0.42 s pauses of issue 41), groups (two or three at a time).
 --count N publishes N messages, starting once a subscriber is connected, then stays up (so
 the count in a listening window is known exactly). --report FILE writes {"published": N}
 at exit (SIGINT/SIGTERM or after --count).
@@ -100,6 +104,41 @@ def make_audio(a, i, cache):
                              short='frontRight' if a.fault == 'lengths' else None)
 
 
+BURST = 8                      # start-burst: buffers made before the subscriber connected
+HOLD_EVERY, HOLD = 2.0, 0.4    # pauses: every HOLD_EVERY s the last HOLD s are held
+
+
+def handed_over(shape, i, period):
+    """When (s after the start) buffer `i`, made every `period` s, is published in `shape`."""
+    if shape == 'start-burst':
+        return max(0.0, (i - (BURST - 1)) * period)
+    made = i * period
+    if shape == 'pauses':
+        return made if made % HOLD_EVERY < HOLD_EVERY - HOLD else (made // HOLD_EVERY + 1) * HOLD_EVERY
+    if shape == 'groups':       # groups of 2 and 3 buffers in turn: 5 buffers per cycle
+        cycle, k = divmod(i, 5)
+        last = cycle * 5 + (1 if k < 2 else 4)
+        return last * period
+    return made
+
+
+def deliver(pub, a, make, period):
+    """Publishes the audio buffers in the shape `a.delivery` until stopped (module docstring)."""
+    published, cache, i = 0, {}, 0
+    while pub.get_num_connections() == 0 and not rospy.is_shutdown():
+        time.sleep(0.02)
+    time.sleep(0.3)      # let the subscriber's connection settle
+    t0 = time.monotonic()
+    while not rospy.is_shutdown():
+        delay = t0 + handed_over(a.delivery, i, period) - time.monotonic()
+        if delay > 0:
+            time.sleep(delay)     # the shape's pace: the behaviour under test
+        pub.publish(make(a, i, cache))
+        published += 1
+        i += 1
+        yield published
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument('kind', choices=('camera', 'stereo', 'depth', 'audio'))
@@ -116,6 +155,7 @@ def main():
     p.add_argument('--report', default=None)
     p.add_argument('--node', default='media_publisher')
     p.add_argument('--frame-id', default='')
+    p.add_argument('--delivery', default='', choices=('', 'steady', 'start-burst', 'pauses', 'groups'))
     a = p.parse_args(rospy.myargv()[1:])
     defaults = {'camera': (320, 240), 'stereo': (640, 180), 'depth': (320, 240), 'audio': (0, 0)}[a.kind]
     a.width, a.height = a.width or defaults[0], a.height or defaults[1]
@@ -143,6 +183,13 @@ def main():
             with open(a.report, 'w') as f:
                 json.dump({'published': published[0]}, f)
 
+    if a.delivery:
+        for published[0] in deliver(pub, a, make, a.samples / a.sample_rate):
+            if stop[0]:
+                break
+        report()
+        rospy.signal_shutdown('done')
+        return 0
     if a.count:
         while not stop[0] and pub.get_num_connections() == 0:
             time.sleep(0.02)

@@ -203,7 +203,7 @@ def test_sensor_test_fails_a_silent_channel_and_a_wrong_sample_rate(module_maste
     assert mic['verdict'] == 'FAIL' and done.returncode == 1, explain(done, res)
     assert 'microphone rearRight is silent: all samples are zero' in mic['reasons']
     # the rule: a rate outside 48000 Hz +- 5 % fails, naming the rate measured over the window
-    # (from receive times: a 44.1 kHz stream read 43979 Hz on a loaded machine), not its digits
+    # (on receive times: a 44.1 kHz stream read 43979 Hz on a loaded machine), not its digits
     rates = [float(m.group(1)) for m in (re.fullmatch(r'sample rate (\d+) Hz, expected 48000 Hz \+- 5%', r)
                                          for r in mic['reasons']) if m]
     assert len(rates) == 1, mic['reasons']

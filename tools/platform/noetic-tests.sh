@@ -38,9 +38,7 @@ echo "[noetic] $(python -V 2>&1), numpy $(python -c 'import numpy; print(numpy._
 start=$SECONDS
 rc=0
 python -m pytest -p no:cacheprovider -q -m unit "$@" || rc=1
-# the demo alone first: its microphone's sample rate is measured in real time, and three
-# workers starting masters and browsers next to it load the machine more than a user's would
-python -m pytest -p no:cacheprovider -q test/test_demo.py "$@" || rc=1
+# the demo beside the other workers: a healthy robot passes on a busy PC (issue 41)
 python -m pytest -p no:cacheprovider -q -n "${PYTEST_WORKERS:-3}" --dist loadfile \
   --deselect test/audio_bridge/test_audio_bridge.py::test_chain_60s_realtime_no_lost_buffer \
   --deselect test/sources/test_bag.py::test_a_large_bag_is_streamed_not_loaded \
@@ -48,7 +46,7 @@ python -m pytest -p no:cacheprovider -q -n "${PYTEST_WORKERS:-3}" --dist loadfil
   test/audio_bridge/test_audio_bridge.py test/emulator/test_naoqi_endpoint.py \
   test/media/test_recording.py test/sources/test_bag.py test/emulator/test_bags.py \
   test/sources/test_ros2_bags.py test/outputs/test_history.py test/outputs/report/test_page.py \
-  test/sensors/test_tf_recordings.py test/sources/test_bag_chunks.py \
+  test/sensors/test_tf_recordings.py test/sources/test_bag_chunks.py test/test_demo.py \
   "$@" || rc=1
 echo "[noetic] the Noetic tier took $((SECONDS - start)) s"
 exit $rc

@@ -33,6 +33,7 @@ import numpy as np
 
 from pepper_interface_tests.audio_bridge import OneLineParser, RateLimiter, listen_port_arg, without_remappings
 from pepper_interface_tests.emulator.audio_source import CHANNEL_NAMES, AudioSource
+from pepper_interface_tests.emulator.network import NETWORKS, Network, network_of
 
 LOG = logging.getLogger('naoqiEndpoint')
 BUFFER_SAMPLES = 4096
@@ -46,6 +47,8 @@ SUBSCRIBER_QUEUE = 8
 
 class Subscriber:
     """One subscribed module: its preferences, decimation state and delivery thread."""
+
+    network: Optional[Network] = None     # --network wifi: deliveries wait for its holds
 
     def __init__(self, session: Any, name: str, flag: int, planar: bool, polled: bool = False) -> None:
         self.session, self.name, self.flag, self.planar = session, name, flag, planar
@@ -94,7 +97,11 @@ class Subscriber:
             if self._stopped or not self._queue:
                 return None
             self.delivered += 1
-            return self._queue.popleft()
+            item = self._queue.popleft()
+        held = self.network.wait(time.monotonic()) if self.network is not None else 0.0
+        if held > 0:
+            time.sleep(held)          # a busy WiFi holds the buffer (network.py)
+        return item
 
     def _run(self) -> None:
         while True:
@@ -104,6 +111,9 @@ class Subscriber:
                 if self._stopped:
                     return
                 nch, nsamp, ts, payload = self._queue.popleft()
+            held = self.network.wait(time.monotonic()) if self.network is not None else 0.0
+            if held > 0:
+                time.sleep(held)      # a busy WiFi holds the buffer; the next ones follow at once
             try:
                 if self._proxy is None:
                     self._proxy = self.session.service(self.name)
@@ -277,6 +287,8 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
                    metavar='NAME', help='a dead microphone (all zeros); repeatable; one of '
                    + ', '.join(CHANNEL_NAMES))
     p.add_argument('--seed', type=int, default=0, help='noise seed (default 0)')
+    p.add_argument('--network', choices=NETWORKS, default='none',
+                   help='none, or wifi: buffers wait for a busy WiFi\'s holds (network.py)')
     return p.parse_args(argv)
 
 
@@ -307,6 +319,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         return 1
     source = AudioSource(pattern=args.pattern, silent_channels=tuple(args.silent_channel),
                          seed=args.seed)
+    Subscriber.network = network_of(args.network, args.seed)
     device = AudioDevice(app.session, source)
     ids = [app.session.registerService('ALAudioDevice', ALAudioDeviceService(device)),
            app.session.registerService('ALTextToSpeech', ALTextToSpeechService(source))]

@@ -17,6 +17,8 @@ Private params (each also a command-line option, which wins):
                       Robot profiles take naoqi_driver's motion commands (/cmd_vel,
                       /joint_angles, /move_base_simple/goal; commands.py, body.py): the
                       idle drive stops as soon as a publisher connects to one of them.
+  ~network            none | wifi: a busy WiFi between robot and PC (network.py): what
+                      naoqi_driver fetches and the audio wait for its holds     (none)
   ~realsense          publish the RealSense D435i topics too    (false; robot profiles only)
   ~audio              bridge | direct | off                   (robot: bridge; robot-stock: direct)
                       bridge: /naoqi_driver/audio comes from naoqiAudio + naoqiAudioPublisher;
@@ -53,6 +55,7 @@ from . import faults as faults_mod
 from .events import EVENT_PUBLISHERS, EmulatedOperator
 from .faults import FaultError, parse_faults
 from .info import DEFAULT_BODY_ID, InfoPublisher, check_body_id
+from .network import NETWORKS, network_of
 from .profiles import AUDIO_MODES, CONDITIONS, HEADS, PROFILES, RESOLUTIONS, build_profile, default_resolution
 from .publishers import AudioPublisher, Clock, ClockPublisher, JointStatePublisher, StreamPublisher, publisher_class
 from .speech import DirectSpeech, NaoqiSpeech
@@ -66,7 +69,7 @@ NODE_NAME = 'pepperEmulator'
 DEFAULTS = dict(profile='robot', realsense=False, audio='', naoqi_url='tcp://127.0.0.1:9559',
                 faults='', rate_factor=1.0, camera_resolution='', topics_file='', seed=0,
                 audio_pattern='tones', head='stereo', real_time_factor=0.6, condition='normal',
-                audio_buffer=0, operator=False, touch='', robot_id=DEFAULT_BODY_ID)
+                audio_buffer=0, operator=False, touch='', robot_id=DEFAULT_BODY_ID, network='none')
 
 
 class EmulatorConfig:
@@ -86,6 +89,7 @@ class EmulatorConfig:
                 fix='use ~audio direct (the default for robot-stock) or off')
         self.head = settings.choice(v['head'], HEADS, '~head')
         self.condition = settings.choice(v['condition'], CONDITIONS, '~condition')
+        self.network = settings.choice(v['network'], NETWORKS, '~network')
         self.real_time_factor = self._positive(v, 'real_time_factor', 'e.g. 0.6 (Gazebo slower '
                                                'than real time) or 1.0', upper=10)
         try:
@@ -199,6 +203,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument('--condition', choices=CONDITIONS, help='healthy but unusual: loaded (cameras '
                    '~1.3 fps with jitter), still (the robot stands still), dark (a dark room), '
                    'resting (Rest mode: stiffness 0, the laser frozen) (default normal)')
+    p.add_argument('--network', choices=NETWORKS, help='none, or wifi: what naoqi_driver fetches and '
+                   'the audio waits now and then for a busy WiFi (holds of 0.30-0.45 s every '
+                   '1.5-3.5 s; docs/emulator.md) (default none)')
     p.add_argument('--topics-file', dest='topics_file', metavar='FILE', help='topics file (default '
                    'data/pepperTopics.dat, or data/simulatorTopics.dat for the simulator)')
     p.add_argument('--seed', type=int, help='seed of the noise generators (default 0)')
@@ -237,6 +244,7 @@ class Emulator:
         self.resting = robot.resting or config.condition == 'resting'
         self.body = Body(idle=config.condition != 'still' and not glass, seed=config.seed, resting=self.resting,
                          base_blocked=robot.base_blocked, obstacle=robot.obstacle)
+        self.network = network_of(config.network, config.seed)   # network.py: one for every stream
 
     def start(self) -> None:
         cfg = self.config
@@ -273,6 +281,7 @@ class Emulator:
             else:
                 pub = cls(spec, fault, self.clock, self.stop_event, cfg.rate_factor, seed, cfg.condition)
             pub.body = self.body
+            pub.network = self.network
             self.threads.append(pub)
         # the tree goes out with every joint state, as naoqi_driver's loop sends it (tf_publisher.py)
         trees = [t for t in self.threads if isinstance(t, TfPublisher)]
@@ -310,6 +319,8 @@ class Emulator:
             extra = ', sim time at real-time factor %g' % cfg.real_time_factor
         if cfg.condition != 'normal':
             extra += ', condition %s' % cfg.condition
+        if cfg.network != 'none':
+            extra += ', network %s' % cfg.network
         return ('pepperEmulator: all %d publishers up (%d topics, %s profile%s, rate factor %g, '
                 'faults: %s)' % (len(self.threads), topics, cfg.profile, extra, cfg.rate_factor,
                                  faults))

@@ -39,6 +39,7 @@ from .profiles import (
 
 if TYPE_CHECKING:
     from .audio_source import AudioSource
+    from .network import Network
 
 
 LOADED_CAMERA_HZ = 1.3
@@ -72,10 +73,11 @@ class Schedule:
     """Ticks at t0 + k * period (monotonic clock): the time spent publishing does not slow the
     rate; a tick late by more than a period skips the missed slots instead of a burst."""
 
-    def __init__(self, period: float) -> None:
+    def __init__(self, period: float, catch_up: bool = False) -> None:
         self.period = period
         self.t0 = time.monotonic()
         self.k = 0
+        self.catch_up = catch_up     # a late tick sends the missed slots at once (held audio)
 
     def delay(self) -> float:
         """Seconds until the next tick is due (negative: late)."""
@@ -84,7 +86,7 @@ class Schedule:
     def advance(self) -> None:
         self.k += 1
         late = -self.delay()
-        if late > self.period:
+        if late > self.period and not self.catch_up:
             self.k += int(late / self.period)
 
 
@@ -127,6 +129,9 @@ class StreamPublisher(threading.Thread):
     """Base class: scheduling, faults common to all sensors, publisher life cycle."""
 
     queue_size = 10
+    # under the `network` condition: what was held is sent at once when the hold ends (audio
+    # buffers: a stream), instead of fetched once, late (a frame, an ALMemory value)
+    held_catch_up = False
 
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal') -> None:
@@ -155,6 +160,8 @@ class StreamPublisher(threading.Thread):
                                           cls=msg_class),
                          frame) for topic, frame in topics]
         self.body: Optional[Body] = None     # the robot's body, shared (node.py); own one if unset
+        # the `network` condition (network.py): what naoqi_driver fetches waits for its holds
+        self.network: Optional[Network] = None
         self.first: Optional[Snapshot] = None    # the body at this stream's first message
 
     def snapshot(self, t: float) -> Snapshot:
@@ -228,12 +235,15 @@ class StreamPublisher(threading.Thread):
                       self.spec.topic, self.faults.die_after)
 
     def run(self) -> None:
-        ticks = Schedule(1.0 / self.rate)
+        ticks = Schedule(1.0 / self.rate, catch_up=self.network is not None and self.held_catch_up)
         while not self.stop.is_set():
             delay = ticks.delay()
             if self.jitter:
                 delay += self.jitter * ticks.period * (self.rng.random() - 0.5)
             if delay > 0 and self.stop.wait(delay):
+                break
+            held = self.network.wait(time.monotonic()) if self.network is not None else 0.0
+            if held > 0 and self.stop.wait(held):     # the fetch waits for the network
                 break
             if self.faults.die_after is not None and \
                     (time.monotonic() - ticks.t0) * self.clock.speed >= self.faults.die_after:
@@ -613,6 +623,8 @@ class JointStatePublisher(StreamPublisher):
 class AudioPublisher(StreamPublisher):
     """AudioCustomMsg from an AudioSource (the CSSR fork's bridge: four int16 arrays of
     spec.width samples each, cssr4africa/naoqi_driver scripts/naoqiAudioPublisher.py:15-34)."""
+
+    held_catch_up = True
 
     def __init__(self, spec: SensorSpec, faults: Optional[Faults], clock: 'Clock', stop: threading.Event,
                  rate_factor: float = 1.0, seed: int = 0, condition: str = 'normal',

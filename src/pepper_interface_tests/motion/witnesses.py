@@ -27,11 +27,21 @@ ROLES = ('jointState', 'odometry', 'imu', 'laser', 'frontSonar', 'backSonar', 'b
          'robotHealth') + HEAD_CAMERAS
 FRAME_PERIOD = 0.09    # s between two kept frames of one camera (naoqi_driver's 10 fps: each)
 FRONT_SECTOR = 0.2     # rad either side of straight ahead: the laser's front sector
+# a camera frame handled late (a busy PC: frames waiting in this process; WiFi) is placed when
+# its header stamp says it was fetched (naoqi_driver's CameraConverter::callAll stamps a frame
+# with the host's ros::Time::now() right after getImageRemote, NAOqi's own image timestamp
+# left commented out: src/converters/camera.cpp), not when it was handled, if it is live, its
+# stamp is on this computer's wall clock and less than this many seconds old (not sim time,
+# not a robot whose clock is off): a frame of the head at rest handled after the head had
+# turned read as "live but not following the head" (issue 41)
+MAX_LATE = 10.0
 
 
 class Recorder:
     """Decoded witness messages into a Recording: `handle(role, msg, t)` under its lock. Live, the
     Witnesses below subscribe; from a bag, motion/recorded.py feeds the same handlers."""
+
+    live = False    # the witnesses subscribed live (not a recording read back)
 
     def __init__(self, recording: Recording) -> None:
         self.rec = recording
@@ -48,7 +58,11 @@ class Recorder:
             self.rec.count(role)
             header = getattr(msg, 'header', None)
             if header is not None and header.stamp.to_sec() > 0:
-                self.rec.stamps[role] = (header.stamp.to_sec(), time.time())
+                now = time.time()
+                self.rec.stamps[role] = (header.stamp.to_sec(), now)
+                late = now - header.stamp.to_sec()
+                if self.live and role in HEAD_CAMERAS and 0.0 < late < MAX_LATE:
+                    t -= late        # when the frame was taken (MAX_LATE)
             self.handlers[role][1](role, msg, t)
 
     # each handler runs under the recording's lock
@@ -123,6 +137,7 @@ class Witnesses(Recorder):
     def __init__(self, topics: Dict[str, str], recording: Recording,
                  clock: Callable[[], float] = time.monotonic) -> None:
         super().__init__(recording)
+        self.live = True
         self.clock = clock
         self.topics = {role: topics[role] for role in ROLES if topics.get(role)}
         self.subs: List[Any] = []

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any, Dict, Iterable, List, Optional, Sequence,
 
 from ..observer import RunObserver
 from ..progress import Progress
-from ..results import FAIL, INTERRUPTED, SKIPPED, RunResult, SensorResult, frame_line
+from ..results import FAIL, INTERRUPTED, NOT_JUDGED, SKIPPED, RunResult, SensorResult, frame_line
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -111,6 +111,8 @@ def result_status(r: SensorResult) -> Status:
         level, text = ERROR, 'FAIL: ' + '; '.join(r.reasons)
     elif r.verdict == INTERRUPTED:
         level, text = STALE, 'INTERRUPTED: ' + '; '.join(r.reasons)
+    elif r.verdict == NOT_JUDGED:   # the PC was too busy to judge it: no fault of the robot's
+        level, text = WARN, 'NOT JUDGED: ' + '; '.join(r.reasons)
     elif r.verdict == SKIPPED:
         not_run = any(x.startswith('not run') for x in r.reasons)
         level = STALE if not_run else OK

@@ -17,6 +17,7 @@ from ..results import (
     FAIL,
     FILE_LIMIT,
     INTERRUPTED,
+    NOT_JUDGED,
     SKIPPED,
     RunResult,
     SensorResult,
@@ -154,7 +155,7 @@ def junit_text(run: RunResult) -> str:
     total_time = (run.end or run.start) - run.start
     suite = ET.Element('testsuite', name='sensorTest', tests=str(len(run.sensors)),
                        failures=str(c[FAIL]), errors='0',
-                       skipped=str(c[SKIPPED] + c[INTERRUPTED]), time='%.3f' % total_time)
+                       skipped=str(c[SKIPPED] + c[INTERRUPTED] + c.get(NOT_JUDGED, 0)), time='%.3f' % total_time)
     props = ET.SubElement(suite, 'properties')
     for k, v in (('platform', run.platform), ('mode', run.mode), ('source', run.source),
                  ('interrupted', str(run.interrupted).lower())) + ((('robot', run.robot),) if run.robot else ()):
@@ -168,9 +169,9 @@ def junit_text(run: RunResult) -> str:
                       one_line=False)
         if s.verdict == FAIL:
             ET.SubElement(case, 'failure', message=_xml('; '.join(s.reasons))).text = detail
-        elif s.verdict in (SKIPPED, INTERRUPTED):
+        elif s.verdict in (SKIPPED, INTERRUPTED, NOT_JUDGED):
             ET.SubElement(case, 'skipped', message=_xml('; '.join(s.reasons)))
-            if s.verdict == INTERRUPTED:
+            if s.verdict != SKIPPED:
                 ET.SubElement(case, 'system-out').text = detail
         else:
             ET.SubElement(case, 'system-out').text = detail

@@ -17,8 +17,10 @@ from ..observer import NO_PUBLISHER_AT_ALL, RunObserver
 from ..plan import catalog
 from ..progress import Progress
 from ..results import (
+    EXIT_NOT_JUDGED,
     FAIL,
     INTERRUPTED,
+    NOT_JUDGED,
     PASS,
     SKIPPED,
     RunResult,
@@ -34,7 +36,8 @@ from ..sensors.families import traits
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
 
-COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m'}
+COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED: '\033[35m',
+           NOT_JUDGED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
 REASON_LIMIT = 300      # characters of one reason on the terminal; the files keep more
 ROW = '%-22s %-8s %8s %10s %13s  %s'   # the summary table; reasons start at column TABLE_FIXED
@@ -312,6 +315,13 @@ class Terminal(RunObserver):
             self.line('PASS* = passed with %d warning%s to read (not a failure)'
                       % (warned, '' if warned == 1 else 's'))
         self.line(count_line(c))
+        unjudged = [r.name for r in run.sensors if r.verdict == NOT_JUDGED]
+        if unjudged:
+            for text in textwrap.wrap(
+                    'This run could not judge everything: this PC was too busy to judge %s (each row names '
+                    'the load and sensorTest\'s own lag); no sensor is faulted for it. Test again when the PC '
+                    'is quieter (exit code %d).' % (', '.join(unjudged), EXIT_NOT_JUDGED), width):
+                self.line(text)
 
     def _headlines(self, run: RunResult, width: int) -> None:
         """Above the table: the sensors whose state explains the others' (Traits.headline: the

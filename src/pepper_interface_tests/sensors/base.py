@@ -6,12 +6,13 @@ window has closed). Subclasses override `fields`, `on_message`, and optionally `
 `settled`, `start`, `poll`; a check that measures values puts its family's values dataclass
 in `self.found`, which `result_values` hands over.
 """
+import dataclasses
 import math
 from collections import OrderedDict
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, Dict, Hashable, List, Mapping, Optional, Protocol, Sequence, Tuple
 
-from ..results import FAIL, PASS, SKIPPED, Verdict
+from ..results import FAIL, NOT_JUDGED, PASS, SKIPPED, Verdict
 from .values import Spread
 
 if TYPE_CHECKING:
@@ -21,6 +22,7 @@ if TYPE_CHECKING:
     from ..media.viewer import Viewer
     from ..plan.options import Options
     from ..plan.settings import SensorPlan
+    from .lag import OwnLag
     from .tree import Tree
 
 
@@ -114,15 +116,19 @@ class Judgement:
     reasons: List[str]
     warnings: List[str]
     skip: Optional[str] = None
+    # what could not be judged because the PC running sensorTest was too busy (sensors/lag.py):
+    # NOT JUDGED unless something failed
+    unjudged: List[str] = dataclasses.field(default_factory=list)
 
     def merged(self, other: 'Judgement') -> 'Judgement':
-        """Both checks' findings; the verdict is the worse of the two (FAIL > SKIPPED > PASS)."""
+        """Both checks' findings; the verdict is the worse of the two
+        (FAIL > NOT JUDGED > SKIPPED > PASS)."""
         return Judgement(self.reasons + other.reasons, self.warnings + other.warnings,
-                         self.skip or other.skip)
+                         self.skip or other.skip, self.unjudged + other.unjudged)
 
     @property
     def verdict(self) -> Verdict:
-        return FAIL if self.reasons else SKIPPED if self.skip else PASS
+        return FAIL if self.reasons else NOT_JUDGED if self.unjudged else SKIPPED if self.skip else PASS
 
 
 class Hearing(Protocol):
@@ -230,6 +236,7 @@ class Check:
     buff_size = 1 << 16     # subscriber receive buffer (bytes); images need 2**24
     numpy_arrays = False    # numeric arrays decoded as numpy views (genpy's deserialize_numpy)
     waits_for_answer = False   # True while the check waits for a person's answer on the terminal
+    own_lag: Optional['OwnLag'] = None   # sensorTest's own lag on the topic (set by the window)
 
     def __init__(self, plan: 'SensorPlan', ctx: RunContext) -> None:
         self.plan = plan
@@ -243,6 +250,7 @@ class Check:
         # [(label, value)] of the first message, the spec's fields
         self.first_fields: Optional[List[Tuple[str, Any]]] = None
         self._extra_fail: List[str] = []        # reasons found at the end (finish)
+        self._unjudged: List[str] = []          # what the PC was too busy to judge (not_judged)
         self._end_warnings: List[str] = []      # warnings found at the end
         self._finished = False
 
@@ -309,6 +317,10 @@ class Check:
         """A warning found once, at the end (not counted per message)."""
         self._end_warnings.append(text)
 
+    def not_judged(self, text: str) -> None:
+        """Something the PC running sensorTest was too busy to judge (NOT JUDGED, never a FAIL)."""
+        self._unjudged.append(text)
+
     # --- results ---------------------------------------------------------------------------
     def failure_reasons(self) -> List[str]:
         return self.failures.reasons(self.count) + self._extra_fail
@@ -329,7 +341,8 @@ class Check:
 
     def judgement(self) -> Judgement:
         """This check's findings at the end of the window (after close())."""
-        return Judgement(self.failure_reasons(), self.warning_reasons(), self.skip_reason())
+        return Judgement(self.failure_reasons(), self.warning_reasons(), self.skip_reason(),
+                         list(self._unjudged))
 
 
 def header_fields(header: Any) -> List[Tuple[str, Any]]:

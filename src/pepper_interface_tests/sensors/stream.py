@@ -31,7 +31,7 @@ verdict is the worse of the two (sensors/window.py). The rules, each with its re
 - Publishers: more than one node delivering on the topic is named; it fails the microphones
   (Traits.audio: two audio bridges interleave their buffers), elsewhere it is a warning.
 """
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from ..plan import catalog
 from ..sources import TopicInfo
@@ -39,6 +39,7 @@ from ..stats import StreamStats
 from .base import Judgement, Tally
 from .clock import WindowClock
 from .families import Traits
+from .lag import OwnLag
 
 # Spread (max - min) of "ROS time at reception - header stamp" below which a delay beyond the
 # limits is one constant offset between two clocks, not data getting old: network and driver
@@ -93,6 +94,9 @@ class StreamCheck:
         self.publishers: List[str] = []       # caller ids of the nodes whose messages arrived, in order
         self.connections_seen = 0
         self.publisher_lost_at: Optional[float] = None
+        self.own_lag: Optional[OwnLag] = None   # sensorTest's own lag on the topic (window.py)
+        self._unjudged: List[str] = []          # what this PC was too busy to judge
+        self.own: List[Tuple[float, float]] = []   # per delay: (handled at, thread busy since)
 
     # ---------------------------------------------------------------- per message
     def begin(self, now: float) -> None:
@@ -115,11 +119,14 @@ class StreamCheck:
             self.publishers.append(caller)
         return True
 
-    def add(self, t_recv: float, ros_now: float, header: Any) -> None:
-        """A decoded message's receive time and header (None for a type without one)."""
+    def add(self, t_recv: float, ros_now: float, header: Any, own_since: Optional[float] = None) -> None:
+        """A decoded message's receive time and header (None for a type without one), and
+        since when its topic's thread had been busy (sensors/lag.py; None: not measured)."""
         self.sync_sim_start()
         stamp = header.stamp.to_sec() if header is not None else None
         self.stats.add(t_recv, stamp, ros_now if header is not None else None, ros_now)
+        if len(self.own) < len(self.stats.delays):     # a delay was measured
+            self.own.append((t_recv, t_recv if own_since is None else own_since))
         if header is not None:
             want = self.expect.frame_id
             if want and header.frame_id != want:
@@ -148,6 +155,7 @@ class StreamCheck:
         self.sync_sim_start()
         reasons: List[str] = []
         warnings: List[str] = []
+        self._unjudged = []
         if not drives_itself:
             skip = self._head_variant_skip(lookup)
             if skip:
@@ -157,7 +165,7 @@ class StreamCheck:
                 reasons += self._stream_reasons(elapsed, band, warnings)
         reasons += self.issues.reasons(self.stats.count)
         self._publisher_reasons(reasons, warnings)
-        return Judgement(reasons, warnings)
+        return Judgement(reasons, warnings, None, list(self._unjudged))
 
     def _head_variant_skip(self, lookup: Optional[Lookup]) -> Optional[str]:
         """The SKIPPED reason of a silent topic absent from the robot because of its head
@@ -254,6 +262,15 @@ class StreamCheck:
             return
         lo, hi = band
         rate_label = 'rate (sim clock)' if s.clock == 'sim' else 'rate'
+        lag = self.own_lag
+        span = (s.recv[-1] - s.recv[0]) if s.recv else 0.0
+        if s.clock != 'sim' and lag is not None and lag.probe is not None and lag.saturated(span) \
+                and any(r is not None and r < lo for r in (s.rate, s.stamp_rate)):
+            self._unjudged.append(
+                'PC busy: rate %.2f Hz below the expected %g-%g Hz, but sensorTest could not keep up with this '
+                'topic (%s over a %.1f s window: messages waiting in its full queue are dropped); test again '
+                'when the PC is quieter' % (s.rate or 0.0, lo, hi, lag.describe(), span))
+            return
         for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
             if rate is not None and not (lo <= rate <= hi):
                 out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
@@ -281,8 +298,7 @@ class StreamCheck:
                                e.max_delay, e.max_future))
         if delay and not offset:
             if delay['max'] > e.max_delay:
-                out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)'
-                           % (delay['max'], e.max_delay))
+                self._stale(delay['max'], out)
             if -delay['min'] > e.max_future:
                 ahead = sum(1 for d in s.delays if -d > e.max_future)
                 if s.clock == 'sim' and ahead <= SIM_FUTURE_SHARE * len(s.delays):
@@ -291,6 +307,32 @@ class StreamCheck:
                                     % (ahead, len(s.delays), -delay['min'], e.max_future))
                 else:
                     out.append('header stamps up to %.2f s in the future (clock skew?)' % -delay['min'])
+
+    def _stale(self, worst: float, out: List[str]) -> None:
+        """Stamps older than max_delay: the sensor's, unless every such delay is explained by
+        how long its message waited in this process (sensors/lag.py), or the PC was busy
+        (lag.busy) and the same stream came with fresh stamps when sensorTest kept up (its
+        smallest delay within max_delay: a driver stamping old data is old in every message):
+        then NOT JUDGED."""
+        limit = self.expect.max_delay
+        lag = self.own_lag
+        own = None
+        if lag is not None and len(self.own) == len(self.stats.delays):
+            own = max(d - lag.wait(t, since) for d, (t, since) in zip(self.stats.delays, self.own))
+        if own is not None and own <= limit and lag is not None and lag.longest > 0:
+            self._unjudged.append(
+                'PC busy: header stamps up to %.2f s behind ROS time (at most %g s), but the messages '
+                'waited in sensorTest itself (%s): without that wait they were at most %.2f s old; '
+                'test again when the PC is quieter' % (worst, limit, lag.describe(), max(0.0, own)))
+            return
+        freshest = min(self.stats.delays) if self.stats.delays else None
+        if lag is not None and lag.probe is not None and lag.busy and freshest is not None and freshest <= limit:
+            self._unjudged.append(
+                'PC busy: header stamps up to %.2f s behind ROS time (at most %g s) while this PC was busy (%s), '
+                'and %.2f s when sensorTest kept up: the delay is this PC\'s, not the sensor\'s; test again '
+                'when the PC is quieter' % (worst, limit, lag.describe(), max(0.0, freshest)))
+            return
+        out.append('stale data: header stamps up to %.2f s behind ROS time (at most %g s)' % (worst, limit))
 
     def _silence_reasons(self, elapsed: float, band: Optional[List[float]], out: List[str],
                          warnings: List[str]) -> None:
@@ -304,7 +346,14 @@ class StreamCheck:
             span = s.recv[-1] - s.recv[0]
         lo_rate = band[0] if band else None
         threshold = max(1.0, self.expect.max_gap_factor / lo_rate) if lo_rate else 2.0
-        if silence > threshold:
+        lag = self.own_lag
+        stalled = lag.probe.stalled(s.recv[-1], clock.began + elapsed) \
+            if lag is not None and lag.probe is not None and s.clock != 'sim' else 0.0
+        if silence > threshold and silence - stalled <= threshold and lag is not None:
+            self._unjudged.append(
+                'PC busy: nothing for the last %.1f s of the window, but sensorTest itself did not run '
+                'for %.1f s of them (%s); test again when the PC is quieter' % (silence, stalled, lag.describe()))
+        elif silence > threshold:
             lost = ' (publisher left at %.1f s)' % self.publisher_lost_at \
                 if self.publisher_lost_at is not None else ''
             out.append('messages stopped %.1f s after the first one; nothing for the last %.1f s%s'

@@ -16,12 +16,13 @@ from typing import Any, Callable, Dict, List, Optional, Type
 
 from ..plan.settings import SensorPlan
 from ..progress import Progress
-from ..results import INTERRUPTED, SKIPPED, SensorResult, Verdict
+from ..results import INTERRUPTED, NOT_JUDGED, SKIPPED, SensorResult, Verdict
 from ..sources import messages
 from .base import Check, RunContext, fmt
 from .clock import WindowClock
 from .families import Traits, of, traits
 from .frames import FramePlacer
+from .lag import OwnLag
 from .stream import Lookup, StreamCheck
 
 
@@ -43,6 +44,9 @@ class SensorRun:
         self.lock = threading.Lock()
         self.clock = WindowClock()
         self.stream = StreamCheck(plan.sensor, plan.topic, plan.expect, self.traits, self.clock)
+        # how late this process handles the topic (a live source measures it: sensors/lag.py)
+        self.own_lag = OwnLag()
+        self.stream.own_lag = self.check.own_lag = self.own_lag
         # its messages' frame in the run's transform tree (sensors/frames.py)
         self.frames = FramePlacer(ctx.services.tree)
         # type name -> class (audio: several)
@@ -89,9 +93,10 @@ class SensorRun:
         self.stream.observe_connections(n, now)
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own_since: Optional[float] = None) -> None:
         """One message as it came off the wire (or out of a bag); `conn` is its connection
-        header (type, message_definition, callerid) where known."""
+        header (type, message_definition, callerid) where known; `own_since`: since when this
+        topic's thread had been busy without a break (a live source; sensors/lag.py)."""
         with self.lock:
             if self.stopped_at is not None or self.clock.t0 is None:
                 return
@@ -103,7 +108,7 @@ class SensorRun:
                 self.stream.issues.add('deser', 'message could not be decoded (%s)' % type(e).__name__)
                 return
             header = getattr(msg, 'header', None)
-            self.stream.add(t_recv, ros_now, header)
+            self.stream.add(t_recv, ros_now, header, own_since)
             if header is not None:
                 self.frames.add(header.frame_id, header.stamp.to_sec(), t_recv)
             try:
@@ -261,6 +266,8 @@ class SensorRun:
         reasons, warnings, verdict = judgement.reasons, judgement.warnings, judgement.verdict
         if verdict == SKIPPED:
             reasons = [judgement.skip or 'not judged']
+        elif verdict == NOT_JUDGED:   # the PC was too busy: its load and lag named (sensors/lag.py)
+            reasons = list(judgement.unjudged)
         if reason == 'interrupted':
             # a window cut short is not judged: what it found so far is reported as warnings,
             # never as a failure of the robot ("no message within 0.0 s", "only 2 messages")
@@ -273,6 +280,8 @@ class SensorRun:
         summary = stats.summary()
         values = check.result_values()
         notes = list(check.notes)
+        if self.own_lag.probe is not None:     # listened live: sensorTest's own lag (sensors/lag.py)
+            notes.append('sensorTest\'s own lag: ' + self.own_lag.describe())
         clock_end: Optional[float] = now
         if self.clock.on_sim_time:
             clock_end = self.clock.sim_stopped_at

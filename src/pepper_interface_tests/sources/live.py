@@ -171,8 +171,17 @@ class LiveSource:
             conn = msg._connection_header    # type, message_definition, callerid, md5sum
             if conn.get('callerid') == own:  # never judge this node's own messages (/diagnostics)
                 return
-            run.feed_raw(conn.get('type', '?'), msg._buff,
-                         time.monotonic(), rospy.get_rostime().to_sec(), conn)
+            lag = getattr(run, 'own_lag', None)     # a sensor's window: sensorTest's own lag (sensors/lag.py)
+            now = time.monotonic()
+            if lag is None:                         # another listener (a cross-check, the tree)
+                run.feed_raw(conn.get('type', '?'), msg._buff, now, rospy.get_rostime().to_sec(), conn)
+                return
+            since = lag.start(now)
+            try:
+                run.feed_raw(conn.get('type', '?'), msg._buff, now, rospy.get_rostime().to_sec(), conn,
+                             own_since=since)
+            finally:
+                lag.end(time.monotonic())
 
         if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
             run.use_sim_clock(lambda: rospy.get_rostime().to_sec())
