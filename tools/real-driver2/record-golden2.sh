@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Record the golden ROS 2 recordings: what the real ros-naoqi/naoqi_driver2 (built by build.sh)
+# publishes against the fake NAOqi (scripts/pepperFakeNaoqi), one short rosbag2 MCAP recording
+# per world, into test/fixtures/real-driver2/<name>/ with manifest.json. Not part of `make test`;
+# needs root (unshare).
+#
+#   tools/real-driver2/record-golden2.sh                  # every variant
+#   tools/real-driver2/record-golden2.sh healthy_xtion
+#
+# Each variant runs in its own network namespace (unshare -n, loopback only): the fake NAOqi
+# listens on 9559, which other runs on this machine use too, and the DDS traffic stays there.
+set -euo pipefail
+HERE="$(cd "$(dirname "$0")" && pwd)"
+REPO="$(cd "$HERE/../.." && pwd)"
+CACHE="${PEPPER_REAL_DRIVER2_CACHE:-/var/cache/pepper-real-driver2}"
+OUT="${GOLDEN_DIR:-$REPO/test/fixtures/real-driver2}"
+SECONDS_PER_REC="${GOLDEN_SECONDS:-4}"
+# naoqi_driver2's names: relative, and its node has no namespace (data/naoqi_driver2Topics.dat)
+CAMERAS="/camera/front/image_raw /camera/bottom/image_raw /camera/depth/image_raw /camera/stereo/image_raw /camera/ir/image_raw"
+BODY="/sonar/front /sonar/back /laser /odom /imu/base /imu/torso /joint_states /tf /diagnostics"
+TOUCH="/head_touch /hand_touch /bumper"
+
+# name | fake NAOqi arguments | topics
+VARIANTS=(
+  "healthy_stereo||$CAMERAS $BODY $TOUCH"
+  "healthy_xtion|--head xtion|$CAMERAS $BODY $TOUCH"
+)
+# the driver's parameters (src/external_registration.cpp:63-76 at 2.1.2)
+DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interface:=lo -p qi_listen_url:=tcp://127.0.0.1:0"
+
+[ -f "$CACHE/install/setup.bash" ] || { echo "record-golden2: no driver in $CACHE (run build.sh first)" >&2; exit 2; }
+[ "$(id -u)" = 0 ] || { echo "record-golden2: needs root for unshare -n" >&2; exit 2; }
+mkdir -p "$OUT" "$CACHE/golden-logs"
+wanted=("$@")
+done_now=()
+
+record_one() {   # name fake-args topics (run inside the namespace)
+  local name="$1" fake="$2" topics="$3" log="$CACHE/golden-logs/$1"
+  ip link set lo up
+  export RMW_IMPLEMENTATION=rmw_cyclonedds_cpp ROS_LOCALHOST_ONLY=1 ROS_DOMAIN_ID=0
+  export ROS_HOME="$(mktemp -d)"
+  set +u      # ROS's setup scripts read unset variables
+  # shellcheck disable=SC1091
+  source "$CACHE/install/setup.bash"
+  set -u
+  PYTHONPATH="$REPO/src${PYTHONPATH:+:$PYTHONPATH}" \
+    "$REPO/.venv/bin/python" "$REPO/scripts/pepperFakeNaoqi" --port 9559 --video-relay $fake >"$log.fake" 2>&1 &
+  local fake_pid=$!
+  for _ in $(seq 100); do grep -q 'fake NAOqi ready' "$log.fake" && break; sleep 0.1; done
+  "$CACHE/install/bin/video_relay" tcp://127.0.0.1:9559 >"$log.relay" 2>&1 &
+  local relay=$!
+  for _ in $(seq 100); do grep -q 'video relay ready' "$log.relay" && break; sleep 0.1; done
+  # shellcheck disable=SC2086
+  "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" $DRIVER_ARGS >"$log.driver" 2>&1 &
+  local driver=$!
+  for _ in $(seq 150); do grep -q 'Starting ROS loop' "$log.driver" && break; sleep 0.2; done
+  if ! kill -0 "$driver" 2>/dev/null; then
+    echo "[golden2] the driver stopped: $log.driver" >&2; tail -5 "$log.driver" >&2
+    kill -INT "$fake_pid" "$relay" 2>/dev/null; wait 2>/dev/null; return 1
+  fi
+  rm -rf "${OUT:?}/$name"
+  # shellcheck disable=SC2086
+  "$REPO/.venv/bin/python" "$HERE/record2.py" "$OUT/$name" "$SECONDS_PER_REC" $topics >"$log.record" 2>&1 || true
+  kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
+  for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
+  kill -INT "$relay" "$fake_pid" 2>/dev/null || true
+  sleep 1
+  kill -KILL "$driver" "$relay" "$fake_pid" 2>/dev/null || true
+  wait 2>/dev/null || true
+}
+export -f record_one
+export OUT CACHE REPO SECONDS_PER_REC HERE DRIVER_ARGS
+
+for entry in "${VARIANTS[@]}"; do
+  IFS='|' read -r name fake topics <<<"$entry"
+  if [ ${#wanted[@]} -gt 0 ] && [[ ! " ${wanted[*]} " == *" $name "* ]]; then continue; fi
+  echo "[golden2] $(date -u +%H:%M:%S) $name (fake NAOqi: ${fake:-defaults})"
+  unshare -n bash -c "record_one '$name' '$fake' '$topics'"
+  cat "$CACHE/golden-logs/$name.record"
+  du -sb "$OUT/$name"
+  done_now+=("$entry")
+done
+
+"$REPO/.venv/bin/python" - "$OUT" "$CACHE/sources.txt" "$SECONDS_PER_REC" "${done_now[@]}" <<'EOF'
+import datetime, json, os, sys
+out, sources, seconds, variants = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+path = os.path.join(out, 'manifest.json')
+old = json.load(open(path)) if os.path.exists(path) else {}
+commits = {}
+for line in open(sources):
+    repo, tag, commit = line.split()
+    commits[repo] = {'tag': tag, 'commit': commit}
+recs = old.get('recordings', {})
+for v in variants:
+    name, fake, topics = v.split('|')
+    folder = os.path.join(out, name)
+    if os.path.isdir(folder):
+        recs[name] = {'fake_naoqi': ('pepperFakeNaoqi --port 9559 --video-relay ' + fake).strip(),
+                      'topics': topics.split(), 'seconds': float(seconds),
+                      'size_bytes': sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)),
+                      'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
+json.dump({'sources': commits,
+           'driver_command': 'naoqi_driver_node ' + os.environ['DRIVER_ARGS'],
+           'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
+           'record_command': 'tools/real-driver2/record2.py <out> %s <topics> (rosbag2, MCAP)' % seconds,
+           'remake': 'tools/real-driver2/record-golden2.sh [variant ...]',
+           'recordings': recs}, open(path, 'w'), indent=1, sort_keys=True)
+print('[golden2] manifest: %s' % path)
+EOF
+echo "[golden2] logs of each process: $CACHE/golden-logs/"
