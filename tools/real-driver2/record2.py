@@ -21,6 +21,10 @@ from pathlib import Path
 from typing import Dict, List
 
 WAIT_PUBLISHERS_S = 20.0    # the driver's converters are registered a few seconds after start
+# naoqi_driver2 converts a topic only while it has a subscriber (src/naoqi_driver.cpp, rosIteration:
+# isSubscribed); the cameras then subscribe to ALVideoDevice: what arrives in the first second
+# after subscribing is dropped (RECORD2_WARMUP seconds), so each recording starts steady
+WARMUP_S = float(os.environ.get('RECORD2_WARMUP', '1.0'))
 
 
 def msg_definitions() -> Dict[str, str]:
@@ -107,6 +111,7 @@ def main(argv: List[str]) -> int:
     writer = Writer(out, version=8, storage_plugin=StoragePlugin.MCAP)
     writer.open()
     counts: Dict[str, int] = {}
+    recording: List[int] = []
     subs = []
     for topic, pubs in infos.items():
         msgtype = pubs[0].topic_type
@@ -120,15 +125,21 @@ def main(argv: List[str]) -> int:
         msgclass = _msg_class(msgtype)
         counts[topic] = 0
 
-        def cb(raw, conn=conn, topic=topic):
+        def cb(raw, conn=conn, topic=topic, latched=latched):
+            if not recording and not latched:      # a latched message is kept: it comes once
+                return
             writer.write(conn, time.time_ns(), bytes(raw))
             counts[topic] += 1
         subs.append(node.create_subscription(msgclass, topic, cb, qos, raw=True))
-    stop = []
+    stop: List[int] = []
     signal.signal(signal.SIGINT, lambda *_: stop.append(1))
     signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
-    end = time.monotonic() + seconds
+    end = time.monotonic() + WARMUP_S
+    while time.monotonic() < end and not stop:
+        rclpy.spin_once(node, timeout_sec=0.05)
+    recording.append(1)
     print('record2: recording %d topics for %.1f s into %s' % (len(subs), seconds, out), flush=True)
+    end = time.monotonic() + seconds
     while time.monotonic() < end and not stop:
         rclpy.spin_once(node, timeout_sec=0.05)
     writer.close()
