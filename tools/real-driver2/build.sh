@@ -53,7 +53,7 @@ colcon_build() {  # colcon in $1 (a workspace), into $2 (its install), more argu
     -DPython3_EXECUTABLE=/usr/bin/python3)
 }
 
-step "1/7 Debian packages (debian-packages.txt)"
+step "1/8 Debian packages (debian-packages.txt)"
 if [ "${SKIP_APT:-0}" != 1 ]; then
   mapfile -t pkgs < <(grep -v '^\s*#' "$HERE/debian-packages.txt" | grep -v '^\s*$')
   missing=()
@@ -67,12 +67,12 @@ if [ "${SKIP_APT:-0}" != 1 ]; then
 fi
 done_step
 
-step "2/7 the ROS 2 Humble core (tools/platform/ros2.sh: waits for its lock, ~4 min if not built)"
+step "2/8 the ROS 2 Humble core (tools/platform/ros2.sh: waits for its lock, ~4 min if not built)"
 CORE_SETUP="$("$ROOT/tools/platform/ros2.sh")"
 echo "[real-driver2] core: $CORE_SETUP"
 done_step
 
-step "3/7 the tools overlay ($ROS2_SOURCES/ros2-humble-tools-src.tar.xz) into $CACHE/tools"
+step "3/8 the tools overlay ($ROS2_SOURCES/ros2-humble-tools-src.tar.xz) into $CACHE/tools"
 if [ ! -f "$CACHE/tools/.built" ]; then
   rm -rf "$CACHE/tools" && mkdir -p "$CACHE/tools/ws"
   tar -xJf "$ROS2_SOURCES/ros2-humble-tools-src.tar.xz" -C "$CACHE/tools/ws"
@@ -83,7 +83,7 @@ if [ ! -f "$CACHE/tools/.built" ]; then
 fi
 done_step
 
-step "4/7 sources into $CACHE/ws/src at the pinned commits (patched)"
+step "4/8 sources into $CACHE/ws/src at the pinned commits (patched)"
 set +u; source "$CACHE/tools/install/setup.bash"; set -u   # shellcheck disable=SC1091
 mkdir -p "$CACHE/ws/src"
 : > "$CACHE/sources.txt"
@@ -125,16 +125,27 @@ while IFS= read -r xml; do
 done < <(find "$CACHE/ws/src" -name package.xml -not -path '*/.git/*')
 done_step
 
-step "5/7 colcon: what naoqi_driver needs ($JOBS packages at once, -j1 each, nice 19, Release)"
+# (rclcpp_lifecycle: only diagnostic_updater's tests use it, and they are not built)
+step "5/8 colcon: what naoqi_driver needs ($JOBS packages at once, -j1 each, nice 19, Release)"
 MAKEFLAGS=-j1 colcon_build "$CACHE/ws" "$CACHE/install" --parallel-workers "$JOBS" \
-  --packages-up-to naoqi_driver --packages-skip naoqi_driver
+  --packages-up-to naoqi_driver --packages-skip naoqi_driver rclcpp_lifecycle
 done_step
 
-step "6/7 colcon: naoqi_driver (-j$JOBS, nice 19, Release)"
+step "6/8 colcon: naoqi_driver (-j$JOBS, nice 19, Release)"
 MAKEFLAGS=-j"$JOBS" colcon_build "$CACHE/ws" "$CACHE/install" --packages-select naoqi_driver
 done_step
 
-step "7/7 check the node is there"
+step "7/8 relays (../real-driver/relay/*.cpp: ALVideoDevice and ALAudioDevice as NAOqi answers)"
+mkdir -p "$CACHE/install/bin"
+for relay in video_relay audio_relay; do
+  nice -n 19 g++ -O1 -DBOOST_BIND_GLOBAL_PLACEHOLDERS -include boost/bind.hpp \
+    -I"$CACHE/install/include" "$ROOT/tools/real-driver/relay/$relay.cpp" -o "$CACHE/install/bin/$relay" -L"$CACHE/install/lib" -Wl,-rpath,"$CACHE/install/lib" -lqi \
+    -lboost_system -lboost_thread -lboost_chrono -lboost_filesystem -lboost_program_options \
+    -lboost_regex -lpthread
+done
+done_step
+
+step "8/8 check the node is there"
 ls -l "$CACHE/install/lib/naoqi_driver/naoqi_driver_node"
 done_step
 echo "[real-driver2] ready: source $CACHE/install/setup.bash"
