@@ -25,6 +25,9 @@ WAIT_PUBLISHERS_S = 20.0    # the driver's converters are registered a few secon
 # isSubscribed); the cameras then subscribe to ALVideoDevice: what arrives in the first second
 # after subscribing is dropped (RECORD2_WARMUP seconds), so each recording starts steady
 WARMUP_S = float(os.environ.get('RECORD2_WARMUP', '1.0'))
+# rosbag2's file compression (`ros2 bag record --compression-mode file --compression-format
+# zstd`): the raw images of a few seconds take tens of MB; RECORD2_COMPRESSION=none for none
+COMPRESSION = os.environ.get('RECORD2_COMPRESSION', 'file')
 
 
 def msg_definitions() -> Dict[str, str]:
@@ -91,7 +94,7 @@ def main(argv: List[str]) -> int:
     out, seconds, topics = Path(argv[0]), float(argv[1]), argv[2:]
     import rclpy
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
-    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
     rclpy.init()
     node = rclpy.create_node('golden_recorder2')
     infos = {}
@@ -109,6 +112,8 @@ def main(argv: List[str]) -> int:
     msgtypes = sorted({p.topic_type for pubs in infos.values() for p in pubs})
     store = typestore_for(msgtypes)
     writer = Writer(out, version=8, storage_plugin=StoragePlugin.MCAP)
+    if COMPRESSION != 'none':
+        writer.set_compression(CompressionMode[COMPRESSION.upper()], CompressionFormat.ZSTD)
     writer.open()
     counts: Dict[str, int] = {}
     recording: List[int] = []
