@@ -3,14 +3,14 @@ ROS 2 against the real naoqi_driver2): types in bag_facts' names, frames, layout
 offered QoS of each publisher from metadata.yaml, on an MCAP recording written with rosbags'
 Writer and the QoS of naoqi_driver2's sonar publisher (keep-last 1, src/publishers/sonar.cpp:53)
 and of its robot description (transient local, src/tools/robot_description.cpp:68-71)."""
-from rosbags_support import reads_ros2
 from ros2_facts import differences, recording_facts
+from rosbags_support import reads_ros2
 
 pytestmark = reads_ros2
 
 
 def _qos(depth, durability):
-    from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
+    from rosbags.interfaces import Qos, QosHistory, QosLiveliness, QosReliability, QosTime
     zero = QosTime(sec=0, nsec=0)
     return Qos(history=QosHistory.KEEP_LAST, depth=depth, reliability=QosReliability.RELIABLE,
                durability=durability, deadline=zero, lifespan=zero, liveliness=QosLiveliness.AUTOMATIC,
