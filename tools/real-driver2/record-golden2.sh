@@ -24,7 +24,11 @@ TOUCH="/head_touch /hand_touch /bumper"
 VARIANTS=(
   "healthy_stereo||$CAMERAS $BODY $TOUCH"
   "healthy_xtion|--head xtion|$CAMERAS $BODY $TOUCH"
+  # the robot moves while recorded (tools/real-driver/move.py with ROS_VERSION=2, as the ROS 1
+  # `move` bag: stop, head +0.5 rad and back, base +0.5 rad): the motion witnesses
+  "move||/odom /imu/base /laser /joint_states /tf /sonar/front /sonar/back /camera/front/image_raw /camera/bottom/image_raw /camera/depth/image_raw"
 )
+MOVE_SECONDS=10    # move.py's commands end ~8.5 s after it starts, 1 s into the recording
 # the driver's parameters (src/external_registration.cpp:63-76 at 2.1.2)
 DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interface:=lo -p qi_listen_url:=tcp://127.0.0.1:0"
 
@@ -59,8 +63,18 @@ record_one() {   # name fake-args topics (run inside the namespace)
     kill -INT "$fake_pid" "$relay" 2>/dev/null; wait 2>/dev/null; return 1
   fi
   rm -rf "${OUT:?}/$name"
+  local seconds="$SECONDS_PER_REC"
+  [ "$name" != move ] || seconds="$MOVE_SECONDS"
   # shellcheck disable=SC2086
-  "$REPO/.venv/bin/python" "$HERE/record2.py" "$OUT/$name" "$SECONDS_PER_REC" $topics >"$log.record" 2>&1 || true
+  "$REPO/.venv/bin/python" "$HERE/record2.py" "$OUT/$name" "$seconds" $topics >"$log.record" 2>&1 &
+  local recorder=$!
+  if [ "$name" = move ]; then
+    for _ in $(seq 300); do grep -q 'record2: recording' "$log.record" && break; sleep 0.1; done
+    sleep 1
+    ROS_VERSION=2 PYTHONPATH="$REPO/src:${PYTHONPATH:-}" "$REPO/.venv/bin/python" \
+      "$REPO/tools/real-driver/move.py" >"$log.move" 2>&1 || true
+  fi
+  wait "$recorder" || true
   kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
   for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
   kill -INT "$relay" "$fake_pid" 2>/dev/null || true
@@ -69,7 +83,7 @@ record_one() {   # name fake-args topics (run inside the namespace)
   wait 2>/dev/null || true
 }
 export -f record_one
-export OUT CACHE REPO SECONDS_PER_REC HERE DRIVER_ARGS
+export OUT CACHE REPO SECONDS_PER_REC HERE DRIVER_ARGS MOVE_SECONDS
 
 for entry in "${VARIANTS[@]}"; do
   IFS='|' read -r name fake topics <<<"$entry"
@@ -96,9 +110,14 @@ for v in variants:
     folder = os.path.join(out, name)
     if os.path.isdir(folder):
         recs[name] = {'fake_naoqi': ('pepperFakeNaoqi --port 9559 --video-relay ' + fake).strip(),
-                      'topics': topics.split(), 'seconds': float(seconds),
+                      'topics': topics.split(),
+                      'seconds': float(os.environ['MOVE_SECONDS'] if name == 'move' else seconds),
                       'size_bytes': sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)),
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
+        if name == 'move':
+            recs[name]['motion'] = ('tools/real-driver/move.py (ROS_VERSION=2), started 1 s into the recording: '
+                                    'a zero /cmd_vel, HeadYaw +0.5 rad at 2 s and back to 0 at 4 s (speed 0.1, '
+                                    '/joint_angles), base turn +0.5 rad at 6 s (/move_base_simple/goal, base_footprint)')
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node ' + os.environ['DRIVER_ARGS'],
            'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
