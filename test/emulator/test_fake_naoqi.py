@@ -97,6 +97,8 @@ def test_faults_change_what_the_driver_reads():
     assert [1.0, 0.0] == [v for _, v in got['touch'][:2]] or [0.0, 1.0] == [v for _, v in got['touch'][:2]], \
         got['touch']
     assert all(k == 'FrontTactilTouched' for k, _ in got['touch'])
+    # naoqi_driver2's subscriber object gets the same events on its signal (touch.cpp:91-92)
+    assert got['touch_signal'] == got['touch'], (got['touch_signal'], got['touch'])
 
 
 def test_almotion_commands_move_the_world_the_driver_reads():

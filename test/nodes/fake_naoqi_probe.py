@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Test helper: a real libqi client asks the fake NAOqi (pepperFakeNaoqi at --url) what
 naoqi_driver asks it, with the driver's own arguments, and prints the answers as one JSON line.
-It also registers a touch subscriber service as the driver does (touch.cpp:94-97) and records
-the events it receives for --seconds."""
+It also registers a touch subscriber service as the driver does (touch.cpp:94-97) and takes the
+subscriber object naoqi_driver2 takes (ALMemory.subscriber), and records the events each receives
+for --seconds."""
 import argparse
 import json
 import os
@@ -85,8 +86,13 @@ def main():
     touch = Touch()
     s.registerService('ROS-Driver-FrontTactilTouched', touch)
     mem.subscribeToEvent('FrontTactilTouched', 'ROS-Driver-FrontTactilTouched', 'touchCallback')
+    # naoqi_driver2's way (src/event/touch.cpp:91-92): ALMemory.subscriber(key), its "signal"
+    signalled = []
+    subscriber = mem.subscriber('FrontTactilTouched')
+    subscriber.signal.connect(lambda v: signalled.append(['FrontTactilTouched', v]))
     time.sleep(a.seconds)
     out['touch'] = touch.events
+    out['touch_signal'] = signalled
     services = [i['name'] for i in s.services()]
     out['audio_services'] = [n for n in ('ALAudioDevice', 'FakeAudioFrames') if n in services]
     if a.audio_relay:     # what audio_relay.cpp asks, with the driver's preferences (audio.cpp:107-114)

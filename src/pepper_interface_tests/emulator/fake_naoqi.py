@@ -5,7 +5,8 @@ naoqi_driver (ROS 1, master aed1b87e) asks of NAOqi, so the real driver's conver
 emulator's scene (scene.py, via fake_memory.py) into ROS messages. ALAudioDevice and
 ALTextToSpeech are the emulator's own (naoqi_endpoint.py). What each answer must look like is
 read from the driver's calls (file:line below); ros-naoqi/naoqi_driver2's src/fake_naoqi/ (branch
-fake_naoqi) registers the same services, a second reading.
+fake_naoqi) registers the same services, a second reading. naoqi_driver2 (2.1.2) asks one thing
+more of the sensors' NAOqi: ALMemory.subscriber(key) for the touch events (QiMemory below).
 
   pepperFakeNaoqi --port 9559 [--head xtion] [--naoqi 2.9.5.172] [--fault NAME ...]
                   [--video-relay] [--audio-relay]
@@ -60,6 +61,7 @@ class ALMemory:
     def __init__(self, memory: Memory, clock: Clock, session: Any) -> None:
         self._m, self._clock, self._session = memory, clock, session
         self.subscribers: Dict[str, List[Tuple[str, str]]] = {}
+        self.signals: Dict[str, Any] = {}       # key -> the object subscriber(key) returned
 
     def getData(self, key: str) -> Any:
         value = self._m.get(str(key), self._clock.now())
@@ -80,8 +82,12 @@ class ALMemory:
                                         if s[0] != str(module)]
 
     def raise_event(self, event: str, value: float) -> int:
-        """Call every subscriber's method as NAOqi does: (key, value, message)."""
+        """Call every subscriber's method as NAOqi does: (key, value, message), and emit the
+        value on the signal of the key's subscriber object (naoqi_driver2's way)."""
         done = 0
+        if event in self.signals:
+            self.signals[event].signal(value)
+            done += 1
         for module, method in list(self.subscribers.get(event, [])):
             try:
                 getattr(self._session.service(module), method)(event, value, '')
@@ -253,9 +259,23 @@ def register(session: Any, settings: WorldSettings, seed: int = 0,
 
     from .audio_source import AudioSource
     from .naoqi_endpoint import ALAudioDeviceService, ALTextToSpeechService, AudioDevice, PolledAudioService
+    class MemorySubscriber:
+        """What NAOqi's ALMemory.subscriber(key) returns: an object whose signal `signal`
+        carries each new value of the key."""
+        def __init__(self) -> None:
+            self.signal = qi.Signal('m')
+
+    class QiMemory(ALMemory):
+        # naoqi_driver2 takes ALMemory events this way, not with subscribeToEvent:
+        # `p_memory_.call<qi::AnyObject>("subscriber", key)` then connect("signal", ...)
+        # (naoqi_driver2 2.1.2 src/event/touch.cpp:91-92, src/event/basic.hxx:56)
+        @qi.bind(returnType=qi.Object, paramsType=[qi.String])
+        def subscriber(self, key: str) -> Any:
+            return self.signals.setdefault(str(key), MemorySubscriber())
+
     clock = Clock()
     memory = Memory(settings, seed)
-    mem = ALMemory(memory, clock, session)
+    mem = QiMemory(memory, clock, session)
     video = ALVideoDevice(clock, settings.failing_camera, seed, memory)
 
     class VideoService:
