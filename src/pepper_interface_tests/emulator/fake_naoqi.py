@@ -263,7 +263,7 @@ def register(session: Any, settings: WorldSettings, seed: int = 0,
         """What NAOqi's ALMemory.subscriber(key) returns: an object whose signal `signal`
         carries each new value of the key."""
         def __init__(self) -> None:
-            self.signal = qi.Signal('m')
+            self.signal = qi.Signal('(m)')   # the driver connects a (const qi::AnyValue&) callback
 
     class QiMemory(ALMemory):
         # naoqi_driver2 takes ALMemory events this way, not with subscribeToEvent:
