@@ -21,30 +21,37 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, '..', '..', 'test', 'helpers'))
 
 import fake_pepper as fake  # noqa: E402  (test/helpers, put on the path above)
-from pepper_interface_tests.plan import catalog  # noqa: E402
+from pepper_interface_tests.plan import catalog, declaration  # noqa: E402
 
 RING = 20          # distinct frames per camera, cycled (frozen_frames is 5 in the expectations)
 NS = 1000000000
 T0_NS = 1700000000123456700     # the first record, the same nanosecond on every topic
 
-# sensor -> (ROS 1 topic, ROS 2 topic, rate in Hz)
-STREAMS: Dict[str, Tuple[str, str, float]] = {
-    'frontCamera': ('/naoqi_driver/camera/front/image_raw', '/camera/front/image_raw', 10.0),
-    'bottomCamera': ('/naoqi_driver/camera/bottom/image_raw', '/camera/bottom/image_raw', 10.0),
-    'realsenseRGBCamera': ('/camera/color/image_raw', '/camera/color/image_raw', 10.0),
-    'realsenseDepthCamera': ('/camera/aligned_depth_to_color/image_raw',
-                             '/camera/aligned_depth_to_color/image_raw', 10.0),
-    'depthCamera': ('/naoqi_driver/camera/depth/image_raw', '/camera/depth/image_raw', 10.0),
-    'laser': ('/naoqi_driver/laser', '/laser', 10.0),
-    'frontSonar': ('/naoqi_driver/sonar/front', '/sonar/front', 10.0),
-    'backSonar': ('/naoqi_driver/sonar/back', '/sonar/back', 10.0),
-    'imu': ('/naoqi_driver/imu/base', '/imu/base', 10.0),
-    'odometry': ('/naoqi_driver/odom', '/odom', 15.0),
-    'jointState': ('/joint_states', '/joint_states', 50.0),
-    'microphone': ('/naoqi_driver/audio', '/audio', 48000.0 / 8192),
-    'tf': ('/tf', '/tf', 50.0),       # with every joint state (naoqi_driver joint_state.cpp)
-    'tf_static': ('/tf_static', '/tf_static', 0.0),    # once: the RealSense's frames and mount
+# The benchmark's scenario: which sensors the recording carries and at what rate (Hz; the
+# RealSense at 10 Hz like the head cameras, the microphone at its AudioBuffer rate). Each
+# sensor's topics are the declaration's (plan/declaration.py): stock naoqi_driver's for the ROS 1
+# bag, naoqi_driver2's for the ROS 2 forms, realsense2_camera's for the RealSense.
+RATES: Dict[str, float] = {  # scenario
+    'frontCamera': 10.0, 'bottomCamera': 10.0, 'realsenseRGBCamera': 10.0,
+    'realsenseDepthCamera': 10.0, 'depthCamera': 10.0, 'laser': 10.0, 'frontSonar': 10.0,
+    'backSonar': 10.0, 'imu': 10.0, 'odometry': 15.0, 'jointState': 50.0,
+    'microphone': 48000.0 / 8192,
+    'tf': 50.0,       # with every joint state (naoqi_driver joint_state.cpp)
 }
+
+
+def _topics(sensor: str) -> Tuple[str, str]:
+    """(ROS 1 topic, ROS 2 topic) of a sensor, as its drivers publish it."""
+    row = declaration.SENSORS[sensor]
+    ros1 = row.stream(declaration.STOCK) or row.stream(declaration.REALSENSE)
+    ros2 = row.stream(declaration.DRIVER2) or row.stream(declaration.REALSENSE)
+    assert ros1 and ros2, sensor
+    return ros1.topic, ros2.topic
+
+
+# sensor -> (ROS 1 topic, ROS 2 topic, rate in Hz)
+STREAMS: Dict[str, Tuple[str, str, float]] = {n: _topics(n) + (r,) for n, r in RATES.items()}
+STREAMS['tf_static'] = ('/tf_static', '/tf_static', 0.0)    # once: the RealSense's frames and mount
 SENSORS = ','.join(s for s in STREAMS if s != 'tf_static')
 TF_STREAMS = ('tf', 'tf_static')
 # the sensors alone (a recording without the driver's /tf: users record what they record)
