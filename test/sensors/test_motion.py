@@ -8,6 +8,7 @@ motion stopped and why.
 """
 import json
 import os
+import select
 import signal
 import subprocess
 import sys
@@ -314,45 +315,66 @@ def test_a_hazard_during_a_turn_stops_the_base_at_once(master, robot, tmp_path, 
         assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
 
 
-def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
-    """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
-    Enter skips the motion: nothing is sent."""
+def move_on_a_pty(master, tmp_path, columns, witness_wait):
+    """sensorTest --move on a real pty `columns` wide, without --yes: (process, the pty's
+    primary side, output folder, what it showed until "Press Enter", the deadline)."""
     import fcntl
     import pty
-    import select
     import struct
     import termios
     primary, secondary = pty.openpty()
-    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack('HHHH', 40, 80, 0, 0))   # 80 columns
+    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack('HHHH', 40, columns, 0, 0))
     out = tmp_path / 'out'
     cmd = script('sensorTest') + [
         '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
-        '--expectations', expectations(tmp_path, witness_wait=1.0), '--output-dir', str(out),
+        '--expectations', expectations(tmp_path, witness_wait=witness_wait), '--output-dir', str(out),
         '--no-show', '--no-history', '--no-record', '--no-report']
     proc = subprocess.Popen(cmd, env=master.env(), stdin=secondary, stdout=secondary, stderr=secondary,
                             start_new_session=True)
     os.close(secondary)
     seen = b''
+    deadline = time.monotonic() + 40
     try:
-        deadline = time.monotonic() + 40
         while b'Press Enter' not in seen and time.monotonic() < deadline:
             if select.select([primary], [], [], 0.5)[0]:
                 seen += os.read(primary, 4096)
-        assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
-        said = seen.decode(errors='replace')
-        said = said[said.index('sensorTest --move:'):said.index('Press Enter')]
-        assert all(len(line) <= 80 for line in said.splitlines()), said     # broken at spaces
+    except BaseException:
+        kill_group(proc)
+        os.close(primary)
+        raise
+    return proc, primary, out, seen, deadline
+
+
+def answer_s_and_wait(proc, primary, deadline):
+    """Type `s` and Enter (skip the motion), read the pty until sensorTest ends, close it."""
+    try:
         os.write(primary, b's\n')
         while proc.poll() is None and time.monotonic() < deadline:
             if select.select([primary], [], [], 0.5)[0]:
                 try:
-                    seen += os.read(primary, 4096)
+                    os.read(primary, 4096)
                 except OSError:
                     break
         proc.wait(20)
     finally:
         kill_group(proc)
         os.close(primary)
+
+
+def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
+    """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
+    Enter skips the motion: nothing is sent."""
+    proc, primary, out, seen, deadline = move_on_a_pty(master, tmp_path, 80, witness_wait=1.0)
+    try:
+        assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
+        said = seen.decode(errors='replace')
+        said = said[said.index('sensorTest --move:'):said.index('Press Enter')]
+        assert all(len(line) <= 80 for line in said.splitlines()), said     # broken at spaces
+    except BaseException:
+        kill_group(proc)
+        os.close(primary)
+        raise
+    answer_s_and_wait(proc, primary, deadline)
     _, rows = results(out)
     assert rows['motion']['verdict'] == 'SKIPPED', rows['motion']
     assert 'skipped by the operator' in rows['motion']['reasons'][0]
@@ -393,27 +415,8 @@ def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
     """On a terminal (a real pty), the question stands alone: no progress line ("... motion:
     N s left") above it, and nothing printed while it waits for Enter (the progress line
     ticks every 0.5 s); after Enter, the run goes on (issue 45)."""
-    import fcntl
-    import pty
-    import select
-    import struct
-    import termios
-    primary, secondary = pty.openpty()
-    fcntl.ioctl(secondary, termios.TIOCSWINSZ, struct.pack('HHHH', 40, 100, 0, 0))
-    out = tmp_path / 'out'
-    cmd = script('sensorTest') + [
-        '--move', '--sensors', 'jointState', '--duration', '1', '--wait', '8',
-        '--expectations', expectations(tmp_path, witness_wait=1.5), '--output-dir', str(out),
-        '--no-show', '--no-history', '--no-record', '--no-report']
-    proc = subprocess.Popen(cmd, env=master.env(), stdin=secondary, stdout=secondary, stderr=secondary,
-                            start_new_session=True)
-    os.close(secondary)
-    seen = b''
+    proc, primary, out, seen, deadline = move_on_a_pty(master, tmp_path, 100, witness_wait=1.5)
     try:
-        deadline = time.monotonic() + 40
-        while b'Press Enter' not in seen and time.monotonic() < deadline:
-            if select.select([primary], [], [], 0.5)[0]:
-                seen += os.read(primary, 4096)
         asked = seen.decode(errors='replace')
         assert 'Press Enter' in asked, asked
         after = b''
@@ -426,16 +429,10 @@ def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
         above = [row for row in shown[:question] if '... motion' in row]
         assert above == [], 'a progress line above the question:\n' + '\n'.join(shown)
         assert after.strip(b'\r\n') == b'', 'printed while the question waits: %r' % after
-        os.write(primary, b's\n')
-        while proc.poll() is None and time.monotonic() < deadline:
-            if select.select([primary], [], [], 0.5)[0]:
-                try:
-                    seen += os.read(primary, 4096)
-                except OSError:
-                    break
-        proc.wait(20)
-    finally:
+    except BaseException:
         kill_group(proc)
         os.close(primary)
+        raise
+    answer_s_and_wait(proc, primary, deadline)
     _, rows = results(out)
     assert rows['motion']['verdict'] == 'SKIPPED' and 'skipped by the operator' in rows['motion']['reasons'][0]
