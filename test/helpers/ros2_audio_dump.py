@@ -7,10 +7,11 @@ pepper_interface_tests/AudioCustomMsg (the ROS 1 bridge's form: one array per mi
 Appends each message's samples to OUT.raw as int16 rows (rear left, rear right, front left,
 front right: Pepper's channel codes 3, 5, 0, 2, placed by the channel_map for AudioBuffer), and
 prints "dump up" once the topic's publisher is discovered, then "got N" after each message."""
-import signal
 import sys
 
 import numpy as np
+
+from ros2_spin import spin_until_sigterm
 
 ORDER = (3, 5, 0, 2)     # rear left, rear right, front left, front right
 
@@ -43,14 +44,9 @@ def main():
     rclpy.init()
     node = rclpy.create_node('audio_dump')
     node.create_subscription(cls, topic, got, 100)
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
     while node.count_publishers(topic) == 0:      # DDS discovery: the bridge's publisher seen
         rclpy.spin_once(node, timeout_sec=0.1)
-    print('dump up', flush=True)
-    try:
-        rclpy.spin(node)
-    except Exception:  # noqa: BLE001  (shut down by a signal)
-        pass
+    spin_until_sigterm(rclpy, node, 'dump up')
 
 
 if __name__ == '__main__':

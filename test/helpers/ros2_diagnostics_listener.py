@@ -1,7 +1,8 @@
 """Test helper, a process of its own: every status name seen on /diagnostics (rclpy), one per
 line in OUT, as they arrive.    python ros2_diagnostics_listener.py OUT"""
-import signal
 import sys
+
+from ros2_spin import spin_until_sigterm
 
 
 def main():
@@ -16,12 +17,7 @@ def main():
     rclpy.init()
     node = rclpy.create_node('diagnostics_listener')
     node.create_subscription(DiagnosticArray, '/diagnostics', got, 50)
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
-    print('listener up', flush=True)
-    try:
-        rclpy.spin(node)
-    except Exception:  # noqa: BLE001  (shut down by a signal)
-        pass
+    spin_until_sigterm(rclpy, node, 'listener up')
 
 
 if __name__ == '__main__':

@@ -7,10 +7,11 @@ depth 10, reliable). One JSON line per message, as test/nodes/motion_recorder.py
 """
 import json
 import math
-import signal
 import sys
 import threading
 import time
+
+from ros2_spin import spin_until_sigterm
 
 
 def main():
@@ -44,12 +45,7 @@ def main():
     node.create_subscription(Twist, '/cmd_vel', twist, 10)
     node.create_subscription(PoseStamped, '/move_base_simple/goal', goal, 10)
     node.create_subscription(JointAnglesWithSpeed, '/joint_angles', joints, 10)
-    signal.signal(signal.SIGTERM, lambda *_: rclpy.try_shutdown())
-    print('recorder up', flush=True)
-    try:
-        rclpy.spin(node)
-    except Exception:  # noqa: BLE001  (shut down by a signal)
-        pass
+    spin_until_sigterm(rclpy, node, 'recorder up')
 
 
 if __name__ == '__main__':
