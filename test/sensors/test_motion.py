@@ -6,6 +6,7 @@ the base at once (the last /cmd_vel the robot received is a zero twist, and no g
 it), the head is sent back to where it started, and the outputs are complete and say where the
 motion stopped and why.
 """
+import contextlib
 import json
 import os
 import select
@@ -315,9 +316,11 @@ def test_a_hazard_during_a_turn_stops_the_base_at_once(master, robot, tmp_path, 
         assert rows[name]['verdict'] == 'PASS', (name, rows[name]['reasons'])
 
 
+@contextlib.contextmanager
 def move_on_a_pty(master, tmp_path, columns, witness_wait):
-    """sensorTest --move on a real pty `columns` wide, without --yes: (process, the pty's
-    primary side, output folder, what it showed until "Press Enter", the deadline)."""
+    """sensorTest --move on a real pty `columns` wide, without --yes, read until "Press Enter":
+    yields (process, the pty's primary side, output folder, what it showed, the deadline); the
+    process group is killed and the pty closed on the way out."""
     import fcntl
     import pty
     import struct
@@ -338,43 +341,33 @@ def move_on_a_pty(master, tmp_path, columns, witness_wait):
         while b'Press Enter' not in seen and time.monotonic() < deadline:
             if select.select([primary], [], [], 0.5)[0]:
                 seen += os.read(primary, 4096)
-    except BaseException:
-        kill_group(proc)
-        os.close(primary)
-        raise
-    return proc, primary, out, seen, deadline
-
-
-def answer_s_and_wait(proc, primary, deadline):
-    """Type `s` and Enter (skip the motion), read the pty until sensorTest ends, close it."""
-    try:
-        os.write(primary, b's\n')
-        while proc.poll() is None and time.monotonic() < deadline:
-            if select.select([primary], [], [], 0.5)[0]:
-                try:
-                    os.read(primary, 4096)
-                except OSError:
-                    break
-        proc.wait(20)
+        yield proc, primary, out, seen, deadline
     finally:
         kill_group(proc)
         os.close(primary)
 
 
+def answer_s_and_wait(proc, primary, deadline):
+    """Type `s` and Enter (skip the motion), then read the pty until sensorTest ends."""
+    os.write(primary, b's\n')
+    while proc.poll() is None and time.monotonic() < deadline:
+        if select.select([primary], [], [], 0.5)[0]:
+            try:
+                os.read(primary, 4096)
+            except OSError:
+                break
+    proc.wait(20)
+
+
 def test_on_a_terminal_the_person_is_told_and_s_skips(master, robot, tmp_path):
     """sensorTest on a terminal (a real pty), without --yes: the plan is said, and `s` then
     Enter skips the motion: nothing is sent."""
-    proc, primary, out, seen, deadline = move_on_a_pty(master, tmp_path, 80, witness_wait=1.0)
-    try:
+    with move_on_a_pty(master, tmp_path, 80, witness_wait=1.0) as (proc, primary, out, seen, deadline):
         assert b'I will turn my head 29 degrees to the left' in seen, seen.decode(errors='replace')
         said = seen.decode(errors='replace')
         said = said[said.index('sensorTest --move:'):said.index('Press Enter')]
         assert all(len(line) <= 80 for line in said.splitlines()), said     # broken at spaces
-    except BaseException:
-        kill_group(proc)
-        os.close(primary)
-        raise
-    answer_s_and_wait(proc, primary, deadline)
+        answer_s_and_wait(proc, primary, deadline)
     _, rows = results(out)
     assert rows['motion']['verdict'] == 'SKIPPED', rows['motion']
     assert 'skipped by the operator' in rows['motion']['reasons'][0]
@@ -415,8 +408,7 @@ def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
     """On a terminal (a real pty), the question stands alone: no progress line ("... motion:
     N s left") above it, and nothing printed while it waits for Enter (the progress line
     ticks every 0.5 s); after Enter, the run goes on (issue 45)."""
-    proc, primary, out, seen, deadline = move_on_a_pty(master, tmp_path, 100, witness_wait=1.5)
-    try:
+    with move_on_a_pty(master, tmp_path, 100, witness_wait=1.5) as (proc, primary, out, seen, deadline):
         asked = seen.decode(errors='replace')
         assert 'Press Enter' in asked, asked
         after = b''
@@ -429,10 +421,6 @@ def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
         above = [row for row in shown[:question] if '... motion' in row]
         assert above == [], 'a progress line above the question:\n' + '\n'.join(shown)
         assert after.strip(b'\r\n') == b'', 'printed while the question waits: %r' % after
-    except BaseException:
-        kill_group(proc)
-        os.close(primary)
-        raise
-    answer_s_and_wait(proc, primary, deadline)
+        answer_s_and_wait(proc, primary, deadline)
     _, rows = results(out)
     assert rows['motion']['verdict'] == 'SKIPPED' and 'skipped by the operator' in rows['motion']['reasons'][0]
