@@ -15,6 +15,8 @@ REPO="$(cd "$HERE/../.." && pwd)"
 CACHE="${PEPPER_REAL_DRIVER2_CACHE:-/var/cache/pepper-real-driver2}"
 OUT="${GOLDEN_DIR:-$REPO/test/fixtures/real-driver2}"
 SECONDS_PER_REC="${GOLDEN_SECONDS:-4}"
+# the logs of each process (GOLDEN_LOGS: elsewhere, when the cache is shared read-only)
+LOGS="${GOLDEN_LOGS:-$CACHE/golden-logs}"
 # naoqi_driver2's names: relative, and its node has no namespace (data/naoqi_driver2Topics.dat)
 CAMERAS="/camera/front/image_raw /camera/bottom/image_raw /camera/depth/image_raw /camera/stereo/image_raw /camera/ir/image_raw"
 BODY="/sonar/front /sonar/back /laser /odom /imu/base /imu/torso /joint_states /tf /diagnostics"
@@ -34,12 +36,16 @@ DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interf
 
 [ -f "$CACHE/install/setup.bash" ] || { echo "record-golden2: no driver in $CACHE (run build.sh first)" >&2; exit 2; }
 [ "$(id -u)" = 0 ] || { echo "record-golden2: needs root for unshare -n" >&2; exit 2; }
-mkdir -p "$OUT" "$CACHE/golden-logs"
+mkdir -p "$OUT" "$LOGS"
 wanted=("$@")
+known=" $(for v in "${VARIANTS[@]}"; do printf '%s ' "${v%%|*}"; done)"
+for w in "${wanted[@]}"; do
+  [[ "$known" == *" $w "* ]] || { echo "record-golden2: no variant '$w' (the variants:$known)" >&2; exit 2; }
+done
 done_now=()
 
 record_one() {   # name fake-args topics (run inside the namespace)
-  local name="$1" fake="$2" topics="$3" log="$CACHE/golden-logs/$1"
+  local name="$1" fake="$2" topics="$3" log="$LOGS/$1"
   ip link set lo up
   export RMW_IMPLEMENTATION=rmw_cyclonedds_cpp ROS_LOCALHOST_ONLY=1 ROS_DOMAIN_ID=0
   export ROS_HOME="$(mktemp -d)"
@@ -65,14 +71,26 @@ record_one() {   # name fake-args topics (run inside the namespace)
   rm -rf "${OUT:?}/$name"
   local seconds="$SECONDS_PER_REC"
   [ "$name" != move ] || seconds="$MOVE_SECONDS"
+  local on_signal=0
+  [ "$name" != move ] || on_signal=1
   # shellcheck disable=SC2086
-  "$REPO/.venv/bin/python" "$HERE/record2.py" "$OUT/$name" "$seconds" $topics >"$log.record" 2>&1 &
+  RECORD2_ON_SIGNAL=$on_signal "$REPO/.venv/bin/python" "$HERE/record2.py" "$OUT/$name" "$seconds" $topics >"$log.record" 2>&1 &
   local recorder=$!
   if [ "$name" = move ]; then
-    for _ in $(seq 300); do grep -q 'record2: recording' "$log.record" && break; sleep 0.1; done
-    sleep 1
+    # The recording starts 1 s after move.py's stop (SIGUSR1 to record2.py), 1 s before its
+    # head command: the fake robot's idle drive (a circle at ~0.15 rad/s until the stop) stays
+    # out of the recording, and no base motion is near the head's yaw (recorded.py leaves out
+    # a head move that overlaps a stretch where the base moved). move.py's own start on ROS 2
+    # (rclpy, the graph, the driver's subscribers) takes a second or more here, so its stop is
+    # waited for rather than timed.
+    for _ in $(seq 300); do grep -q 'record2: subscribed' "$log.record" && break; sleep 0.1; done
     ROS_VERSION=2 PYTHONPATH="$REPO/src:${PYTHONPATH:-}" "$REPO/.venv/bin/python" \
-      "$REPO/tools/real-driver/move.py" >"$log.move" 2>&1 || true
+      "$REPO/tools/real-driver/move.py" >"$log.move" 2>&1 &
+    local mover=$!
+    for _ in $(seq 300); do grep -q ' s stop ' "$log.move" && break; sleep 0.05; done
+    sleep 1
+    kill -USR1 "$recorder"
+    wait "$mover" || true
   fi
   wait "$recorder" || true
   kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
@@ -83,14 +101,14 @@ record_one() {   # name fake-args topics (run inside the namespace)
   wait 2>/dev/null || true
 }
 export -f record_one
-export OUT CACHE REPO SECONDS_PER_REC HERE DRIVER_ARGS MOVE_SECONDS
+export OUT CACHE LOGS REPO SECONDS_PER_REC HERE DRIVER_ARGS MOVE_SECONDS
 
 for entry in "${VARIANTS[@]}"; do
   IFS='|' read -r name fake topics <<<"$entry"
   if [ ${#wanted[@]} -gt 0 ] && [[ ! " ${wanted[*]} " == *" $name "* ]]; then continue; fi
   echo "[golden2] $(date -u +%H:%M:%S) $name (fake NAOqi: ${fake:-defaults})"
   unshare -n bash -c "record_one '$name' '$fake' '$topics'"
-  cat "$CACHE/golden-logs/$name.record"
+  cat "$LOGS/$name.record"
   du -sb "$OUT/$name"
   done_now+=("$entry")
 done
@@ -105,6 +123,21 @@ for line in open(sources):
     repo, tag, commit = line.split()
     commits[repo] = {'tag': tag, 'commit': commit}
 recs = old.get('recordings', {})
+# what each recording shows (naoqi_driver2 2.1.2's source: src/naoqi_driver.cpp, src/helpers/)
+SHOWS = {
+    'healthy_stereo': 'a healthy Pepper 1.8 (stereo head: "CameraStereo" in ALMotion.getSensorNames, '
+                      'driver_helpers.cpp:357-367) on the fake\'s idle drive (a slow circle), nobody touching it: '
+                      'every sensor row PASS, the touch rows SKIPPED (not touched); no /camera/ir/image_raw '
+                      '(naoqi_driver.cpp:666-667 turns the IR camera off on a stereo head)',
+    'healthy_xtion': 'a healthy Pepper 1.7 (Xtion head: no "CameraStereo", driver_helpers.cpp:357-367) on the '
+                     'fake\'s idle drive, nobody touching it: every sensor row PASS (irCamera too), stereoCamera '
+                     'SKIPPED (this head has none: no /camera/stereo/image_raw, naoqi_driver.cpp:791), the touch '
+                     'rows SKIPPED (not touched)',
+    'move': 'the robot commanded through naoqi_driver2\'s subscribers (motion): the motion witnesses (odometry, '
+            'gyro, laser, wheels, head cameras) record one base turn of +0.5 rad and the head\'s yaw +0.5 rad and '
+            'back; every recorded row PASS, the turn and the two head yaws found (the bottom camera, which sees '
+            'the fake\'s nearly plain floor, may be left unjudged on a yaw: a warning, rules.MIN_TEXTURE)',
+}
 for v in variants:
     name, fake, topics = v.split('|')
     folder = os.path.join(out, name)
@@ -114,10 +147,16 @@ for v in variants:
                       'seconds': float(os.environ['MOVE_SECONDS'] if name == 'move' else seconds),
                       'size_bytes': sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)),
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
-        if name == 'move':
-            recs[name]['motion'] = ('tools/real-driver/move.py (ROS_VERSION=2), started 1 s into the recording: '
-                                    'a zero /cmd_vel, HeadYaw +0.5 rad at 2 s and back to 0 at 4 s (speed 0.1, '
-                                    '/joint_angles), base turn +0.5 rad at 6 s (/move_base_simple/goal, base_footprint)')
+for name in recs:     # the descriptions are the script's: kept true for every recording listed
+    recs[name]['shows'] = SHOWS[name]
+    if name == 'move':
+        recs[name]['motion'] = ('tools/real-driver/move.py (ROS_VERSION=2); the recording starts 1 s after its '
+                                'first command, a zero /cmd_vel (teleop.cpp:59 ALMotion.move: the fake robot\'s idle '
+                                'drive stops before the recording), then '
+                                'HeadYaw +0.5 rad at 2 s and back to 0 at 4 s (speed 0.1, /joint_angles, '
+                                'teleop.cpp:66 setAngles), base turn +0.5 rad at 6 s (/move_base_simple/goal in '
+                                'base_footprint, moveto.cpp:108-120 moveTo); the times are move.py\'s, 1 s less '
+                                'into the recording')
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node ' + os.environ['DRIVER_ARGS'],
            'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
@@ -126,4 +165,4 @@ json.dump({'sources': commits,
            'recordings': recs}, open(path, 'w'), indent=1, sort_keys=True)
 print('[golden2] manifest: %s' % path)
 EOF
-echo "[golden2] logs of each process: $CACHE/golden-logs/"
+echo "[golden2] logs of each process: $LOGS/"

@@ -28,6 +28,9 @@ WARMUP_S = float(os.environ.get('RECORD2_WARMUP', '1.0'))
 # rosbag2's file compression (`ros2 bag record --compression-mode file --compression-format
 # zstd`): the raw images of a few seconds take tens of MB; RECORD2_COMPRESSION=none for none
 COMPRESSION = os.environ.get('RECORD2_COMPRESSION', 'file')
+# RECORD2_ON_SIGNAL=1: after the warm-up, wait for SIGUSR1 before recording (record-golden2.sh
+# `move` starts the recording once the robot has stopped, at a time of its choosing)
+ON_SIGNAL = os.environ.get('RECORD2_ON_SIGNAL') == '1'
 
 
 def msg_definitions() -> Dict[str, str]:
@@ -142,6 +145,12 @@ def main(argv: List[str]) -> int:
     end = time.monotonic() + WARMUP_S
     while time.monotonic() < end and not stop:
         rclpy.spin_once(node, timeout_sec=0.05)
+    if ON_SIGNAL:
+        go: List[int] = []
+        signal.signal(signal.SIGUSR1, lambda *_: go.append(1))
+        print('record2: subscribed, recording on SIGUSR1', flush=True)
+        while not go and not stop:
+            rclpy.spin_once(node, timeout_sec=0.05)
     recording.append(1)
     print('record2: recording %d topics for %.1f s into %s' % (len(subs), seconds, out), flush=True)
     end = time.monotonic() + seconds
