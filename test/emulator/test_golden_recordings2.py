@@ -11,7 +11,9 @@ import subprocess
 import pytest
 import yaml
 
+from pepper_interface_tests.motion.witnesses import HEAD_CAMERAS
 from pepper_interface_tests.plan import declaration, settings
+from pepper_interface_tests.sources.tf_buffer import TF2_MISSING
 from rosbags_support import reads_ros2
 from rosmaster import script
 
@@ -93,6 +95,13 @@ def test_every_recorded_sensor_passes_and_matches_the_ros1_driver(recording, tmp
         else:
             assert s['verdict'] == 'PASS', (name, s['reasons'], p.stdout[-2000:])
     assert got['tf']['verdict'] == 'PASS'
+    if not TF2_MISSING:       # the tree placed: every stamped row's frame reaches base_footprint
+        framed = {n: got[n]['frame'] for n in names if got[n]['verdict'] == 'PASS' and got[n].get('frame')}
+        assert len(framed) >= 6, sorted(framed)
+        for name, frame in framed.items():
+            assert frame['placed'] == frame['judged'] > 10 and frame['chain'][-1] == 'base_footprint', (name, frame)
+            if name in HEAD_CAMERAS:
+                assert ['Head', 'Neck', 'torso'] == [f for f in frame['chain'] if f in ('Head', 'Neck', 'torso')]
     # the ROS 1 driver's recording of the same world (same fake NAOqi): the same verdicts
     ros1 = os.path.join(GOLDEN1, recording + '.bag')
     if os.path.exists(ros1):
