@@ -4,8 +4,6 @@ names and NaN columns, sonar geometry, diagnostics' status names) and the rate. 
 the emulator's streams against the real naoqi_driver's golden recordings."""
 import math
 
-import rosbag
-
 
 def _nan_columns(values):
     return tuple(i for i, v in enumerate(values) if isinstance(v, float) and math.isnan(v))
@@ -47,6 +45,7 @@ def message_facts(msg_type, m):
 
 def bag_facts(path):
     """{topic: {'type', 'md5', 'frames', 'count', 'rate', 'facts'}} of a bag."""
+    import rosbag  # here, not above: ros2_facts uses message_facts on ROS 2, without rospy
     out = {}
     with rosbag.Bag(path) as bag:
         info = bag.get_type_and_topic_info().topics

@@ -77,3 +77,18 @@ def differences(real, other, keys=('type', 'frames', 'facts', 'qos')):
             if real[topic][key] != other[topic][key]:
                 out[(topic, key)] = '%r != %r' % (real[topic][key], other[topic][key])
     return out
+
+
+def messages(path, topics):
+    """(topic, message, receive time in ns) of a rosbag2 recording's `topics`, in time order
+    (rosbags' own message classes: ROS 2 field names)."""
+    from rosbags.highlevel import AnyReader
+    with AnyReader([Path(path)]) as reader:
+        conns = [c for c in reader.connections if c.topic in topics]
+        for conn, t, raw in reader.messages(connections=conns):
+            yield conn.topic, reader.deserialize(raw, conn.msgtype), t
+
+
+def healthy_recordings(manifest):
+    """The manifest's recordings of a healthy robot standing still (healthy_stereo, healthy_xtion)."""
+    return sorted(name for name in manifest['recordings'] if name.startswith('healthy_'))

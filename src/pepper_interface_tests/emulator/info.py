@@ -12,6 +12,7 @@ import re
 from typing import Dict, List
 
 from ..plan.settings import ConfigError
+from .qos2 import INFO_DEPTH
 
 INFO_TOPIC = '/naoqi_driver/info'
 DEFAULT_BODY_ID = 'AP990370B0000000'     # the shape of a Pepper serial: AP9903 + 70B + 7 digits
@@ -69,15 +70,15 @@ INFO_TOPIC_ROS2 = '/info'
 
 class InfoPublisher:
     """The info message, published once (as the driver does): latched on ROS 1; on ROS 2 on
-    naoqi_driver2's `/info`, volatile as its publisher is (src/publishers/basic.hpp:72, whatever
-    its comment at src/naoqi_driver.cpp:675-681 says), so a node started later never gets it."""
+    naoqi_driver2's `/info`, volatile and keep-last 10 as its publisher is (src/publishers/basic.hpp:72,
+    whatever its comment at src/naoqi_driver.cpp:675-681 says), so a node started later never gets it."""
 
     def __init__(self, head: str, body_id: str) -> None:
         from .. import rosapi
         from ..sources.naoqi_msgs import STRING_STAMPED_TYPE, known_class
         cls = known_class(STRING_STAMPED_TYPE)
         if rosapi.version() == 2:
-            self.pub = rosapi.publisher(INFO_TOPIC_ROS2, STRING_STAMPED_TYPE, queue_size=1, cls=cls)
+            self.pub = rosapi.publisher(INFO_TOPIC_ROS2, STRING_STAMPED_TYPE, queue_size=INFO_DEPTH, cls=cls)
         else:
             self.pub = rosapi.publisher(INFO_TOPIC, STRING_STAMPED_TYPE, queue_size=1, latch=True, cls=cls)
         msg = cls()

@@ -21,7 +21,7 @@ import numpy as np
 from .. import rosapi
 from ..genmsgs import Image, Imu, JointState, LaserScan, Odometry, Quaternion, Range, String
 from ..media import encodings
-from . import scene
+from . import qos2, scene
 from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
 from .profiles import (
@@ -156,8 +156,9 @@ class StreamPublisher(threading.Thread):
         self.stuck_msgs: Dict[int, genpy.Message] = {}   # output index -> the message republished by the fault stuck
         topics = [(spec.topic, spec.frame_id)] + list(spec.extra)
         msg_class: Any = String if self.faults.wrong_type else self.msg_class()
-        self.outputs = [(rosapi.publisher(topic, msg_class._type, queue_size=self.queue_size,
-                                          cls=msg_class),
+        # on ROS 2 the queue is the QoS depth a subscriber sees offered: naoqi_driver2's (qos2.py)
+        depth = qos2.depth(spec.family) if rosapi.version() == 2 else self.queue_size
+        self.outputs = [(rosapi.publisher(topic, msg_class._type, queue_size=depth, cls=msg_class),
                          frame) for topic, frame in topics]
         self.body: Optional[Body] = None     # the robot's body, shared (node.py); own one if unset
         # the `network` condition (network.py): what naoqi_driver fetches waits for its holds
