@@ -4,7 +4,8 @@ install): what the emulator publishes on ROS 2 for the recording's head (the rob
 profile on data/naoqi_driver2Topics.dat, as node2.py starts it) has the driver's topic names,
 types, frames, image encodings and sizes, rates (the fake's, boot_config.json), the QoS each
 publisher offered (reliability, durability, depth: emulator/qos2.py), the /diagnostics array
-status by status and the /tf tree pair by pair. The emulator's own live ROS 2 recording is held
+status by status, the /tf tree pair by pair, and each camera's camera_info where a recording
+holds it (emulator/camera_info.py). The emulator's own live ROS 2 recording is held
 to the same recordings field by field in the ROS 2 tier (test/ros2/test_conformance_ros2.py).
 Every difference kept is in docs/drivers.md ("The emulator on ROS 2 against naoqi_driver2")."""
 import functools
@@ -13,7 +14,7 @@ import os
 
 import pytest
 
-from pepper_interface_tests.emulator import events, qos2
+from pepper_interface_tests.emulator import camera_info, events, qos2
 from pepper_interface_tests.emulator.info import INFO_TOPIC_ROS2
 from pepper_interface_tests.emulator.profiles import build_profile
 from pepper_interface_tests.emulator.urdf_tree import driver_tree
@@ -30,10 +31,8 @@ TOPICS2 = os.path.join(settings.package_dir(), 'data', 'naoqi_driver2Topics.dat'
 # second of CPU per recording), which the unit tier's budget is not for (docs/testing.md)
 pytestmark = pytest.mark.integration
 # published by naoqi_driver2 and not by the emulator, with the reason (docs/drivers.md); no
-# check of this package reads them
+# check of this package reads it
 NOT_EMULATED = {
-    'camera_info': "each camera's CameraInfo (image_transport's camera publisher, drv2 src/publishers/camera.cpp:51, "
-                   "the driver's fixed calibration tables src/converters/camera_info_definitions.hpp)",
     '/robot_description': 'the URDF text, transient-local (drv2 src/tools/robot_description.cpp:64-76)',
 }
 BATTERY = 87        # the fake NAOqi's charge (fake_memory.py), as in the ROS 1 golden recordings
@@ -58,13 +57,17 @@ def head_of(recording):
 
 
 def emulator_specs(head):
-    """{topic: SensorSpec} the emulator publishes on ROS 2 for `head` (node2.py's defaults)."""
+    """{topic: SensorSpec} the emulator publishes on ROS 2 for `head` (node2.py's defaults), a
+    camera's camera_info under its image's spec (camera_info.py: where the driver has a table)."""
     profile = build_profile('robot-stock', TOPICS2, realsense=False, audio='direct', head=head)
-    return {t: s for s in profile.sensors for t in [s.topic] + [e[0] for e in s.extra]}
+    specs = {t: s for s in profile.sensors for t in [s.topic] + [e[0] for e in s.extra]}
+    specs.update({camera_info.info_topic(s.topic): s for s in profile.sensors
+                  if s.is_image and camera_info.calibration(s.view, s.width, s.height)})
+    return specs
 
 
-def not_emulated(topic):
-    return topic == '/robot_description' or topic.endswith('/camera_info')
+def is_info(topic):
+    return topic.endswith('/camera_info')
 
 
 def test_every_healthy_recording_is_compared():
@@ -80,7 +83,7 @@ def test_the_emulator_on_ros2_publishes_what_naoqi_driver2_does(recording):
     problems = []
     for topic in MANIFEST['recordings'][recording]['topics']:
         spec, r = specs.get(topic), real.get(topic)
-        if not_emulated(topic):
+        if topic in NOT_EMULATED:
             continue
         if topic == INFO_TOPIC_ROS2:    # published once at start (info.py): seen only by an early subscriber
             if r is None or r['type'] != 'naoqi_bridge_msgs/StringStamped':
@@ -93,14 +96,21 @@ def test_the_emulator_on_ros2_publishes_what_naoqi_driver2_does(recording):
         if spec is None:
             problems.append('%s: naoqi_driver2 publishes it, the emulator does not' % topic)
             continue
-        if r['type'] != spec.msg_type:
-            problems.append('%s: type %s, emulator %s' % (topic, r['type'], spec.msg_type))
+        msg_type = 'sensor_msgs/CameraInfo' if is_info(topic) else spec.msg_type
+        if r['type'] != msg_type:
+            problems.append('%s: type %s, emulator %s' % (topic, r['type'], msg_type))
         if not r['count']:
             continue        # the touch events: published on a touch only (nobody touched)
+        if is_info(topic):      # the calibration, number for number (also test_camera_info.py)
+            model, d, k, r_, p = camera_info.calibration(spec.view, spec.width, spec.height)
+            want = dict(width=spec.width, height=spec.height, distortion_model=model, D=tuple(d), K=tuple(k),
+                        R=tuple(r_), P=tuple(p))
+            if r['facts'] != want:
+                problems.append('%s: %s, emulator %s' % (topic, r['facts'], want))
         frame = dict(spec.extra).get(topic, spec.frame_id)
         if spec.family != 'tf' and r['frames'] != {frame}:     # /tf: the tree, below
             problems.append('%s: frames %s, emulator %r' % (topic, r['frames'], frame))
-        if spec.is_image:
+        if spec.is_image and not is_info(topic):
             got = (r['facts']['encoding'], r['facts']['width'], r['facts']['height'])
             if got != (spec.encoding, spec.width, spec.height):
                 problems.append('%s: %s, emulator %s' % (topic, got, (spec.encoding, spec.width, spec.height)))
@@ -122,6 +132,7 @@ def test_the_emulator_on_ros2_offers_naoqi_driver2s_qos(recording):
     wrong = {}
     for topic, profiles in offered.items():
         if topic in specs or topic == INFO_TOPIC_ROS2:
+            # a camera_info: its image's (image_transport's camera publisher)
             depth = qos2.depth(specs[topic].family) if topic in specs else qos2.INFO_DEPTH
             want = (('reliable', 'volatile', depth),)
             if profiles != want:

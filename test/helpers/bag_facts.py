@@ -1,7 +1,7 @@
 """The facts of a bag's topics that a driver's format fixes: type, md5, frame ids, and per type
 the layout (image encoding and size, laser geometry and blind slots, covariance markers, joint
-names and NaN columns, sonar geometry, diagnostics' status names) and the rate. Used to hold
-the emulator's streams against the real naoqi_driver's golden recordings."""
+names and NaN columns, sonar geometry, a camera's calibration, diagnostics' status names) and
+the rate. Used to hold the emulator's streams against the real naoqi_driver's golden recordings."""
 import math
 
 
@@ -38,6 +38,9 @@ def message_facts(msg_type, m):
     if msg_type.endswith('/AudioBuffer') or msg_type.endswith('/AudioCustomMsg'):
         return dict(frequency=getattr(m, 'frequency', None), channel_map=tuple(getattr(m, 'channelMap', ())),
                     data_len=len(m.data))
+    if msg_type == 'sensor_msgs/CameraInfo':    # the calibration (ROS 2's lower-case names: ros2_facts)
+        return dict(width=m.width, height=m.height, distortion_model=m.distortion_model,
+                    D=tuple(m.D), K=tuple(m.K), R=tuple(m.R), P=tuple(m.P))
     if msg_type == 'diagnostic_msgs/DiagnosticArray':
         return dict(status_names=tuple(sorted(s.name for s in m.status)))
     return {}

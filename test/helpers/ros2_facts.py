@@ -39,6 +39,17 @@ class _Audio:
         self.frequency, self.channelMap, self.data = m.frequency, m.channel_map, m.data
 
 
+class _CameraInfo:
+    """A CameraInfo with the ROS 1 field names bag_facts reads (ROS 2's are d, k, r, p)."""
+
+    def __init__(self, m):
+        self.width, self.height, self.distortion_model = m.width, m.height, m.distortion_model
+        self.D, self.K, self.R, self.P = m.d, m.k, m.r, m.p
+
+
+ROS1_NAMES = {'AudioBuffer': _Audio, 'CameraInfo': _CameraInfo}
+
+
 def recording_facts(path):
     """{topic: {'type', 'frames', 'count', 'rate', 'facts', 'qos'}} of a rosbag2 recording."""
     from rosbags.highlevel import AnyReader
@@ -55,7 +66,8 @@ def recording_facts(path):
                 if header is not None:
                     frames.add(header.frame_id)
                 if facts is None:
-                    facts = message_facts(msgtype, _Audio(m) if msgtype.endswith('/AudioBuffer') else m)
+                    wrap = ROS1_NAMES.get(msgtype.rsplit('/', 1)[1])
+                    facts = message_facts(msgtype, wrap(m) if wrap else m)
             span = times[-1] - times[0] if len(times) > 1 else 0.0
             out[conn.topic] = dict(type=msgtype, frames=frames, count=len(times),
                                    rate=(len(times) - 1) / span if span > 0 else None,

@@ -3,7 +3,8 @@ the publishers' type and offered QoS from the graph, the CDR bytes as published)
 healthy golden recording of test/fixtures/real-driver2/ (manifest.json), field by field with
 test/helpers/ros2_facts.py: topic names, types, frames, each type's layout (image encodings and
 sizes, laser slots, covariances, joint names, sonar geometry, diagnostics' status names, the
-audio's frequency, channel map and size) and the QoS (reliability, durability, depth). Every
+audio's frequency, channel map and size, each camera's calibration on camera_info) and the QoS
+(reliability, durability, depth). Every
 difference kept is in KNOWN with its reason, written out in docs/drivers.md ("The emulator on
 ROS 2 against naoqi_driver2"). Run by the ROS 2 tier (tools/ros2/tests.sh); the same recordings
 against the emulator's declared streams in every run: test/emulator/test_conformance2.py."""
@@ -14,6 +15,7 @@ import sys
 
 import pytest
 
+from pepper_interface_tests.emulator import camera_info
 from ros2_facts import differences, healthy_recordings, recording_facts
 from ros2_runs import domain_env, program
 from rosmaster import kill_group, spawn, wait_until
@@ -33,10 +35,9 @@ KNOWN = {
 
 
 def known(topic, key):
-    """A difference kept: KNOWN, or a topic the emulator does not publish (no check reads them:
-    each camera's camera_info, /robot_description; test/emulator/test_conformance2.py NOT_EMULATED)."""
-    emulated = not (topic == '/robot_description' or topic.endswith('/camera_info'))
-    return (topic, key) in KNOWN or (key == 'topic' and not emulated)
+    """A difference kept: KNOWN, or /robot_description, which the emulator does not publish (no
+    check reads it; test/emulator/test_conformance2.py NOT_EMULATED)."""
+    return (topic, key) in KNOWN or (topic, key) == ('/robot_description', 'topic')
 
 
 def record_emulator(tmp, recording, topics):
@@ -63,8 +64,10 @@ def test_the_emulator_recorded_on_ros2_is_naoqi_driver2_field_by_field(tmp_path,
     real = recording_facts(os.path.join(GOLDEN2, recording))
     # the topics the driver had a publisher for (record2 recorded no other)
     topics = [t for t in MANIFEST['recordings'][recording]['topics'] if t in real]
-    emu, log = record_emulator(tmp_path, recording, topics)
-    found = differences(real, emu)
+    # each camera's camera_info too, recorded or not (the driver publishes one beside every image)
+    infos = [camera_info.info_topic(t) for t in topics if t.endswith('/image_raw') and real[t]['count']]
+    emu, log = record_emulator(tmp_path, recording, topics + [i for i in infos if i not in topics])
+    found = differences(real, {t: f for t, f in emu.items() if t in real or t not in infos})
     unexplained = {k: v for k, v in found.items() if not known(*k)}
     assert not unexplained, '\n'.join('%s %s: %s' % (t, k, v) for (t, k), v in sorted(unexplained.items()))
     # what carried messages from the driver carried messages from the emulator (the touch
@@ -72,3 +75,12 @@ def test_the_emulator_recorded_on_ros2_is_naoqi_driver2_field_by_field(tmp_path,
     silent = [t for t in topics if real[t]['count'] and t in emu and not emu[t]['count']]
     assert not silent, (silent, log[-2000:])
     assert emu['/sonar/front']['qos'] == (('reliable', 'volatile', 1),)
+    for info in infos:      # the driver's tables (test/emulator/test_camera_info.py), the image's frame
+        image = real[info.replace('/camera_info', '/image_raw')]
+        got = emu.get(info)
+        assert got and got['count'] and got['frames'] == image['frames'], (info, got, log[-2000:])
+        model, d, k, r, p = camera_info.calibration(info.split('/')[2], image['facts']['width'],
+                                                    image['facts']['height'])
+        assert got['facts'] == dict(width=image['facts']['width'], height=image['facts']['height'],
+                                    distortion_model=model, D=tuple(d), K=tuple(k), R=tuple(r), P=tuple(p)), info
+        assert got['qos'] == (('reliable', 'volatile', 10),)

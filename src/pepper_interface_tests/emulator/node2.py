@@ -8,7 +8,8 @@ differs is naoqi_driver2's side of things:
   AudioBuffer from ALAudioDevice, the touch events, /diagnostics): the robot-stock profile is
   the default, with the microphones published directly (no audio bridge on ROS 2);
 * its publishers offer naoqi_driver2's QoS: reliable, volatile, keep-last 10 but the sonars
-  (1) and /tf (100) (qos2.py; held to the real driver's recordings by test/emulator/test_conformance2.py);
+  (1) and /tf (100) (qos2.py), and each camera's camera_info beside its image (camera_info.py);
+  held to the real driver's recordings by test/emulator/test_conformance2.py;
 * options come from the command line only (`--profile robot`, `--faults ...`); ROS 2
   parameters (`--ros-args -p`) are not read;
 * the tree (/tf) needs tf2_msgs, which ROS 2's core has not: without it the emulator says so

@@ -21,7 +21,7 @@ import numpy as np
 from .. import rosapi
 from ..genmsgs import Image, Imu, JointState, LaserScan, Odometry, Quaternion, Range, String
 from ..media import encodings
-from . import qos2, scene
+from . import camera_info, qos2, scene
 from .body import Body, Snapshot
 from .faults import HEALTHY, LASER_BOARDS, Faults
 from .profiles import (
@@ -290,6 +290,21 @@ class ImagePublisher(StreamPublisher):
             self.renderer = scene.ColourCamera(spec.width, spec.height, spec.hfov, view=spec.view)
         self.bpp = self.enc.bytes_per_pixel
         self.cached: Optional[bytes] = None
+        # on ROS 2, naoqi_driver2's camera_info beside the image (camera_info.py)
+        self.info = camera_info.sender_for(spec.topic, spec.view, spec.width, spec.height, spec.frame_id) \
+            if rosapi.version() == 2 else None
+
+    def wanted(self) -> bool:
+        return super().wanted() or (self.info is not None and self.info.subscribed())
+
+    def sent(self, index: int, msg: 'genpy.Message') -> None:
+        if index == 0 and self.info is not None and hasattr(msg, 'header'):
+            self.info.send(msg.header.stamp)
+
+    def close(self) -> None:
+        super().close()
+        if self.info is not None:
+            self.info.close()
 
     def msg_class(self) -> type:
         return Image
