@@ -38,7 +38,8 @@ OWNERS = {
                    'sensors/guide.py', 'sensors/motion.py', 'sensors/speech.py', 'motion/commands.py',
                    'motion/witnesses.py', 'outputs/diagnostics.py'),
     'pepperEmulator': ('emulator/node.py', 'emulator/commands.py', 'emulator/events.py', 'emulator/info.py',
-                       'emulator/publishers.py', 'emulator/tf_publisher.py', 'emulator/second_publisher.py'),
+                       'emulator/publishers.py', 'emulator/tf_publisher.py', 'emulator/second_publisher.py',
+                       'emulator/camera_info.py'),
     'naoqiAudioPublisher': ('audio_bridge/publisher.py', 'audio_bridge/publisher2.py'),
 }
 # the programs and the modules whose parsers declare their command lines
@@ -113,6 +114,10 @@ DYNAMIC: Dict[Tuple[str, str], Callable[[], Set[Tuple[str, Optional[str]]]]] = {
     ('emulator/publishers.py', 'topic'): _emulator_topics,
     ('emulator/node.py', 'topic'): _speech_topic,
     ('emulator/second_publisher.py', 'topic'): lambda: {('/tf', 'tf2_msgs/TFMessage')},   # tf:second_publisher
+    # ROS 2: beside each of naoqi_driver2's camera images (emulator/camera_info.py)
+    ('emulator/camera_info.py', 'info_topic(image_topic)'):
+        lambda: {('/camera/%s/camera_info' % c, 'sensor_msgs/CameraInfo')
+                 for c in ('front', 'bottom', 'depth', 'stereo', 'ir')},
     ('emulator/tf_publisher.py', "static_topic(self.spec) or '/tf_static'"):
         lambda: {('/tf_static', 'tf2_msgs/TFMessage')},
     ('emulator/node.py', "'~' + key"): _table_params('emulator.node', 'DEFAULTS'),
