@@ -60,3 +60,37 @@ def test_differences_name_the_topic_and_the_fact(tmp_path):
     assert "'volatile', 10" in got[('/sonar/front', 'qos')]
     del emu['/robot_description']
     assert differences(real, emu)[('/robot_description', 'topic')] == 'only in the first recording'
+
+
+def test_a_camera_info_has_its_calibration_under_ros1_names(tmp_path):
+    """ROS 2's CameraInfo (d, k, r, p) gives bag_facts' calibration facts (D, K, R, P), and
+    messages() yields the recording's messages in time order."""
+    import numpy as np
+    from rosbags.interfaces import QosDurability
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from ros2_facts import messages
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    T = store.types
+    info = T['sensor_msgs/msg/CameraInfo'](
+        header=T['std_msgs/msg/Header'](stamp=T['builtin_interfaces/msg/Time'](sec=1, nanosec=5),
+                                        frame_id='CameraTop_optical_frame'),
+        height=240, width=320, distortion_model='plumb_bob', d=np.array([0.1, 0.2, 0, 0, 0]),
+        k=np.array([274.0, 0, 141, 0, 275, 106, 0, 0, 1]),
+        r=np.array([1.0, 0, 0, 0, 1, 0, 0, 0, 1]),
+        p=np.array([272.0, 0, 141, 0, 0, 273, 107, 0, 0, 0, 1, 0]), binning_x=0, binning_y=0,
+        roi=T['sensor_msgs/msg/RegionOfInterest'](x_offset=0, y_offset=0, height=0, width=0, do_rectify=False))
+    with Writer(tmp_path / 'rec', version=8, storage_plugin=StoragePlugin.MCAP) as w:
+        c = w.add_connection('/camera/front/camera_info', 'sensor_msgs/msg/CameraInfo', typestore=store,
+                             offered_qos_profiles=[_qos(10, QosDurability.VOLATILE)])
+        for i in range(3):
+            w.write(c, 10**9 + i, store.serialize_cdr(info, 'sensor_msgs/msg/CameraInfo'))
+    facts = recording_facts(tmp_path / 'rec')['/camera/front/camera_info']
+    assert facts['type'] == 'sensor_msgs/CameraInfo' and facts['frames'] == {'CameraTop_optical_frame'}
+    assert facts['facts'] == dict(width=320, height=240, distortion_model='plumb_bob', D=(0.1, 0.2, 0, 0, 0),
+                                  K=(274.0, 0, 141, 0, 275, 106, 0, 0, 1), R=(1.0, 0, 0, 0, 1, 0, 0, 0, 1),
+                                  P=(272.0, 0, 141, 0, 0, 273, 107, 0, 0, 0, 1, 0))
+    got = list(messages(tmp_path / 'rec', {'/camera/front/camera_info'}))
+    assert [t for _, _, t in got] == [10**9, 10**9 + 1, 10**9 + 2]
+    assert got[0][1].k[0] == 274.0
