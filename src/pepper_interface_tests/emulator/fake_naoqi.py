@@ -145,19 +145,30 @@ class ALMotion:
         return [float(snap.vx), float(snap.vy), float(snap.wz)]
 
     # the driver's subscribers call these (teleop.cpp:44-65, moveto.cpp:49-129); the body
-    # follows them as the emulator's own command topics do (body.py, commands.py)
+    # follows them as the emulator's own command topics do (body.py, commands.py). Each call is
+    # said on stderr in received order ("ALMotion.move(0.0, 0.0, 0.0)"): what the robot was
+    # last told (tools/real-driver2/live.sh, test/ros2/test_real_driver2_ros2.py)
     def move(self, x: float, y: float, theta: float) -> None:
+        _said('move', x, y, theta)
         self._m.body.move(self._clock.now(), float(x), float(y), float(theta))
 
     def moveTo(self, x: float, y: float, theta: float) -> None:
+        _said('moveTo', x, y, theta)
         self._m.body.move_to(self._clock.now(), float(x), float(y), float(theta))
 
     def setAngles(self, names: Any, angles: Any, speed: float) -> None:
+        _said('setAngles', _names(names), _floats(angles), speed)
         self._m.body.set_angles(self._clock.now(), _names(names), _floats(angles), float(speed))
 
     def changeAngles(self, names: Any, changes: Any, speed: float) -> None:
+        _said('changeAngles', _names(names), _floats(changes), speed)
         self._m.body.set_angles(self._clock.now(), _names(names), _floats(changes), float(speed),
                                 relative=True)
+
+
+def _said(call: str, *args: Any) -> None:
+    LOG.info('ALMotion.%s(%s)', call, ', '.join(repr(float(a)) if isinstance(a, (int, float)) else repr(a)
+                                                 for a in args))
 
 
 class ALVideoDevice:
