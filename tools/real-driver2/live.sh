@@ -25,6 +25,9 @@ GOLDEN1="$REPO/test/fixtures/real-driver"
 # the driver's parameters (src/external_registration.cpp:63-76 at 2.1.2): the robot's address,
 # and qi_listen_url, where NAOqi calls the driver's audio module back (:111-113)
 DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interface:=lo -p qi_listen_url:=tcp://127.0.0.1:0"
+# LIVE_DRIVER: another way to start it, in its environment (docs/ros2.md: its launch file, the
+# default qi_listen_url, a namespace)
+DRIVER="${LIVE_DRIVER:-$CACHE/install/lib/naoqi_driver/naoqi_driver_node $DRIVER_ARGS}"
 
 die() { echo "live: $*" >&2; exit 2; }
 [ -x "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" ] || \
@@ -64,7 +67,7 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   wait_for "$dir/video_relay.log" 'video relay ready' 200 && wait_for "$dir/audio_relay.log" 'audio relay ready' 200 \
     || { echo "live: a relay did not start" >&2; return 1; }
   local t0=$SECONDS
-  bash -c "set +u; $drv; exec $CACHE/install/lib/naoqi_driver/naoqi_driver_node $DRIVER_ARGS" >"$dir/driver.log" 2>&1 &
+  bash -c "set +u; $drv; exec $DRIVER" >"$dir/driver.log" 2>&1 &
   local driver=$!
   wait_for "$dir/driver.log" 'Starting ROS loop' 400 || { echo "live: the driver did not start: $dir/driver.log" >&2; tail -5 "$dir/driver.log" >&2; }
   echo "driver up in $((SECONDS - t0)) s" >"$dir/times.txt"
@@ -98,7 +101,7 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   wait 2>/dev/null || true
 }
 export -f run_one wait_for
-export REPO CACHE DRIVER_ARGS WS
+export REPO CACHE DRIVER WS
 
 live() {         # name head signal sensorTest-args...
   local dir="$OUT/$1"
