@@ -49,6 +49,27 @@ wait_for() {     # file words tenths
   return 1
 }
 
+run_sensor_test() {   # dir signal sensorTest-args...: sensorTest's exit code
+  local dir="$1" sig="$2" t0=$SECONDS rc=0; shift 2
+  # sensorTest as a user starts it, in a process group of its own (Ctrl-C signals the group)
+  setsid bash -c "set +u; source '$WS'; export PATH='$REPO/.venv/bin':\$PATH; cd '$dir'; exec ros2 run \
+    pepper_interface_tests sensorTest --output-dir '$dir/out' --no-history --no-show --no-record $*" \
+    </dev/null >"$dir/sensorTest.log" 2>&1 &
+  local st=$!
+  if [ -n "$sig" ]; then
+    # mid base turn: the fake's ALMotion got the turn (moveTo), as Ctrl-C / `kill PID` would
+    if wait_for "$dir/fake.log" 'ALMotion.moveTo' 1200; then
+      sleep 0.3
+      if [ "$sig" = INT ]; then kill -INT -- "-$st"
+      else kill -TERM "$(cat "/proc/$st/task/$st/children")"; fi   # the program `ros2 run` started
+      echo "SIG$sig sent $((SECONDS - t0)) s into the run" >>"$dir/times.txt"
+    else echo "live: the base turn never reached the fake's ALMotion" >&2; fi
+  fi
+  wait "$st" || rc=$?
+  echo "sensorTest took $((SECONDS - t0)) s, exit $rc" >>"$dir/times.txt"
+  return $rc
+}
+
 run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   local dir="$1" head="$2" sig="$3"; shift 3
   ip link set lo up
@@ -69,29 +90,27 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   local t0=$SECONDS
   bash -c "set +u; $drv; exec $DRIVER" >"$dir/driver.log" 2>&1 &
   local driver=$!
-  wait_for "$dir/driver.log" 'Starting ROS loop' 400 || { echo "live: the driver did not start: $dir/driver.log" >&2; tail -5 "$dir/driver.log" >&2; }
-  echo "driver up in $((SECONDS - t0)) s" >"$dir/times.txt"
-  t0=$SECONDS
-  # sensorTest as a user starts it, in a process group of its own (Ctrl-C signals the group)
-  setsid bash -c "set +u; source '$WS'; export PATH='$REPO/.venv/bin':\$PATH; cd '$dir'; exec ros2 run \
-    pepper_interface_tests sensorTest --output-dir '$dir/out' --no-history --no-show --no-record $*" \
-    </dev/null >"$dir/sensorTest.log" 2>&1 &
-  local st=$!
-  if [ -n "$sig" ]; then
-    # mid base turn: the fake's ALMotion got the turn (moveTo), as Ctrl-C / `kill PID` would
-    if wait_for "$dir/fake.log" 'ALMotion.moveTo' 1200; then
-      sleep 0.3
-      if [ "$sig" = INT ]; then kill -INT -- "-$st"
-      else kill -TERM "$(cat "/proc/$st/task/$st/children")"; fi   # the program `ros2 run` started
-      echo "SIG$sig sent $((SECONDS - t0)) s into the run" >>"$dir/times.txt"
-    else echo "live: the base turn never reached the fake's ALMotion" >&2; fi
-  fi
   local rc=0
-  wait "$st" || rc=$?
+  for _ in $(seq 400); do   # up, or ended (it aborts on a qi_listen_url it cannot listen on)
+    grep -q 'Starting ROS loop' "$dir/driver.log" && break
+    kill -0 "$driver" 2>/dev/null || break
+    sleep 0.1
+  done
+  if ! grep -q 'Starting ROS loop' "$dir/driver.log" || ! kill -0 "$driver" 2>/dev/null; then
+    echo "live: the driver did not start (no sensorTest run): $dir/driver.log" >&2
+    tail -3 "$dir/driver.log" >&2
+    rc=2
+  else
+    echo "driver up in $((SECONDS - t0)) s" >"$dir/times.txt"
+    run_sensor_test "$dir" "$sig" "$@" || rc=$?
+  fi
   echo "$rc" >"$dir/sensorTest.rc"
-  echo "sensorTest took $((SECONDS - t0)) s, exit $rc" >>"$dir/times.txt"
   sleep 0.5      # a command still in flight reaches the fake
-  kill -INT "$driver" 2>/dev/null || true    # the driver first: it aborts if NAOqi goes first
+  # the driver first (it aborts if NAOqi goes first): SIGINT as Ctrl-C; `ros2 launch` started
+  # in the background of a script ignores it, so SIGTERM after 5 s
+  kill -INT "$driver" 2>/dev/null || true
+  for _ in $(seq 50); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
+  kill -TERM "$driver" 2>/dev/null || true
   local drc=0
   wait "$driver" || drc=$?
   echo "$drc" >"$dir/driver.rc"
@@ -100,14 +119,15 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   kill -KILL "$vrelay" "$arelay" "$fake" 2>/dev/null || true
   wait 2>/dev/null || true
 }
-export -f run_one wait_for
+export -f run_one run_sensor_test wait_for
 export REPO CACHE DRIVER WS
 
 live() {         # name head signal sensorTest-args...
   local dir="$OUT/$1"
   rm -rf "$dir"; mkdir -p "$dir"
   unshare -n bash -c 'run_one "$@"' run_one "$dir" "${@:2}"
-  cat "$dir/times.txt"
+  cat "$dir/times.txt" 2>/dev/null || true
+  [ -f "$dir/out/sensorTestResults.json" ]     # sensorTest ran
 }
 
 ros1_reference() {   # dir bags...: sensorTest --bag on ROS 1 (tools/env.sh), one output per bag
@@ -150,7 +170,9 @@ for head in "${heads[@]}"; do
   echo "[live] $(date -u +%H:%M:%S) $head head: sensorTest on ROS 2 against naoqi_driver2"
   move=()
   [ "$head" != stereo ] || move=(--move --yes)     # the ROS 1 move recording is of the stereo head
-  live "$head" "$head" "" --mode parallel --duration "$DURATION" "${move[@]}" --sensors "$(sensors_of)"
+  if ! live "$head" "$head" "" --mode parallel --duration "$DURATION" "${move[@]}" --sensors "$(sensors_of)"; then
+    echo "[live] $head: no results (the logs: $OUT/$head/)"; rc=1; continue
+  fi
   echo "sensorTest exit: $(cat "$OUT/$head/sensorTest.rc"); the driver's exit: $(cat "$OUT/$head/driver.rc")"
   bags=("healthy_$head" audio)
   [ "$head" != stereo ] || bags+=(move)
