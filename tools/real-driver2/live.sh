@@ -8,6 +8,8 @@
 #   tools/real-driver2/live.sh                    # both heads: stereo (with --move), xtion
 #   tools/real-driver2/live.sh xtion
 #   tools/real-driver2/live.sh --signal INT       # Ctrl-C during the --move base turn (or TERM)
+#   tools/real-driver2/live.sh launch             # the stereo head through the package's launch:
+#       sensorTestLaunchRobot.launch.py run_test:=true move:=true, which includes the driver's
 #
 # Each run has a network namespace of its own (unshare -n, loopback only): the fake NAOqi on
 # port 9559 (as on a robot), video_relay and audio_relay (tools/real-driver/relay), the driver
@@ -51,9 +53,13 @@ wait_for() {     # file words tenths
 
 run_sensor_test() {   # dir signal sensorTest-args...: sensorTest's exit code
   local dir="$1" sig="$2" t0=$SECONDS rc=0; shift 2
-  # sensorTest as a user starts it, in a process group of its own (Ctrl-C signals the group)
-  setsid bash -c "set +u; source '$WS'; export PATH='$REPO/.venv/bin':\$PATH; cd '$dir'; exec ros2 run \
-    pepper_interface_tests sensorTest --output-dir '$dir/out' --no-history --no-show --no-record $*" \
+  # sensorTest as a user starts it, in a process group of its own (Ctrl-C signals the group);
+  # or the launch that starts the driver (its package next: its naoqi_bridge_msgs, not the
+  # workspace's generated one, for the driver's libraries)
+  local run="ros2 run pepper_interface_tests sensorTest --output-dir '$dir/out' --no-history --no-show --no-record $*"
+  [ -z "${LIVE_LAUNCH:-}" ] || run="source $CACHE/install/local_setup.bash; ros2 launch pepper_interface_tests \
+    sensorTestLaunchRobot.launch.py robot_ip:=127.0.0.1 network_interface:=lo run_test:=true output_dir:='$dir/out' $*"
+  setsid bash -c "set +u; source '$WS'; export PATH='$REPO/.venv/bin':\$PATH; cd '$dir'; $run" \
     </dev/null >"$dir/sensorTest.log" 2>&1 &
   local st=$!
   if [ -n "$sig" ]; then
@@ -87,10 +93,19 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   local arelay=$!
   wait_for "$dir/video_relay.log" 'video relay ready' 200 && wait_for "$dir/audio_relay.log" 'audio relay ready' 200 \
     || { echo "live: a relay did not start" >&2; return 1; }
-  local t0=$SECONDS
+  local t0=$SECONDS rc=0 driver
+  if [ -n "${LIVE_LAUNCH:-}" ]; then     # the launch starts the driver
+    run_sensor_test "$dir" "$sig" "$@" || rc=$?
+    echo "$rc" >"$dir/sensorTest.rc"
+    echo "in the launch's log" >"$dir/driver.rc"
+    kill -INT "$vrelay" "$arelay" "$fake" 2>/dev/null || true
+    sleep 1
+    kill -KILL "$vrelay" "$arelay" "$fake" 2>/dev/null || true
+    wait 2>/dev/null || true
+    return 0
+  fi
   bash -c "set +u; $drv; exec $DRIVER" >"$dir/driver.log" 2>&1 &
-  local driver=$!
-  local rc=0
+  driver=$!
   for _ in $(seq 400); do   # up, or ended (it aborts on a qi_listen_url it cannot listen on)
     grep -q 'Starting ROS loop' "$dir/driver.log" && break
     kill -0 "$driver" 2>/dev/null || break
@@ -120,7 +135,7 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   wait 2>/dev/null || true
 }
 export -f run_one run_sensor_test wait_for
-export REPO CACHE DRIVER WS
+export REPO CACHE DRIVER WS LIVE_LAUNCH
 
 live() {         # name head signal sensorTest-args...
   local dir="$OUT/$1"
@@ -166,16 +181,19 @@ heads=("$@")
 [ ${#heads[@]} -gt 0 ] || heads=(stereo xtion)
 rc=0
 for head in "${heads[@]}"; do
-  case "$head" in stereo|xtion) ;; *) die "a head is stereo or xtion, not $head" ;; esac
-  echo "[live] $(date -u +%H:%M:%S) $head head: sensorTest on ROS 2 against naoqi_driver2"
-  move=()
-  [ "$head" != stereo ] || move=(--move --yes)     # the ROS 1 move recording is of the stereo head
-  if ! live "$head" "$head" "" --mode parallel --duration "$DURATION" "${move[@]}" --sensors "$(sensors_of)"; then
+  case "$head" in stereo|xtion|launch) ;; *) die "a head is stereo or xtion (or launch), not $head" ;; esac
+  echo "[live] $(date -u +%H:%M:%S) $head: sensorTest on ROS 2 against naoqi_driver2"
+  move=(--move --yes)     # the ROS 1 move recording is of the stereo head
+  args=(--mode parallel --duration "$DURATION")
+  [ "$head" != launch ] || { move=(move:=true); args=(mode:=parallel duration:="$DURATION"); }
+  [ "$head" != xtion ] || move=()
+  if ! LIVE_LAUNCH="$([ "$head" != launch ] || echo 1)" live "$head" "${head/launch/stereo}" "" "${args[@]}" \
+     "${move[@]}" $([ "$head" = launch ] || echo --sensors "$(sensors_of)"); then
     echo "[live] $head: no results (the logs: $OUT/$head/)"; rc=1; continue
   fi
   echo "sensorTest exit: $(cat "$OUT/$head/sensorTest.rc"); the driver's exit: $(cat "$OUT/$head/driver.rc")"
-  bags=("healthy_$head" audio)
-  [ "$head" != stereo ] || bags+=(move)
+  bags=("healthy_${head/launch/stereo}" audio)
+  [ "$head" = xtion ] || bags+=(move)
   ros1_reference "$OUT/$head" "${bags[@]}"
   refs=()
   for bag in "${bags[@]}"; do refs+=("$bag=$OUT/$head/ros1-$bag/sensorTestResults.json"); done
