@@ -30,6 +30,10 @@ DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interf
 # LIVE_DRIVER: another way to start it, in its environment (docs/ros2.md: its launch file, the
 # default qi_listen_url, a namespace)
 DRIVER="${LIVE_DRIVER:-$CACHE/install/lib/naoqi_driver/naoqi_driver_node $DRIVER_ARGS}"
+# LIVE_NICE (default -5): the niceness of the robot's side (the fake NAOqi, the relays, the driver),
+# which on a robot has a CPU of its own, ahead of the PC's other work (sensorTest stays at 0);
+# a starved driver stamps /tf late and samples the gyro unevenly (tf and imu FAIL, rightly)
+ROBOT_NICE="nice -n ${LIVE_NICE:--5}"
 
 die() { echo "live: $*" >&2; exit 2; }
 [ -x "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" ] || \
@@ -83,13 +87,13 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   export ROS_HOME="$dir/ros_home"
   mkdir -p "$ROS_HOME"
   local drv="source $CACHE/install/setup.bash"
-  PYTHONPATH="$REPO/src" "$REPO/.venv/bin/python" "$REPO/scripts/pepperFakeNaoqi" --port 9559 \
+  PYTHONPATH="$REPO/src" $ROBOT_NICE "$REPO/.venv/bin/python" "$REPO/scripts/pepperFakeNaoqi" --port 9559 \
     --video-relay --audio-relay --head "$head" >"$dir/fake.log" 2>&1 &
   local fake=$!
   wait_for "$dir/fake.log" 'fake NAOqi ready' 200 || { echo "live: the fake NAOqi did not start" >&2; return 1; }
-  bash -c "set +u; $drv; exec $CACHE/install/bin/video_relay tcp://127.0.0.1:9559" >"$dir/video_relay.log" 2>&1 &
+  bash -c "set +u; $drv; exec $ROBOT_NICE $CACHE/install/bin/video_relay tcp://127.0.0.1:9559" >"$dir/video_relay.log" 2>&1 &
   local vrelay=$!
-  bash -c "set +u; $drv; exec $CACHE/install/bin/audio_relay tcp://127.0.0.1:9559" >"$dir/audio_relay.log" 2>&1 &
+  bash -c "set +u; $drv; exec $ROBOT_NICE $CACHE/install/bin/audio_relay tcp://127.0.0.1:9559" >"$dir/audio_relay.log" 2>&1 &
   local arelay=$!
   wait_for "$dir/video_relay.log" 'video relay ready' 200 && wait_for "$dir/audio_relay.log" 'audio relay ready' 200 \
     || { echo "live: a relay did not start" >&2; return 1; }
@@ -104,7 +108,7 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
     wait 2>/dev/null || true
     return 0
   fi
-  bash -c "set +u; $drv; exec $DRIVER" >"$dir/driver.log" 2>&1 &
+  bash -c "set +u; $drv; exec $ROBOT_NICE $DRIVER" >"$dir/driver.log" 2>&1 &
   driver=$!
   for _ in $(seq 400); do   # up, or ended (it aborts on a qi_listen_url it cannot listen on)
     grep -q 'Starting ROS loop' "$dir/driver.log" && break
@@ -135,7 +139,7 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   wait 2>/dev/null || true
 }
 export -f run_one run_sensor_test wait_for
-export REPO CACHE DRIVER WS LIVE_LAUNCH
+export REPO CACHE DRIVER WS LIVE_LAUNCH ROBOT_NICE
 
 live() {         # name head signal sensorTest-args...
   local dir="$OUT/$1"
