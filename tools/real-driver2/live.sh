@@ -125,14 +125,20 @@ run_one() {      # dir head signal sensorTest-args... (inside the namespace)
   fi
   echo "$rc" >"$dir/sensorTest.rc"
   sleep 0.5      # a command still in flight reaches the fake
-  # the driver first (it aborts if NAOqi goes first): SIGINT as Ctrl-C; `ros2 launch` started
-  # in the background of a script ignores it, so SIGTERM after 5 s
-  kill -INT "$driver" 2>/dev/null || true
-  for _ in $(seq 50); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
-  kill -TERM "$driver" 2>/dev/null || true
+  # the driver first (it aborts if NAOqi goes first): SIGINT as Ctrl-C, then SIGTERM, then
+  # SIGKILL, 5 s apart, as `ros2 launch` escalates: 2.1.2 ends in a SIGSEGV on SIGINT, or at
+  # times hangs in its shutdown and ignores SIGTERM too (rclcpp logs it, the node goes on)
+  local how=SIGINT s
+  for s in TERM KILL; do
+    kill "-$([ "$how" = SIGINT ] && echo INT || echo "${how#SIG}")" "$driver" 2>/dev/null || true
+    for _ in $(seq 50); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
+    kill -0 "$driver" 2>/dev/null || break
+    how="SIG$s"
+  done
+  [ "$how" != SIGKILL ] || kill -KILL "$driver" 2>/dev/null || true
   local drc=0
   wait "$driver" || drc=$?
-  echo "$drc" >"$dir/driver.rc"
+  echo "$drc (ended by $how)" >"$dir/driver.rc"
   kill -INT "$vrelay" "$arelay" "$fake" 2>/dev/null || true
   sleep 1
   kill -KILL "$vrelay" "$arelay" "$fake" 2>/dev/null || true
