@@ -2,7 +2,7 @@
 # sensorTest live on ROS 2 against the real ros-naoqi/naoqi_driver2 (built by build.sh) and the
 # fake NAOqi, compared with sensorTest on ROS 1 against the real naoqi_driver of the same world
 # (its golden recordings, test/fixtures/real-driver/, judged with --bag). Not part of `make
-# test` (test/ros2/test_real_driver2_ros2.py runs it when the driver is built); needs root
+# test` (test/ros2/test_real_driver2_ros2.py runs it with PEPPER_REAL_DRIVER2_LIVE=1); needs root
 # (unshare -n).
 #
 #   tools/real-driver2/live.sh                    # both heads: stereo (with --move), xtion
