@@ -6,11 +6,12 @@ topic's on its one spinning thread (sources/live2.py). Both live sources wrap ea
 of every listener alike, in `begin` and `finish` and hand the `Handling` to the listener's
 feed_raw (sources.Listener): a message whose callback starts less than GAP s after the
 previous one on its thread returned was already waiting, so it may have waited as long as the
-thread has been busy without a break.
+thread has been busy without a break. Every other subscription of the process (rosapi's)
+is wrapped alike (`timed`), so the thread's busy time counts them too.
 """
 import threading
 import time
-from typing import Dict, NamedTuple, Optional
+from typing import Any, Callable, Dict, NamedTuple, Optional
 
 # s between one callback's return and the next one's start below which the next message was
 # already waiting: two of CPython's 5 ms interpreter-lock switch intervals (a topic at 50 Hz,
@@ -59,3 +60,16 @@ def finish(handling: Handling, now: float) -> None:
     if th is not None:
         th.last_end = now
         th.busy += max(0.0, now - handling.t0)
+
+
+def timed(callback: Callable[..., None]) -> Callable[..., None]:
+    """`callback` between begin and finish: a subscription that feeds no window (rosapi's: the
+    motion check's witnesses, the guide's) keeps its thread busy all the same, and on ROS 2 that
+    thread is every topic's."""
+    def wrapped(*args: Any) -> None:
+        own = begin(time.monotonic())
+        try:
+            callback(*args)
+        finally:
+            finish(own, time.monotonic())
+    return wrapped
