@@ -25,6 +25,10 @@ carried it.
   (sources/ros2wire.is_own).
 * The graph has no master: nothing to lose but this process's own context, which a signal
   or rclpy's shutdown ends ("the ROS 2 context was shut down").
+* sensorTest's own lag: every callback is wrapped in sources/handling.begin/finish, as on
+  ROS 1, and the Handling goes to the window's feed_raw (sensors/lag.py). rclpy's executor runs
+  every topic's callbacks on its one spinning thread, so a message also waits for the other
+  topics' callbacks: the wait is counted on that thread.
 """
 import os
 import sys
