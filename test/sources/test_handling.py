@@ -68,6 +68,6 @@ def test_timed_wraps_a_callback_that_feeds_no_window():
 
     def run():
         handling.timed(seen.append)('x')
-        return handling._threads[threading.get_ident()]
+        return handling.current()
     th = on_a_new_thread(run)
     assert seen == ['x'] and th.last_end is not None and th.busy >= 0.0

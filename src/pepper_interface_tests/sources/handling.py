@@ -11,7 +11,7 @@ is wrapped alike (`timed`), so the thread's busy time counts them too.
 """
 import threading
 import time
-from typing import Any, Callable, Dict, NamedTuple, Optional
+from typing import Any, Callable, NamedTuple, Optional
 
 # s between one callback's return and the next one's start below which the next message was
 # already waiting: two of CPython's 5 ms interpreter-lock switch intervals (a topic at 50 Hz,
@@ -38,17 +38,19 @@ class _Thread:
         self.busy = 0.0
 
 
-_threads: Dict[int, _Thread] = {}   # thread ident -> its callbacks (each thread writes its own)
+_local = threading.local()     # .thread: the calling thread's _Thread (a new thread starts afresh)
+
+
+def current() -> Optional[_Thread]:
+    """The calling thread's callbacks so far (None before its first)."""
+    return getattr(_local, 'thread', None)
 
 
 def begin(now: float) -> Handling:
     """A callback begins at `now` (monotonic) on the calling thread: its Handling."""
-    ident = threading.get_ident()
-    th = _threads.get(ident)
+    th = current()
     if th is None:
-        if len(_threads) > 1000:     # threads of ended connections: bounded
-            _threads.clear()
-        th = _threads[ident] = _Thread()
+        th = _local.thread = _Thread()
     if th.last_end is None or now - th.last_end > GAP:
         th.busy_since = now
     return Handling(now, th.busy_since, time.thread_time(), th.busy)
@@ -56,7 +58,7 @@ def begin(now: float) -> Handling:
 
 def finish(handling: Handling, now: float) -> None:
     """The callback `begin` gave `handling` for returned at `now`, on the same thread."""
-    th = _threads.get(threading.get_ident())
+    th = current()
     if th is not None:
         th.last_end = now
         th.busy += max(0.0, now - handling.t0)
