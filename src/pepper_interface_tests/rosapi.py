@@ -15,6 +15,7 @@ import os
 from collections import namedtuple
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
+from .sources.handling import timed
 from .sources.live2 import current, ros_version
 
 _Conn = namedtuple('_Conn', 'topic msgtype msgdef')
@@ -96,7 +97,7 @@ class _Subscription:
             except Exception:  # noqa: BLE001  (a message of another layout: not ours to take)
                 return
             callback(m)
-        self.sub = self.graph.node.create_subscription(msg_class(ros2), topic, on_raw,
+        self.sub = self.graph.node.create_subscription(msg_class(ros2), topic, timed(on_raw),
                                                        _qos(queue_size, latched), raw=True)
 
     def get_num_connections(self) -> int:
@@ -120,7 +121,7 @@ def subscriber(topic: str, type_name: str, callback: Callable[[Any], None], queu
     if ros_version() == 2:
         return _Subscription(topic, type_name, callback, queue_size, cls, latched)
     import rospy
-    return rospy.Subscriber(topic, cls or msg(type_name), callback, queue_size=queue_size)
+    return rospy.Subscriber(topic, cls or msg(type_name), timed(callback), queue_size=queue_size)
 
 
 def _log(level: str, text: str, *args: Any) -> None:
@@ -232,8 +233,8 @@ class _AnySubscription:
             if not self.closed.is_set() and not is_own(topic, raw):
                 self.callback(header['type'], converter.to_ros1(raw, ros2), header)
         if not self.closed.is_set():
-            self.sub = self.graph.node.create_subscription(cls, topic, on_raw, _qos_any(self.graph, topic,
-                                                                                          self.queue_size), raw=True)
+            self.sub = self.graph.node.create_subscription(cls, topic, timed(on_raw),
+                                                           _qos_any(self.graph, topic, self.queue_size), raw=True)
 
     def unregister(self) -> None:
         self.closed.set()
@@ -264,4 +265,4 @@ def any_subscriber(topic: str, callback: Callable[[str, bytes, Dict[str, Any]], 
         conn = msg._connection_header
         if conn.get('callerid') != own:
             callback(conn.get('type', '?'), msg._buff, conn)
-    return rospy.Subscriber(topic, rospy.AnyMsg, on_any, queue_size=queue_size, buff_size=buff_size)
+    return rospy.Subscriber(topic, rospy.AnyMsg, timed(on_any), queue_size=queue_size, buff_size=buff_size)

@@ -4,6 +4,7 @@
 plain rclpy node with naoqi_driver2's subscriptions, test/helpers/ros2_motion_recorder.py).
 Run by the ROS 2 tier (tools/ros2/tests.sh)."""
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -21,6 +22,13 @@ HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helper
 # (tf2_msgs generated into the workspace by tools/ros2/msg_packages.py)
 # (the emulator's head: stereo)
 DEMO = ','.join(['tf'] + [n for n in declaration.on_head('stereo') if n != 'tf'])
+DEMO_ARGS = ('--platform', 'robot', '--mode', 'parallel', '--sensors', DEMO, '--guided', '--move', '--yes',
+             '--no-record')
+ROBOT_ARGS = ('--realsense', 'true', '--touch', 'true', '--operator', 'true', '--condition', 'still')
+# the warnings a busy PC makes true (test/test_demo.py): pauses of the delivery
+# (sensors/stream.py, sensors/audio.py), frames too far apart to follow the head (motion/rules.py)
+DELIVERY = re.compile(r'pauses? longer than|gaps? in the audio stream|not judged on the head')
+BUSY = [sys.executable, '-c', 'while True: pass']
 
 
 class Ros2Robot:
@@ -63,16 +71,18 @@ def robot_factory(tmp_path):
 
 
 def test_the_demo_on_ros2_passes_every_row_and_publishes_its_statuses(robot_factory, tmp_path):
-    robot = robot_factory('--realsense', 'true', '--touch', 'true', '--operator', 'true', '--condition', 'still')
+    robot = robot_factory(*ROBOT_ARGS)
     robot.helper('ros2_diagnostics_listener', str(tmp_path / 'diagnostics.txt'), ready='listener up')
     out = tmp_path / 'out'
-    proc = robot.sensor_test(out, '--platform', 'robot', '--mode', 'parallel', '--sensors', DEMO,
-                             '--guided', '--move', '--yes', '--no-record')
+    proc = robot.sensor_test(out, *DEMO_ARGS)
     assert proc.wait(240) == 0, (tmp_path / 'sensorTest.log').read_text()[-4000:]
     data, rows = results(out)
     assert len(rows) == len(DEMO.split(',')) + 1 and all(r['verdict'] == 'PASS' for r in rows.values()), \
         {n: (r['verdict'], r['reasons']) for n, r in rows.items() if r['verdict'] != 'PASS'}
-    assert {n: r['warnings'] for n, r in rows.items() if r['warnings']} == {}
+    # on a busy PC (the other tiers' work, other users): a warning naming a pause of the delivery
+    # is true and allowed, as in test/test_demo.py; any other warning is not
+    assert {n: [w for w in r['warnings'] if not DELIVERY.search(w)]
+            for n, r in rows.items() if any(not DELIVERY.search(w) for w in r['warnings'])} == {}
     # naoqi_driver2's names, and this node's statuses on /diagnostics over rclpy (the driver's too)
     assert rows['laser']['topic'] == '/laser' and rows['microphone']['topic'] == '/audio'
     seen = (tmp_path / 'diagnostics.txt').read_text()
@@ -87,6 +97,34 @@ def test_the_demo_on_ros2_passes_every_row_and_publishes_its_statuses(robot_fact
     for name, frame in framed.items():
         assert frame['judged'] > 0 and frame['placed'] == frame['judged'], (name, frame)
         assert frame['chain'][-1] == 'base_footprint', (name, frame)
+
+
+@pytest.mark.slow
+def test_the_demo_on_ros2_beside_three_busy_processes_per_core_fails_no_sensor(robot_factory, tmp_path):
+    """Issue 41 on ROS 2, as test/test_demo_under_load.py on ROS 1: beside three CPU-bound
+    processes per core (a load near 8 on 2 cores) no sensor FAILs; a row the PC was too busy to
+    judge says so, naming the load and sensorTest's own lag (sources/handling.py, sensors/lag.py),
+    and the motion row may be SKIPPED, never a sensor faulted for it. About 2 minutes."""
+    busy = [subprocess.Popen(BUSY) for _ in range(3 * (os.cpu_count() or 1))]
+    try:
+        robot = robot_factory(*ROBOT_ARGS)
+        out = tmp_path / 'out'
+        rc = robot.sensor_test(out, *DEMO_ARGS).wait(400)
+    finally:
+        for p in busy:
+            p.kill()
+            p.wait()
+    said = (tmp_path / 'sensorTest.log').read_text()
+    _, rows = results(out)
+    others = {n: (r['verdict'], r['reasons']) for n, r in rows.items() if r['verdict'] != 'PASS'}
+    assert len(rows) == len(DEMO.split(',')) + 1, said[-4000:]
+    assert all(v == 'NOT JUDGED' or (v == 'SKIPPED' and n == 'motion') for n, (v, _) in others.items()), others
+    unjudged = {n: reasons for n, (v, reasons) in others.items() if v == 'NOT JUDGED'}
+    for name, reasons in unjudged.items():      # the PC named, with its load and the lag
+        assert reasons and all(r.startswith('PC busy: ') and 'load average' in r for r in reasons), (name, reasons)
+    assert rc == (4 if unjudged else 0), said[-4000:]
+    if unjudged:
+        assert 'could not judge everything' in said, said[-4000:]
 
 
 @pytest.mark.parametrize('fault, failed, words', [

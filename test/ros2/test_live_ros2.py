@@ -3,14 +3,16 @@ a ROS 1 bag, published by naoqi_driver2-shaped rclpy publishers (test/helpers/ro
 gets the same verdicts. Run by the ROS 2 tier
 (tools/ros2/tests.sh), in a ROS 2 environment (ROS_VERSION=2)."""
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
 import ros2_recordings as rr
 from ros2_runs import domain_env, program, results, ros1_env
-from rosmaster import kill_group, script, spawn
+from rosmaster import kill_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIVE = [sys.executable, os.path.join(HERE, '..', 'helpers', 'ros2_live.py')]
@@ -178,3 +180,47 @@ def test_a_ros1_message_package_first_on_the_path_is_not_used_on_ros2():
     p = subprocess.run([sys.executable, '-c', ROS1_FIRST], env=env, capture_output=True, text=True, timeout=60)
     assert p.returncode == 0, p.stdout + p.stderr
     assert "missing ''" in p.stdout and 'module tf2_msgs' not in p.stdout, p.stdout
+
+
+def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale_on_ros2(tmp_path):
+    """sensorTest's own lag on ROS 2 (sources/handling.py, sensors/lag.py, issue 41), as on ROS 1
+    (test/sensors/test_own_lag.py): sensorTest stopped by a real SIGSTOP for longer than
+    max_delay (5 s) while an IMU publishes on time over rclpy (reliable, keep-last 10: the DDS
+    reader holds the last 10 for it) finds the held messages' stamps old once it runs again:
+    NOT JUDGED naming the PC, exit code 4, never "stale data"."""
+    env = domain_env()
+    others = ','.join(s for s in rr.SENSORS.split(',') if s != 'imu')
+    log = open(str(tmp_path / 'publisher.log'), 'w')
+    pub = spawn(LIVE + ['--seconds', '40', '--leave-out', others], env, stdout=log, stderr=subprocess.STDOUT)
+    out, said = tmp_path / 'out', tmp_path / 'sensorTest.out'
+    try:
+        with open(str(said), 'w') as f:
+            proc = spawn(program('sensorTest') + ['--sensors', 'imu', '--duration', '12', '--wait', '3',
+                                                  '--output-dir', str(out)] + QUIET, env,
+                         stdout=f, stderr=subprocess.STDOUT)
+        try:
+            wait_until(lambda: 'start  imu' in said.read_text(), 60, lambda: said.read_text())
+            time.sleep(2.0)      # the subscription matched, some messages handled on time first
+            os.killpg(proc.pid, signal.SIGSTOP)
+            try:
+                time.sleep(6.5)  # the stall under test: longer than max_delay (5 s)
+            finally:
+                os.killpg(proc.pid, signal.SIGCONT)
+            rc = proc.wait(90)
+        finally:
+            if proc.poll() is None:
+                kill_group(proc)
+    finally:
+        kill_group(pub)
+        log.close()
+    text = said.read_text()
+    assert 'Traceback' not in text, text
+    data, rows = results(out)
+    imu = rows['imu']
+    assert imu['verdict'] == 'NOT JUDGED' and rc == 4, (text, imu)
+    assert not any('stale data' in x for x in imu['reasons'] + imu['warnings']), imu
+    reason = imu['reasons'][0]
+    assert reason.startswith('PC busy: header stamps up to ') and 'waited in sensorTest itself' in reason, reason
+    assert 'load average' in reason and 'sensorTest up to' in reason, reason
+    assert data['exit_code'] == 4 and 'could not judge everything' in text, text
+    print(reason)

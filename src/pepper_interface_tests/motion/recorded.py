@@ -30,6 +30,7 @@ import statistics
 from typing import Any, Deque, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.expectations import MotionExpect
+from ..sources.handling import Handling
 from ..sources.witness import TopicWitness
 from . import estimate
 from .record import WHEELS, Recording
@@ -74,9 +75,9 @@ class RecordedWitness(TopicWitness):
         self.role, self.recorder = role, recorder
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
         if self.role not in HEAD_CAMERAS:
-            super().feed_raw(type_name, buff, t_recv, ros_now, conn)
+            super().feed_raw(type_name, buff, t_recv, ros_now, conn, own)
         elif type_name == self.type_name:
             self.recorder.raw_frame(self.role, buff, t_recv)
 

@@ -7,14 +7,19 @@ the socket; once it runs again they come one after the other. Their header stamp
 old ("stale data: header stamps up to 5.58 s behind ROS time" beside six CPU-bound processes
 on 2 cores) and their pace bunched, although the sensor sent them on time.
 
-Measured per topic, on the subscriber's thread (the live source calls `start` as a callback
-begins and `end` as it returns):
+Measured on the thread that runs the callbacks: rospy runs a topic's callbacks on that topic's
+connection thread, rclpy's executor (sources/live2.py) every topic's on its one spinning thread.
+Every live source, ROS 1 and ROS 2 alike, wraps each callback in `begin` and `finish`
+(sources/handling.py) and hands the `Handling` that `begin` returns to the listener's feed_raw
+(sources.Listener); a sensor's window keeps its topic's share of it in an OwnLag:
   * own wait: how long the thread has been busy without a break when a callback starts: a
-    callback that starts less than GAP s after the previous one returned found its message
-    already waiting, so the message may have waited as long as the thread has been busy;
-    one after a break was read as it came;
+    callback that starts less than GAP s after the previous one on its thread returned found
+    its message already waiting, so the message may have waited as long as the thread has been
+    busy; one after a break was read as it came;
   * CPU share: the callbacks' CPU time over their wall time: below 1 when the thread waited
-    for a core (or for the interpreter lock held by another topic's thread);
+    for a core (or for the interpreter lock held by another thread);
+  * the thread's load: the time every callback on the thread took while this topic was
+    listened to (on ROS 2 the other topics' callbacks delay this one's as much as its own);
   * stalls: a thread of this process wakes every TICK s and notes how late it woke (STALL or
     more: the process got no CPU, or was stopped, for that long). A message handled right
     after a stall may have waited through it: the socket held it while nothing here ran, and
@@ -29,10 +34,8 @@ import threading
 import time
 from typing import Deque, Optional, Tuple
 
-# s between one callback's return and the next one's start below which the next message was
-# already waiting: two of CPython's 5 ms interpreter-lock switch intervals (a topic at 50 Hz,
-# the fastest naoqi_driver publishes, leaves ~19 ms between its callbacks when keeping up)
-GAP = 0.01
+from ..sources.handling import Handling
+
 # share of the window a topic's callbacks took above which sensorTest could not keep up with it:
 # rospy then drops the oldest messages of a full subscriber queue, and the rate reads low
 SATURATED = 0.8
@@ -80,42 +83,41 @@ class StallProbe:
 
 
 class OwnLag:
-    """One topic's lag in this process (module docstring)."""
+    """One topic's lag in this process (module docstring), kept by its window from the
+    Handling of each of its callbacks."""
 
     def __init__(self, probe: Optional[StallProbe] = None) -> None:
         self.probe = probe
-        self.busy_since: Optional[float] = None
-        self.last_end: Optional[float] = None
         self.longest = 0.0          # s: the longest a message may have waited in this process
         self.wall = 0.0             # s the callbacks took
         self.cpu = 0.0              # s of CPU they used
+        self.thread_wall = 0.0      # s every callback on their thread took meanwhile
         self.load = 0.0             # the highest 1-minute load average seen while listening
         self.cores = os.cpu_count() or 1
         self._load_at = -1.0
         self._first = 0.0           # the first callback's start
-        self._cpu0 = 0.0
-        self._t0 = 0.0
+        self._thread0: Optional[float] = None   # the thread's callbacks' time before the first
 
-    def start(self, now: float) -> float:
-        """A callback begins at `now` (monotonic): since when this topic's thread has been busy
-        without a break (`now` itself after a break); `wait` turns it into a wait."""
+    def start(self, handling: Handling) -> None:
+        """One of this topic's callbacks began (`handling`: its source's measure, `begin`)."""
         if self.probe is None:      # listening live: the process's stall probe runs
             self.probe = StallProbe.shared()
-        if self.busy_since is None or self.last_end is None or now - self.last_end > GAP:
-            self.busy_since = now
-        self.longest = max(self.longest, now - self.busy_since)
+        now = handling.t0
+        self.longest = max(self.longest, now - handling.since)
         if now - self._load_at >= 1.0:
             self._load_at = now
             self.load = max(self.load, os.getloadavg()[0])
-        self._t0, self._cpu0 = now, time.thread_time()
         if not self._first:
             self._first = now
-        return self.busy_since
+        if self._thread0 is None:
+            self._thread0 = handling.thread_busy
 
-    def end(self, now: float) -> None:
-        self.last_end = now
-        self.wall += max(0.0, now - self._t0)
-        self.cpu += max(0.0, time.thread_time() - self._cpu0)
+    def end(self, handling: Handling, now: float) -> None:
+        """That callback returns at `now` (monotonic), on the thread it began on."""
+        took = max(0.0, now - handling.t0)
+        self.wall += took
+        self.cpu += max(0.0, time.thread_time() - handling.cpu0)
+        self.thread_wall = handling.thread_busy + took - (self._thread0 or 0.0)
 
     def wait(self, t: float, since: float) -> float:
         """How long a message handled at `t`, by a thread busy without a break since `since`,
@@ -125,12 +127,13 @@ class OwnLag:
         return wait
 
     def saturated(self, elapsed: float) -> bool:
-        """This topic's callbacks took SATURATED of the window or more: sensorTest could not
-        keep up with it (messages dropped from its queue), or it waited through stalls as long."""
+        """The callbacks on this topic's thread (its own, and on ROS 2 every other topic's) took
+        SATURATED of the window or more: sensorTest could not keep up with it (messages dropped
+        from its queue), or it waited through stalls as long."""
         stalled = 0.0
         if self.probe is not None and self._first:
             stalled = self.probe.stalled(self._first, self._first + elapsed)
-        return elapsed > 0 and (self.wall + stalled) >= SATURATED * elapsed
+        return elapsed > 0 and (max(self.wall, self.thread_wall) + stalled) >= SATURATED * elapsed
 
     @property
     def cpu_share(self) -> Optional[float]:
@@ -145,9 +148,12 @@ class OwnLag:
 
     def describe(self) -> str:
         """'load average 7.9 on 2 cores; sensorTest up to 5.20 s behind on this topic, its
-        callbacks on a CPU 31 % of their time'."""
+        callbacks busy 3.1 s, its callbacks on a CPU 31 % of their time' (and, when its thread
+        serves other topics too, as rclpy's executor does, how long all of them took)."""
         share = self.cpu_share
+        shared = self.thread_wall - self.wall
         return 'load average %.1f on %d cores; sensorTest up to %.2f s behind on this topic, its callbacks ' \
-            'busy %.1f s%s' % (
-            self.load, self.cores, self.longest, self.wall,
-            ', its callbacks on a CPU %.0f %% of their time' % (100 * share) if share is not None else '')
+            'busy %.1f s%s%s' % (
+                self.load, self.cores, self.longest, self.wall,
+                ' (%.1f s with the other topics\' on their thread)' % self.thread_wall if shared >= 0.1 else '',
+                ', its callbacks on a CPU %.0f %% of their time' % (100 * share) if share is not None else '')

@@ -26,6 +26,7 @@ import threading
 from collections import OrderedDict, deque
 from typing import TYPE_CHECKING, Any, Deque, Dict, List, Optional, Set, Tuple
 
+from ..sources.handling import Handling
 from ..sources.tf_buffer import TF2_MISSING, Pose, TfBuffer, yaw_of
 from ..sources.witness import TopicWitness
 from .tf_layout import LayoutDecoder
@@ -234,7 +235,7 @@ class TfTopic(TopicWitness):
         self._decoder = LayoutDecoder(TF_TYPE)      # kept messages of a known layout, in place
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
         """Every /tf_static message; a /tf message unless its layout's last kept message is less
         than THIN_S s of stamps older (read from the ROS 1 bytes before anything is decoded)."""
         if not self.static and type_name == self.type_name:
@@ -255,7 +256,7 @@ class TfTopic(TopicWitness):
                     return
                 self.take_full(msg, t_recv, ros_now, conn)
                 return
-        super().feed_raw(type_name, buff, t_recv, ros_now, conn)
+        super().feed_raw(type_name, buff, t_recv, ros_now, conn, own)
 
     def take_full(self, msg: Any, t_recv: float, ros_now: float, conn: Optional[Dict[str, Any]]) -> None:
         caller = (conn or {}).get('callerid') or '?'
@@ -321,7 +322,7 @@ class Agreement(TopicWitness):
         self.worst_what = ''
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
         if self.record.first_stamp is None or type_name != self.type_name:
             return      # before the run's first /tf nothing is compared: not even decoded
         # one message per THIN_S s of stamps (the header's, read before decoding): the tree is
@@ -334,7 +335,7 @@ class Agreement(TopicWitness):
         if self._taken is not None and 0.0 <= stamp - self._taken < THIN_S:
             return
         self._taken = stamp
-        super().feed_raw(type_name, buff, t_recv, ros_now, conn)
+        super().feed_raw(type_name, buff, t_recv, ros_now, conn, own)
 
     def take(self, msg: Any, t_recv: float) -> None:
         value = self.value(msg)

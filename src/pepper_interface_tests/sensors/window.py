@@ -1,7 +1,8 @@
 """One sensor's listening window: raw messages in, one SensorResult out.
 
 A source (sources/) feeds the window through the `sources.Listener` protocol: (type name,
-serialized bytes, receive time, ROS time, connection header). The window decodes each message
+serialized bytes, receive time, ROS time, connection header, and from a live source how this
+process handled it, for sensorTest's own lag: sensors/lag.py). The window decodes each message
 once and hands it to two checks, composed as diagnostic_updater composes a TopicDiagnostic:
 the generic StreamCheck (stream.py: arrival, type, rate, stamps, publishers) and the family's
 own Check (its module in sensors/). At the end it merges their judgements by the worse verdict.
@@ -12,12 +13,14 @@ frozen `progress()` snapshot.
 import dataclasses
 import math
 import threading
+import time
 from typing import Any, Callable, Dict, List, Optional, Type
 
 from ..plan.settings import SensorPlan
 from ..progress import Progress
 from ..results import INTERRUPTED, NOT_JUDGED, SKIPPED, SensorResult, Verdict
 from ..sources import messages
+from ..sources.handling import Handling
 from .base import Check, RunContext, fmt
 from .clock import WindowClock
 from .families import Traits, of, traits
@@ -93,10 +96,21 @@ class SensorRun:
         self.stream.observe_connections(n, now)
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None, own_since: Optional[float] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
         """One message as it came off the wire (or out of a bag); `conn` is its connection
-        header (type, message_definition, callerid) where known; `own_since`: since when this
-        topic's thread had been busy without a break (a live source; sensors/lag.py)."""
+        header (type, message_definition, callerid) where known; `own`: how this process
+        handled it (a live source: sources/handling.py), kept in the topic's OwnLag."""
+        if own is None:
+            self._feed(type_name, buff, t_recv, ros_now, conn, None)
+            return
+        self.own_lag.start(own)
+        try:
+            self._feed(type_name, buff, t_recv, ros_now, conn, own.since)
+        finally:
+            self.own_lag.end(own, time.monotonic())
+
+    def _feed(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
+              conn: Optional[Dict[str, Any]], own_since: Optional[float]) -> None:
         with self.lock:
             if self.stopped_at is not None or self.clock.t0 is None:
                 return

@@ -3,6 +3,8 @@
 a sensor's window through the `Listener` protocol (sensors/window.py implements it)."""
 from typing import Any, Callable, Dict, List, Optional, Protocol, Set, Tuple
 
+from .handling import Handling
+
 # (advertised type or None, publisher node names or None when the topic is unknown to the source)
 TopicInfo = Tuple[Optional[str], Optional[List[str]]]
 
@@ -31,8 +33,10 @@ class Listener(Protocol):
         """Subscriber receive buffer, in bytes."""
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
-        """One message as it came off the wire or out of a bag, with its connection header."""
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
+        """One message as it came off the wire or out of a bag, with its connection header;
+        `own`: how this process handled it, for every listener of a live source (ROS 1 and
+        ROS 2 alike: sources/handling.begin), None from a bag."""
 
     def use_sim_clock(self, sim_clock: Callable[[], float]) -> None:
         """The source runs on simulation time: windows and rates on `sim_clock`."""

@@ -23,7 +23,7 @@ from urllib.parse import urlparse
 import rosgraph
 import rospy
 
-from . import Listener, SourceLost, TopicInfo
+from . import Listener, SourceLost, TopicInfo, handling
 
 MASTER_TIMEOUT = 2.0
 # a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
@@ -165,23 +165,17 @@ class LiveSource:
         if not run.listens:
             return
 
-        own = rospy.get_name()
+        me = rospy.get_name()
 
         def callback(msg, run=run):
             conn = msg._connection_header    # type, message_definition, callerid, md5sum
-            if conn.get('callerid') == own:  # never judge this node's own messages (/diagnostics)
+            if conn.get('callerid') == me:   # never judge this node's own messages (/diagnostics)
                 return
-            lag = getattr(run, 'own_lag', None)     # a sensor's window: sensorTest's own lag (sensors/lag.py)
-            now = time.monotonic()
-            if lag is None:                         # another listener (a cross-check, the tree)
-                run.feed_raw(conn.get('type', '?'), msg._buff, now, rospy.get_rostime().to_sec(), conn)
-                return
-            since = lag.start(now)
+            own = handling.begin(time.monotonic())     # how late this process handles it
             try:
-                run.feed_raw(conn.get('type', '?'), msg._buff, now, rospy.get_rostime().to_sec(), conn,
-                             own_since=since)
+                run.feed_raw(conn.get('type', '?'), msg._buff, own.t0, rospy.get_rostime().to_sec(), conn, own)
             finally:
-                lag.end(time.monotonic())
+                handling.finish(own, time.monotonic())
 
         if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
             run.use_sim_clock(lambda: rospy.get_rostime().to_sec())

@@ -25,6 +25,10 @@ carried it.
   (sources/ros2wire.is_own).
 * The graph has no master: nothing to lose but this process's own context, which a signal
   or rclpy's shutdown ends ("the ROS 2 context was shut down").
+* sensorTest's own lag: every callback is wrapped in sources/handling.begin/finish, as on
+  ROS 1, and the Handling goes to the window's feed_raw (sensors/lag.py). rclpy's executor runs
+  every topic's callbacks on its one spinning thread, so a message also waits for the other
+  topics' callbacks: the wait is counted on that thread.
 """
 import os
 import sys
@@ -33,7 +37,7 @@ import time
 from collections import namedtuple
 from typing import Any, Dict, List, Optional, Set
 
-from . import Listener, SourceLost, TopicInfo
+from . import Listener, SourceLost, TopicInfo, handling
 
 POLL = 0.25          # s between looks at the graph for a topic's type and publishers
 DESTROY_WAIT = 0.1   # s the spinning thread waits for work before it destroys what it was given
@@ -248,8 +252,11 @@ class Ros2LiveSource:
         def callback(raw: bytes, run: Listener = run) -> None:
             if not attached[0] or is_own(topic, raw):    # detached, or this node's /diagnostics
                 return
-            run.feed_raw(ros1_type, converter.to_ros1(raw, msgtype), time.monotonic(),
-                         self.graph.now(), header)
+            own = handling.begin(time.monotonic())     # how late this process handles it (sources/handling.py)
+            try:
+                run.feed_raw(ros1_type, converter.to_ros1(raw, msgtype), own.t0, self.graph.now(), header, own)
+            finally:
+                handling.finish(own, time.monotonic())
 
         self.subs[run] = self.graph.node.create_subscription(cls, run.topic, callback, qos, raw=True)
         del self.pending[run]

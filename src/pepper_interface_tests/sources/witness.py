@@ -5,6 +5,7 @@ and hands it to take(); it has no window, no clock of its own and counts no publ
 from typing import Any, Callable, Dict, Optional
 
 from . import messages
+from .handling import Handling
 
 
 class TopicWitness:
@@ -26,7 +27,7 @@ class TopicWitness:
         return True
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
-                 conn: Optional[Dict[str, Any]] = None) -> None:
+                 conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
         if type_name != self.type_name:
             return      # another type on the topic: that sensor's own row says so
         try:
