@@ -21,16 +21,27 @@ LOGS="${GOLDEN_LOGS:-$CACHE/golden-logs}"
 CAMERAS="/camera/front/image_raw /camera/bottom/image_raw /camera/depth/image_raw /camera/stereo/image_raw /camera/ir/image_raw"
 BODY="/sonar/front /sonar/back /laser /odom /imu/base /imu/torso /joint_states /tf /diagnostics"
 TOUCH="/head_touch /hand_touch /bumper"
+# the microphone only in the audio variant, whose fake runs with --audio-relay (as the ROS 1
+# audio bag): naoqi_driver2's processRemote reads its buffer as Raw (src/event/audio.cpp:183 at
+# 2.1.2), which a Python NAOqi cannot send, so relay/audio_relay.cpp (built by build.sh) calls it.
+# With it: each camera's camera_info (image_transport's camera publisher beside the image,
+# src/publishers/camera.cpp:44-47, sent only while the image has a subscriber: camera.hpp:57-64,
+# so the images are subscribed, not recorded) and the latched URDF (robot_description.cpp:64-76)
+INFOS="/camera/front/camera_info /camera/bottom/camera_info /camera/depth/camera_info /camera/stereo/camera_info /camera/ir/camera_info"
 
 # name | fake NAOqi arguments | topics
 VARIANTS=(
   "healthy_stereo||$CAMERAS $BODY $TOUCH"
   "healthy_xtion|--head xtion|$CAMERAS $BODY $TOUCH"
+  # +topic: subscribed, not recorded (record2.py): the images the camera_info is sent with
+  "audio|--audio-relay|/audio $INFOS /robot_description +${CAMERAS// / +}"
   # the robot moves while recorded (tools/real-driver/move.py with ROS_VERSION=2, as the ROS 1
   # `move` bag: stop, head +0.5 rad and back, base +0.5 rad): the motion witnesses
   "move||/odom /imu/base /laser /joint_states /tf /sonar/front /sonar/back /camera/front/image_raw /camera/bottom/image_raw /camera/depth/image_raw"
 )
 MOVE_SECONDS=10    # move.py's commands end ~8.5 s after it starts, 1 s into the recording
+# the microphone's 48 kHz x 4 channels of noise barely compress: 3 s (~35 buffers) keep it < 1 MB
+AUDIO_SECONDS=3
 # the driver's parameters (src/external_registration.cpp:63-76 at 2.1.2)
 DRIVER_ARGS="--ros-args -p nao_ip:=127.0.0.1 -p nao_port:=9559 -p network_interface:=lo -p qi_listen_url:=tcp://127.0.0.1:0"
 
@@ -60,17 +71,24 @@ record_one() {   # name fake-args topics (run inside the namespace)
   "$CACHE/install/bin/video_relay" tcp://127.0.0.1:9559 >"$log.relay" 2>&1 &
   local relay=$!
   for _ in $(seq 100); do grep -q 'video relay ready' "$log.relay" && break; sleep 0.1; done
+  local audio=""
+  if [[ " $fake " == *" --audio-relay "* ]]; then
+    "$CACHE/install/bin/audio_relay" tcp://127.0.0.1:9559 >"$log.audio-relay" 2>&1 &
+    audio=$!
+    for _ in $(seq 100); do grep -q 'audio relay ready' "$log.audio-relay" && break; sleep 0.1; done
+  fi
   # shellcheck disable=SC2086
   "$CACHE/install/lib/naoqi_driver/naoqi_driver_node" $DRIVER_ARGS >"$log.driver" 2>&1 &
   local driver=$!
   for _ in $(seq 150); do grep -q 'Starting ROS loop' "$log.driver" && break; sleep 0.2; done
   if ! kill -0 "$driver" 2>/dev/null; then
     echo "[golden2] the driver stopped: $log.driver" >&2; tail -5 "$log.driver" >&2
-    kill -INT "$fake_pid" "$relay" 2>/dev/null; wait 2>/dev/null; return 1
+    kill -INT "$fake_pid" "$relay" $audio 2>/dev/null; wait 2>/dev/null; return 1
   fi
   rm -rf "${OUT:?}/$name"
   local seconds="$SECONDS_PER_REC"
   [ "$name" != move ] || seconds="$MOVE_SECONDS"
+  [ "$name" != audio ] || seconds="$AUDIO_SECONDS"
   local on_signal=0
   [ "$name" != move ] || on_signal=1
   # shellcheck disable=SC2086
@@ -95,13 +113,13 @@ record_one() {   # name fake-args topics (run inside the namespace)
   wait "$recorder" || true
   kill -INT "$driver" 2>/dev/null || true     # the driver first: it aborts if NAOqi goes first
   for _ in $(seq 30); do kill -0 "$driver" 2>/dev/null || break; sleep 0.1; done
-  kill -INT "$relay" "$fake_pid" 2>/dev/null || true
+  kill -INT "$relay" $audio "$fake_pid" 2>/dev/null || true
   sleep 1
-  kill -KILL "$driver" "$relay" "$fake_pid" 2>/dev/null || true
+  kill -KILL "$driver" "$relay" $audio "$fake_pid" 2>/dev/null || true
   wait 2>/dev/null || true
 }
 export -f record_one
-export OUT CACHE LOGS REPO SECONDS_PER_REC HERE DRIVER_ARGS MOVE_SECONDS
+export OUT CACHE LOGS REPO SECONDS_PER_REC HERE DRIVER_ARGS MOVE_SECONDS AUDIO_SECONDS
 
 for entry in "${VARIANTS[@]}"; do
   IFS='|' read -r name fake topics <<<"$entry"
@@ -133,6 +151,14 @@ SHOWS = {
                      'fake\'s idle drive, nobody touching it: every sensor row PASS (irCamera too), stereoCamera '
                      'SKIPPED (this head has none: no /camera/stereo/image_raw, naoqi_driver.cpp:791), the touch '
                      'rows SKIPPED (not touched)',
+    'audio': 'the microphone with the fake\'s --audio-relay (as the ROS 1 audio bag): /audio, naoqi_driver2\'s '
+             'AudioBuffer (src/event/audio.cpp:171-181: frequency 48000, channel map [3, 5, 0, 2] for a '
+             'Micro/Version head, audio.cpp:55-64, data = the int16 samples NAOqi sent, stamp the receive time, frame id ""), the '
+             'microphone row PASS as on the ROS 1 audio bag; each camera\'s camera_info (image_transport\'s camera '
+             'publisher, publishers/camera.cpp:44-47: sent while the image has a subscriber, camera.hpp:57-64, so '
+             'the images were subscribed and not recorded; the stereo head\'s: no /camera/ir/camera_info, '
+             'naoqi_driver.cpp:666-667); the URDF once, transient-local (tools/robot_description.cpp:64-76, '
+             'published at start: naoqi_driver.cpp:144)',
     'move': 'the robot commanded through naoqi_driver2\'s subscribers (motion): the motion witnesses (odometry, '
             'gyro, laser, wheels, head cameras) record one base turn of +0.5 rad and the head\'s yaw +0.5 rad and '
             'back; every recorded row PASS, the turn and the two head yaws found (the bottom camera, which sees '
@@ -143,10 +169,14 @@ for v in variants:
     folder = os.path.join(out, name)
     if os.path.isdir(folder):
         recs[name] = {'fake_naoqi': ('pepperFakeNaoqi --port 9559 --video-relay ' + fake).strip(),
-                      'topics': topics.split(),
-                      'seconds': float(os.environ['MOVE_SECONDS'] if name == 'move' else seconds),
+                      'topics': [t for t in topics.split() if not t.startswith('+')],
+                      'seconds': float({'move': os.environ['MOVE_SECONDS'],
+                                        'audio': os.environ['AUDIO_SECONDS']}.get(name, seconds)),
                       'size_bytes': sum(os.path.getsize(os.path.join(folder, f)) for f in os.listdir(folder)),
                       'recorded': datetime.datetime.utcnow().strftime('%Y-%m-%dT%H:%M:%SZ')}
+        unwritten = [t[1:] for t in topics.split() if t.startswith('+')]
+        if unwritten:   # record2.py's +topic
+            recs[name]['subscribed_not_recorded'] = unwritten
 for name in recs:     # the descriptions are the script's: kept true for every recording listed
     recs[name]['shows'] = SHOWS[name]
     if name == 'move':
@@ -160,6 +190,8 @@ for name in recs:     # the descriptions are the script's: kept true for every r
 json.dump({'sources': commits,
            'driver_command': 'naoqi_driver_node ' + os.environ['DRIVER_ARGS'],
            'video_relay': 'video_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/video_relay.cpp)',
+           'audio_relay': ('audio_relay tcp://127.0.0.1:9559 (tools/real-driver/relay/audio_relay.cpp), with the '
+                           'fake\'s --audio-relay'),
            'record_command': 'tools/real-driver2/record2.py <out> %s <topics> (rosbag2, MCAP)' % seconds,
            'remake': 'tools/real-driver2/record-golden2.sh [variant ...]',
            'recordings': recs}, open(path, 'w'), indent=1, sort_keys=True)

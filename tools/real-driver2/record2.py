@@ -3,6 +3,11 @@ recordings of the real naoqi_driver2 (record-golden2.sh). Not part of `make test
 
     record2.py OUT SECONDS TOPIC [TOPIC ...]
 
+A TOPIC written +TOPIC is subscribed and not recorded: naoqi_driver2 publishes a camera's
+camera_info only while its image has a subscriber (src/publishers/camera.hpp:57-64 at 2.1.2
+counts the image topic's subscribers; image_transport's camera publisher sends both, from
+src/publishers/camera.cpp:44-47), so `audio` records each camera_info with +its image.
+
 No rosbag2 here (the Humble core and tools overlay built on this machine have none; building
 rosbag2 and its MCAP plugin is another hour on 2 cores), so this does what `ros2 bag record -s
 mcap` does for a topic, with real rclpy: it waits for each topic's publishers, takes the type and
@@ -94,7 +99,9 @@ def main(argv: List[str]) -> int:
     if len(argv) < 3:
         sys.stderr.write(__doc__)
         return 2
-    out, seconds, topics = Path(argv[0]), float(argv[1]), argv[2:]
+    out, seconds = Path(argv[0]), float(argv[1])
+    topics = [t.lstrip('+') for t in argv[2:]]
+    unwritten = {t.lstrip('+') for t in argv[2:] if t.startswith('+')}
     import rclpy
     from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
     from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
@@ -123,8 +130,8 @@ def main(argv: List[str]) -> int:
     subs = []
     for topic, pubs in infos.items():
         msgtype = pubs[0].topic_type
-        conn = writer.add_connection(topic, msgtype, typestore=store,
-                                     offered_qos_profiles=[qos_of(p) for p in pubs])
+        conn = None if topic in unwritten else writer.add_connection(
+            topic, msgtype, typestore=store, offered_qos_profiles=[qos_of(p) for p in pubs])
         reliable = all(p.qos_profile.reliability == ReliabilityPolicy.RELIABLE for p in pubs)
         latched = all(p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in pubs)
         qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
@@ -134,7 +141,7 @@ def main(argv: List[str]) -> int:
         counts[topic] = 0
 
         def cb(raw, conn=conn, topic=topic, latched=latched):
-            if not recording and not latched:      # a latched message is kept: it comes once
+            if conn is None or (not recording and not latched):   # a latched message is kept: it comes once
                 return
             writer.write(conn, time.time_ns(), bytes(raw))
             counts[topic] += 1
@@ -158,7 +165,10 @@ def main(argv: List[str]) -> int:
         rclpy.spin_once(node, timeout_sec=0.05)
     writer.close()
     for topic in topics:
-        print('record2: %-40s %5d messages' % (topic, counts.get(topic, 0)))
+        if topic in unwritten:
+            print('record2: %-40s subscribed, not recorded' % topic)
+        else:
+            print('record2: %-40s %5d messages' % (topic, counts.get(topic, 0)))
     node.destroy_node()
     rclpy.shutdown()
     return 0
