@@ -5,7 +5,9 @@ profile on data/naoqi_driver2Topics.dat, as node2.py starts it) has the driver's
 types, frames, image encodings and sizes, rates (the fake's, boot_config.json), the QoS each
 publisher offered (reliability, durability, depth: emulator/qos2.py), the /diagnostics array
 status by status, the /tf tree pair by pair, and each camera's camera_info where a recording
-holds it (emulator/camera_info.py). The emulator's own live ROS 2 recording is held
+holds it (emulator/camera_info.py), and the microphone's AudioBuffer layout and channel map on
+`audio` (the fake's --audio-relay: /audio, the stereo head's camera_info streams,
+/robot_description). The emulator's own live ROS 2 recording is held
 to the same recordings field by field in the ROS 2 tier (test/ros2/test_conformance_ros2.py).
 Every difference kept is in docs/drivers.md ("The emulator on ROS 2 against naoqi_driver2")."""
 import functools
@@ -26,6 +28,11 @@ GOLDEN2 = os.path.join(os.path.dirname(HERE), 'fixtures', 'real-driver2')
 with open(os.path.join(GOLDEN2, 'manifest.json')) as _f:
     MANIFEST = json.load(_f)
 HEALTHY = healthy_recordings(MANIFEST)
+# the healthy ones and `audio` (the fake's --audio-relay: /audio, each camera's camera_info alone,
+# /robot_description), compared topic by topic (its topics are the stereo head's, standing still)
+COMPARED = HEALTHY + [r for r in ('audio',) if r in MANIFEST['recordings']]
+# the ones that hold the microphone (`audio`: recorded with the fake's --audio-relay)
+WITH_AUDIO = [r for r in COMPARED if '/audio' in MANIFEST['recordings'][r]['topics']]
 TOPICS2 = os.path.join(settings.package_dir(), 'data', 'naoqi_driver2Topics.dat')
 # integration, not unit: every message of each recording is decompressed and decoded (about a
 # second of CPU per recording), which the unit tier's budget is not for (docs/testing.md)
@@ -72,9 +79,20 @@ def is_info(topic):
 
 def test_every_healthy_recording_is_compared():
     assert 'healthy_stereo' in HEALTHY, sorted(MANIFEST['recordings'])
+    assert 'audio' in COMPARED and WITH_AUDIO == ['audio'], sorted(MANIFEST['recordings'])
 
 
-@pytest.mark.parametrize('recording', HEALTHY)
+def test_the_audio_recording_holds_the_audio_and_every_camera_info():
+    """What the audio and camera_info comparisons below need: /audio and a camera_info of each
+    of the stereo head's cameras carried messages, the URDF once (transient-local)."""
+    carried = {t: f['count'] for t, f in facts_of('audio').items()}
+    infos = [camera_info.info_topic(t) for t in ('/camera/front/image_raw', '/camera/bottom/image_raw',
+                                                  '/camera/depth/image_raw', '/camera/stereo/image_raw')]
+    assert all(carried.get(t) for t in ['/audio'] + infos), carried
+    assert carried.get('/robot_description') == 1, carried
+
+
+@pytest.mark.parametrize('recording', COMPARED)
 def test_the_emulator_on_ros2_publishes_what_naoqi_driver2_does(recording):
     """Topic by topic: the driver's type, frame, image encoding and size, rate; a topic the
     driver offered with no publisher (the other head's camera) the emulator does not publish."""
@@ -122,7 +140,7 @@ def test_the_emulator_on_ros2_publishes_what_naoqi_driver2_does(recording):
     assert not problems, '\n'.join(problems)
 
 
-@pytest.mark.parametrize('recording', HEALTHY)
+@pytest.mark.parametrize('recording', COMPARED)
 def test_the_emulator_on_ros2_offers_naoqi_driver2s_qos(recording):
     """Each publisher's offered QoS in the recording (metadata.yaml, from the graph) against the
     one the emulator gives that stream on ROS 2: reliable, volatile, qos2's depth."""
@@ -138,6 +156,10 @@ def test_the_emulator_on_ros2_offers_naoqi_driver2s_qos(recording):
             if profiles != want:
                 wrong[topic] = (profiles, want)
     assert not wrong, wrong
+    if recording == 'audio':    # the microphone and the camera_info (their images' 10), the URDF latched
+        assert offered['/audio'] == offered['/camera/front/camera_info'] == (('reliable', 'volatile', 10),)
+        assert offered['/robot_description'] == (('reliable', 'transient_local', 1),)   # NOT_EMULATED
+        return
     # the ones read from the source and shown by the driver: cameras 10, sonars 1, /tf 100
     assert offered['/camera/front/image_raw'] == (('reliable', 'volatile', 10),)
     assert offered['/sonar/front'] == (('reliable', 'volatile', 1),)
@@ -201,20 +223,21 @@ def test_the_emulator_tree_is_naoqi_driver2s_tf(recording):
         assert max(abs(y) for y in head_yaws) >= 0.4, head_yaws
 
 
-@pytest.mark.parametrize('recording', HEALTHY)
+@pytest.mark.parametrize('recording', WITH_AUDIO)
 def test_the_emulator_audio_matches_naoqi_driver2(recording):
-    """naoqi_driver2's AudioBuffer, where a recording holds /audio (the fake's --audio-relay):
-    type, frame id "", 48000 Hz, channel map [3, 5, 0, 2], data = 4 x the samples NAOqi sent;
-    the emulator publishes that layout at its own buffer size (docs/drivers.md)."""
-    real = facts_of(recording).get('/audio')
-    if not real or not real['count']:
-        pytest.skip('%s holds no /audio (recorded without --audio-relay): compared from the source, '
-                    'docs/drivers.md' % recording)
+    """naoqi_driver2's AudioBuffer where a recording holds /audio (`audio`, the fake's --audio-relay):
+    type, frame id "", 48000 Hz, channel map [3, 5, 0, 2], data = 4 x the samples NAOqi sent, the
+    rate the fake's buffers give; the emulator publishes that layout (docs/drivers.md)."""
+    real = facts_of(recording)['/audio']
+    assert real['count'] > 10, real
     from pepper_interface_tests.emulator.naoqi_endpoint import BUFFER_SAMPLES
     profile = build_profile('robot-stock', TOPICS2, audio='direct', head=head_of(recording),
                             audio_buffer=BUFFER_SAMPLES)      # ~audio_buffer 4096: the fake's buffers
     spec = [s for s in profile.sensors if s.topic == '/audio'][0]
     assert (real['type'], real['frames']) == (spec.msg_type, {spec.frame_id})
-    assert (real['facts']['frequency'], real['facts']['channel_map']) == (48000, (3, 5, 0, 2))
+    from pepper_interface_tests.emulator.profiles import AUDIO_RATE
+    from pepper_interface_tests.sources.naoqi_msgs import PEPPER_CHANNEL_MAP  # the emulator's
+    assert (real['facts']['frequency'], real['facts']['channel_map']) == (AUDIO_RATE, tuple(PEPPER_CHANNEL_MAP)) \
+        == (48000, (3, 5, 0, 2))
     assert real['facts']['data_len'] == 4 * BUFFER_SAMPLES == 4 * spec.width
     assert 0.8 * spec.rate <= real['rate'] <= 1.2 * spec.rate, (real['rate'], spec.rate)
