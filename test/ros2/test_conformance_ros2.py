@@ -84,3 +84,17 @@ def test_the_emulator_recorded_on_ros2_is_naoqi_driver2_field_by_field(tmp_path,
         assert got['facts'] == dict(width=image['facts']['width'], height=image['facts']['height'],
                                     distortion_model=model, D=tuple(d), K=tuple(k), R=tuple(r), P=tuple(p)), info
         assert got['qos'] == (('reliable', 'volatile', 10),)
+
+
+def test_the_emulator_sends_a_camera_info_only_while_its_image_is_subscribed(tmp_path):
+    """As naoqi_driver2 2.1.2 converts a camera (src/publishers/camera.hpp:57-64: the image topic's
+    subscribers, not image_transport's camera publisher's): the golden `audio` recording's
+    camera_info came with the images subscribed (record2.py's +TOPIC); a camera_info subscriber
+    alone got none from the driver, and gets none from the emulator."""
+    real = recording_facts(os.path.join(GOLDEN2, 'audio'))
+    assert real['/camera/depth/camera_info']['count'] > 10, real['/camera/depth/camera_info']
+    emu, log = record_emulator(tmp_path, 'audio', ['/camera/front/camera_info', '/camera/depth/camera_info',
+                                                   '+/camera/depth/image_raw'])
+    assert emu['/camera/depth/camera_info']['count'] > 10, (emu.get('/camera/depth/camera_info'), log[-2000:])
+    assert emu['/camera/front/camera_info']['count'] == 0, (emu['/camera/front/camera_info'], log[-2000:])
+    assert '/camera/depth/image_raw' not in emu

@@ -128,11 +128,6 @@ class CameraInfoSender:
         self.template.header.stamp = stamp
         self.pub.publish(self.template)
 
-    def subscribed(self) -> bool:
-        """A camera_info subscriber makes naoqi_driver2 convert the camera too (image_transport's
-        CameraPublisher counts both topics' subscribers)."""
-        return self.pub.get_num_connections() > 0
-
     def close(self) -> None:
         self.pub.unregister()
 

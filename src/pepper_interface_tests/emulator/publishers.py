@@ -294,8 +294,10 @@ class ImagePublisher(StreamPublisher):
         self.info = camera_info.sender_for(spec.topic, spec.view, spec.width, spec.height, spec.frame_id) \
             if rosapi.version() == 2 else None
 
-    def wanted(self) -> bool:
-        return super().wanted() or (self.info is not None and self.info.subscribed())
+    # wanted(): the image topic's subscribers alone, as naoqi_driver2 2.1.2 converts a camera
+    # (src/publishers/camera.hpp:57-64 counts the image topic's subscribers, not image_transport's
+    # camera publisher's): a camera_info subscriber alone gets nothing (the golden `audio`
+    # recording's first take: 0 camera_info messages in 4 s)
 
     def sent(self, index: int, msg: 'genpy.Message') -> None:
         if index == 0 and self.info is not None and hasattr(msg, 'header'):
