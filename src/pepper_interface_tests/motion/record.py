@@ -37,6 +37,10 @@ class Recording:
     # topic -> its latest header stamp and receive time (the clock cross-check)
     stamps: Dict[str, Tuple[float, float]] = field(default_factory=dict)
     heard: Dict[str, int] = field(default_factory=dict)     # witness -> messages
+    # live, placed by their stamps (witnesses.STAMPED): witness -> its least lateness (s, the
+    # clock offset plus the quickest delivery), and the most a message was handled behind it
+    floor: Dict[str, float] = field(default_factory=dict)
+    behind: float = 0.0
 
     def count(self, what: str) -> None:
         self.heard[what] = self.heard.get(what, 0) + 1

@@ -27,13 +27,23 @@ ROLES = ('jointState', 'odometry', 'imu', 'laser', 'frontSonar', 'backSonar', 'b
          'robotHealth') + HEAD_CAMERAS
 FRAME_PERIOD = 0.09    # s between two kept frames of one camera (naoqi_driver's 10 fps: each)
 FRONT_SECTOR = 0.2     # rad either side of straight ahead: the laser's front sector
-# a camera frame handled late (a busy PC: frames waiting in this process; WiFi) is placed when
-# its header stamp says it was fetched (naoqi_driver's CameraConverter::callAll stamps a frame
-# with the host's ros::Time::now() right after getImageRemote, NAOqi's own image timestamp
-# left commented out: src/converters/camera.cpp), not when it was handled, if it is live, its
-# stamp is on this computer's wall clock and less than this many seconds old (not sim time,
-# not a robot whose clock is off): a frame of the head at rest handled after the head had
-# turned read as "live but not following the head" (issue 41)
+# Witnesses whose header stamp is the sample's time, on the driver's host, taken right after
+# the values were fetched from NAOqi: joint states (converters/joint_state.cpp:90 getAngles,
+# :94 ros::Time::now(), :99 the stamp), odometry (odom.cpp:56 getPosition, :58 now, :80),
+# the IMU (imu.cpp:93 getListData, :103-104 now) and the head's cameras (camera.cpp: the stamp
+# right after getImageRemote, :273, NAOqi's own image time left commented out, :289-291).
+# (naoqi_driver ros-naoqi/naoqi_driver aed1b87.) A message handled late (a busy PC: messages
+# waiting in this process or in the driver's publisher; then a burst) is placed when its stamp
+# says it was sampled, not when it was handled: a turn's last samples handled after the step
+# ended were left out of it, and a burst's gyro samples, integrated over their handling times,
+# gave a wrong angle (issue 41).
+STAMPED = ('jointState', 'odometry', 'imu') + HEAD_CAMERAS
+# A stamp places its message only if it is on this computer's wall clock give or take this
+# many seconds (not sim time, not a robot whose clock is far off); within that, a clock offset
+# between the driver's host and this one is taken out: each message is placed by how much later
+# it was handled than the least late message of its witness (the floor: the offset plus the
+# quickest delivery), so a driver on the robot whose clock is 3 s behind places as well as one
+# on this PC
 MAX_LATE = 10.0
 
 
@@ -45,6 +55,7 @@ class Recorder:
 
     def __init__(self, recording: Recording) -> None:
         self.rec = recording
+        self._last: Dict[str, float] = {}    # witness -> where its last message was placed
         self.handlers: Dict[str, Any] = {
             'jointState': (JointState, self._joints), 'odometry': (Odometry, self._odom),
             'imu': (Imu, self._imu), 'laser': (LaserScan, self._laser),
@@ -60,10 +71,23 @@ class Recorder:
             if header is not None and header.stamp.to_sec() > 0:
                 now = time.time()
                 self.rec.stamps[role] = (header.stamp.to_sec(), now)
-                late = now - header.stamp.to_sec()
-                if self.live and role in HEAD_CAMERAS and 0.0 < late < MAX_LATE:
-                    t -= late        # when the frame was taken (MAX_LATE)
+                if self.live and role in STAMPED:
+                    # never before the witness's previous message (a floor that dropped later
+                    # than this message's predecessors were placed)
+                    t = max(t - self._behind(role, now - header.stamp.to_sec()), self._last.get(role, -1e18))
+                    self._last[role] = t
             self.handlers[role][1](role, msg, t)
+
+    def _behind(self, role: str, late: float) -> float:
+        """How much later than its witness's least late message this one was handled (s, 0:
+        not placed by its stamp); noted in the recording's `behind` (STAMPED, MAX_LATE)."""
+        if abs(late) >= MAX_LATE:
+            return 0.0
+        floor = min(self.rec.floor.get(role, late), late)
+        self.rec.floor[role] = floor
+        behind = late - floor
+        self.rec.behind = max(self.rec.behind, behind)
+        return behind
 
     # each handler runs under the recording's lock
     def _joints(self, role: str, msg: Any, t: float) -> None:
