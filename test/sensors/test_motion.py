@@ -424,3 +424,28 @@ def test_nothing_else_prints_while_the_person_is_asked(master, robot, tmp_path):
         answer_s_and_wait(proc, primary, deadline)
     _, rows = results(out)
     assert rows['motion']['verdict'] == 'SKIPPED' and 'skipped by the operator' in rows['motion']['reasons'][0]
+
+
+def test_a_motion_cut_short_by_a_stalled_pc_says_the_pc_was_busy(master, robot, tmp_path):
+    """sensorTest stopped (a real SIGSTOP) through the head's first step for longer than the
+    motion check's window: the part is not finished, and the row says the PC was busy, naming
+    how long sensorTest did not run (sensors/motion_pc.py), not a fault of the robot."""
+    proc, out = sensor_test(master, tmp_path, sensors='jointState',
+                            expect=expectations(tmp_path, witness_wait=1.0, step_timeout=2.0, base_turn=0))
+    try:
+        wait_until(lambda: any(r['topic'] == JOINTS for r in robot.received()), 40,
+                   lambda: 'no head command: %s' % (tmp_path / 'sensorTest.log').read_text()[-2000:])
+        os.killpg(proc.pid, signal.SIGSTOP)
+        try:
+            time.sleep(16.0)    # longer than the window: witness_wait + 3 s + 5 step_timeouts
+        finally:
+            os.killpg(proc.pid, signal.SIGCONT)
+        proc.wait(60)
+    finally:
+        kill_group(proc)
+    _, rows = results(out)
+    motion = rows['motion']
+    assert motion['verdict'] == 'SKIPPED', motion
+    why = motion['reasons'][0]
+    assert "the check's window ended" in why and 'This PC was busy' in why, motion
+    assert 'sensorTest did not run for 1' in why, why      # the 16 s stall, named

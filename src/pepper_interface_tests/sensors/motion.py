@@ -23,6 +23,7 @@ from ..motion.commands import Commands
 from ..motion.record import Recording
 from ..motion.sequence import Sequence
 from ..motion.witnesses import Witnesses, heard_of
+from . import motion_pc
 from .base import Check
 from .values.motion import MotionValues, StepValues
 
@@ -65,6 +66,7 @@ class MotionCheck(Check):
         self.asked_at: Optional[float] = None
         self.operator_skip = False
         self.skip_text: Optional[str] = None
+        self.pc: Optional[motion_pc.PcWatch] = None
         self._done = False
 
     def window(self, duration: float) -> float:
@@ -76,6 +78,7 @@ class MotionCheck(Check):
         self.commands = Commands(self.clock)
         self.witnesses = Witnesses(dict(self.ctx.topics), self.rec, self.clock)
         self.seq = Sequence(self.expect, self.rec, self.commands, self.clock)
+        self.pc = motion_pc.PcWatch(self.clock)
         self.seq.begin()
 
     def done(self) -> bool:
@@ -102,6 +105,8 @@ class MotionCheck(Check):
 
     def _poll(self, seq: Sequence, elapsed: float) -> None:
         now = self.clock()
+        if self.pc is not None:
+            self.pc.poll(now)
         if seq.state == 'listen':
             if elapsed < self.expect.witness_wait:
                 return
@@ -218,7 +223,9 @@ class MotionCheck(Check):
             self.fail(r)
         for w in warns:
             self.warn(w)
-        self.skip_text = skip
+        # a skip that a busy PC can cause says so, naming the load and the lag (sensors/motion_pc.py)
+        pc = self.pc.busy(self.rec, self.expect.settle_time) if self.pc is not None else None
+        self.skip_text = motion_pc.explain(skip, pc)
         self.notes += ['head: %s' % judge.head_state, 'base: %s' % judge.base_state]
         self.notes += ['%s %.2f s: %s' % (topic, t - seq.started, text)
                        for t, topic, text in (self.commands.sent if self.commands else [])]

@@ -32,6 +32,12 @@ MASTER_SILENCE = 10.0
 # a closed port is a dead master (a restarting one is back within this, and a new master has
 # lost every registration anyway)
 MASTER_REFUSED = 1.5
+# s a probe round (the wait, a connect and a call, each within the timeout) may take beyond
+# `every` + 2 timeouts before the rest counts as time this process did not run (issue 41): a
+# sensorTest stopped or starved for longer than MASTER_SILENCE (SIGSTOP for 16 s, a swapping
+# laptop) found the master silent for all that time and ended the run "the ROS master went away
+# (no answer for 16 s)" although the master never stopped answering
+UNRUN_SLACK = 1.0
 
 
 def master_uri() -> str:
@@ -83,6 +89,8 @@ class MasterWatch:
         self.refused = MASTER_REFUSED if refused is None else refused
         now = time.monotonic()
         self.last_ok = now
+        self.unrun = 0.0        # s since last_ok that this process did not run (UNRUN_SLACK)
+        self.round_at = now     # when the last probe round ended
         self.state = 'ok'
         self.bad_since: Optional[float] = None   # when the current run of 'refused' answers began
         self._stop = threading.Event()
@@ -93,14 +101,21 @@ class MasterWatch:
         while not self._stop.is_set():
             state = master_state(self.uri, self.timeout)
             now = time.monotonic()
+            self.unrun += self._not_run(now)
+            self.round_at = now
             if state == 'ok':
-                self.last_ok, self.bad_since = now, None
+                self.last_ok, self.bad_since, self.unrun = now, None, 0.0
             elif state == 'refused':
                 self.bad_since = self.bad_since or now
             else:
                 self.bad_since = None
             self.state = state
             self._stop.wait(self.every)
+
+    def _not_run(self, now: float) -> float:
+        """Of the time since the last probe round ended, what no round can take: this process
+        did not run (UNRUN_SLACK)."""
+        return max(0.0, now - self.round_at - self.every - 2 * self.timeout - UNRUN_SLACK)
 
     @property
     def answering(self) -> bool:
@@ -110,7 +125,8 @@ class MasterWatch:
         now = time.monotonic()
         if self.state == 'refused' and self.bad_since is not None and now - self.bad_since >= self.refused:
             return 'the ROS master at %s went away' % self.uri
-        if now - self.last_ok >= self.silence:
+        # silent for `silence` s while this process ran: a stall of sensorTest is not the master's
+        if now - self.last_ok - self.unrun - self._not_run(now) >= self.silence:
             return 'the ROS master at %s went away (no answer for %.0f s)' % (self.uri, now - self.last_ok)
         return ''
 
