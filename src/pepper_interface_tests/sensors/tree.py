@@ -55,6 +55,13 @@ RECORD_EVERY = 0.5
 # starting or stopping a 0.7 rad/s turn, about half of head_tolerance (0.02 rad); a base
 # stopping from 0.55 m/s, 8 mm against odom_tolerance's 0.05 m.
 THIN_S = 0.05
+# The share of the latest messages, the least delayed, whose stamps the tf row judges for a
+# clock offset or stale stamps (sensors/tf.py): a clock behind or ahead, or a driver stamping
+# old data, shifts every message, these too; a backlog (this PC busy: messages waiting in
+# sensorTest's queue; a bursty WiFi holding them) delays some and leaves those handled while
+# sensorTest kept up fresh. A tenth: beside six busy loops sensorTest keeps up with /tf most of
+# the time; the emulator's WiFi holds it 0.30-0.45 s in every 1.5-3.5 s (issue 41).
+FRESHEST = 0.1
 _U32 = struct.Struct('<I')
 _STAMP = struct.Struct('<II')
 
@@ -128,9 +135,14 @@ class TreeRecord:
     def typical_lag(self) -> Optional[float]:
         """The median of arrival - newest stamp over the latest messages (s; < 0: in the
         future), or None before the first timed message."""
+        return self.lag_quantile(0.5)
+
+    def lag_quantile(self, q: float) -> Optional[float]:
+        """The q-quantile of arrival - newest stamp over the latest messages (FRESHEST: the
+        least delayed ones, which show the stamps' own offset), or None before the first."""
         with self._lock:
             lags = sorted(self.lags)
-        return lags[len(lags) // 2] if lags else None
+        return lags[min(len(lags) - 1, int(q * len(lags)))] if lags else None
 
     def _record_links(self, transforms: Any, static: bool, node: str) -> None:
         for t in transforms:
