@@ -286,3 +286,30 @@ def carried_rate(points: List[Tuple[float, float]]) -> Optional[CarriedRate]:
             spread = max(spread, late / (span / 2.0),
                          abs(alone[0] - rate) / rate if alone is not None else 1.0)
     return CarriedRate(rate, spread, len(points))
+
+
+class StampPlacer:
+    """Where a message handled late belongs on this process's clock, by its header stamp
+    (issue 41): a message that waited (a busy PC: in this process's queue or the publisher's;
+    a WiFi hold; then a burst) is placed when its stamp says it was made, not when it was
+    handled. The stamp's clock may be offset from this one (a driver on the robot): each message
+    is placed by how much later it was handled than the least late message so far (`floor`: the
+    offset plus the quickest delivery), so only a stamp within `max_late` s of this computer's
+    wall clock counts (not sim time, not a clock far off). Placed times never go back (a floor
+    that dropped after earlier messages were placed)."""
+
+    def __init__(self, max_late: float = 10.0) -> None:
+        self.max_late = max_late
+        self.floor: Optional[float] = None
+        self.behind = 0.0       # s: the most a message was handled behind the floor
+        self.last = -1e18       # where the last message was placed
+
+    def place(self, t: float, late: Optional[float]) -> float:
+        """`t`: when the message was handled (any clock); `late`: this computer's wall clock
+        then, less the message's stamp (None: it has none). Returns where it belongs on t's clock."""
+        if late is not None and abs(late) < self.max_late:
+            self.floor = late if self.floor is None else min(self.floor, late)
+            self.behind = max(self.behind, late - self.floor)
+            t -= late - self.floor
+        self.last = max(t, self.last)
+        return self.last

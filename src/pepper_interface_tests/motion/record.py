@@ -37,9 +37,8 @@ class Recording:
     # topic -> its latest header stamp and receive time (the clock cross-check)
     stamps: Dict[str, Tuple[float, float]] = field(default_factory=dict)
     heard: Dict[str, int] = field(default_factory=dict)     # witness -> messages
-    # live, placed by their stamps (witnesses.STAMPED): witness -> its least lateness (s, the
-    # clock offset plus the quickest delivery), and the most a message was handled behind it
-    floor: Dict[str, float] = field(default_factory=dict)
+    # live, placed by their stamps (witnesses.STAMPED): the most a message was handled behind
+    # its witness's least late one (s; stats.StampPlacer)
     behind: float = 0.0
 
     def count(self, what: str) -> None:

@@ -17,6 +17,7 @@ from .. import rosapi
 from ..genmsgs import Bumper, DiagnosticArray, Image, Imu, JointState, LaserScan, Odometry, Range
 from ..media import encodings
 from ..plan import declaration
+from ..stats import StampPlacer
 from . import estimate
 from .record import Recording, Scan
 
@@ -39,11 +40,9 @@ FRONT_SECTOR = 0.2     # rad either side of straight ahead: the laser's front se
 # gave a wrong angle (issue 41).
 STAMPED = ('jointState', 'odometry', 'imu') + HEAD_CAMERAS
 # A stamp places its message only if it is on this computer's wall clock give or take this
-# many seconds (not sim time, not a robot whose clock is far off); within that, a clock offset
-# between the driver's host and this one is taken out: each message is placed by how much later
-# it was handled than the least late message of its witness (the floor: the offset plus the
-# quickest delivery), so a driver on the robot whose clock is 3 s behind places as well as one
-# on this PC
+# many seconds; within that, a clock offset between the driver's host and this one is taken
+# out (stats.StampPlacer), so a driver on the robot whose clock is 3 s behind places as well as
+# one on this PC
 MAX_LATE = 10.0
 
 
@@ -55,7 +54,7 @@ class Recorder:
 
     def __init__(self, recording: Recording) -> None:
         self.rec = recording
-        self._last: Dict[str, float] = {}    # witness -> where its last message was placed
+        self.placers = {role: StampPlacer(MAX_LATE) for role in STAMPED}
         self.handlers: Dict[str, Any] = {
             'jointState': (JointState, self._joints), 'odometry': (Odometry, self._odom),
             'imu': (Imu, self._imu), 'laser': (LaserScan, self._laser),
@@ -72,22 +71,10 @@ class Recorder:
                 now = time.time()
                 self.rec.stamps[role] = (header.stamp.to_sec(), now)
                 if self.live and role in STAMPED:
-                    # never before the witness's previous message (a floor that dropped later
-                    # than this message's predecessors were placed)
-                    t = max(t - self._behind(role, now - header.stamp.to_sec()), self._last.get(role, -1e18))
-                    self._last[role] = t
+                    placer = self.placers[role]
+                    t = placer.place(t, now - header.stamp.to_sec())
+                    self.rec.behind = max(self.rec.behind, placer.behind)
             self.handlers[role][1](role, msg, t)
-
-    def _behind(self, role: str, late: float) -> float:
-        """How much later than its witness's least late message this one was handled (s, 0:
-        not placed by its stamp); noted in the recording's `behind` (STAMPED, MAX_LATE)."""
-        if abs(late) >= MAX_LATE:
-            return 0.0
-        floor = min(self.rec.floor.get(role, late), late)
-        self.rec.floor[role] = floor
-        behind = late - floor
-        self.rec.behind = max(self.rec.behind, behind)
-        return behind
 
     # each handler runs under the recording's lock
     def _joints(self, role: str, msg: Any, t: float) -> None:

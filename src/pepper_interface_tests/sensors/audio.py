@@ -74,7 +74,7 @@ import numpy as np
 
 from ..media.recording import WavWriter
 from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
-from ..stats import CarriedRate, carried_rate
+from ..stats import CarriedRate, StampPlacer, carried_rate
 from .base import Check, StuckRun, TrailingRun, fmt
 from .channels import ChannelSimilarity, copy_reasons, similar_warning
 from .values import Point
@@ -466,6 +466,13 @@ class LevelMonitor:
     check then measured 5.8-6.5 dB for a sentence that rose 11-13 dB above the quiet room). The
     gaps between words and prompts still show the floor in the quieter fifth of the buffers.
     `has_baseline` wants MIN_BASELINE s of levels, so that there are such gaps to find.
+
+    Each level is placed at its buffer's header stamp where it has one (stats.StampPlacer:
+    naoqi_driver's AudioBuffer, stamped when NAOqi hands the driver a buffer, event/audio.cpp:
+    175-178), not where sensorTest handled it: a sentence whose buffers waited in a busy PC's
+    queue and came after the listening window was "not heard" (issue 41). AudioCustomMsg has no
+    header: its levels are placed on arrival. `covered(t)` says whether the stream has reached t
+    (the speech check waits for it), `longest_pause(a, b)` how long it said nothing in [a, b].
     """
 
     FLOOR_SHARE = 0.2
@@ -481,6 +488,7 @@ class LevelMonitor:
         self._levels: collections.deque = collections.deque()
         self._lock = threading.Lock()
         self._sub: Any = None   # the subscription while started (rosapi.any_subscriber)
+        self.placer = StampPlacer()
 
     def start(self) -> 'LevelMonitor':
         from .. import rosapi
@@ -498,7 +506,11 @@ class LevelMonitor:
             chans = channels_of(msg)
         except Exception:   # another type or a broken buffer: not a level
             return
-        self.add(chans, time.monotonic())
+        header = getattr(msg, 'header', None)
+        stamp = header.stamp.to_sec() if header is not None else 0.0
+        with self._lock:
+            t = self.placer.place(time.monotonic(), time.time() - stamp if stamp > 0 else None)
+        self.add(chans, t)
 
     def add(self, chans: List[np.ndarray], now: float) -> None:
         """One buffer (list of channel arrays) received at monotonic time `now`."""
@@ -523,6 +535,16 @@ class LevelMonitor:
 
     def _between(self, a, b):
         return [lv for _, lv in self._window(a, b)]
+
+    def covered(self, t: float) -> bool:
+        """The stream has a level placed at `t` or later."""
+        with self._lock:
+            return bool(self._levels) and self._levels[-1][0] >= t
+
+    def longest_pause(self, a: float, b: float) -> float:
+        """The longest stretch of [a, b] with no level placed in it (s)."""
+        times = [a] + [t for t, _ in self._window(a, b)] + [b]
+        return max(y - x for x, y in zip(times, times[1:]))
 
     def has_baseline(self, now: Optional[float] = None) -> bool:
         """At least 5 levels, the oldest MIN_BASELINE s or more before `now`."""

@@ -140,6 +140,12 @@ class Hearing(Protocol):
     def heard(self, t0: float, t1: float) -> Dict[str, Any]:
         """Whether the level rose between `t0` and `t1` (monotonic seconds)."""
 
+    def covered(self, t: float) -> bool:
+        """The microphones' stream has reached `t` (monotonic seconds)."""
+
+    def longest_pause(self, a: float, b: float) -> float:
+        """The longest stretch of [a, b] the microphones said nothing (s)."""
+
 
 class RestWitness(Protocol):
     """What the laser check asks: whether the robot rests (sensors/stiffness.py)."""
