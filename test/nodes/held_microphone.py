@@ -37,7 +37,8 @@ def main():
     a = ap.parse_args()
     rospy.init_node('held_microphone', anonymous=True, disable_signals=True)
     said = []
-    rospy.Subscriber(a.prefix + '/speech', String, lambda m: (said.append(time.time()), print('heard: ' + m.data, flush=True)))
+    rospy.Subscriber(a.prefix + '/speech', String,
+                     lambda m: (said.append(time.time()), print('heard: ' + m.data, flush=True)))
     if a.custom:
         cls = fake._cls('pepper_interface_tests/AudioCustomMsg')
     else:
@@ -55,7 +56,8 @@ def main():
             x = (LOUD if loud else QUIET) * rng.standard_normal((4, N))
             x = np.clip(x, -32768, 32767).astype(np.int16)
             if a.custom:
-                msg = cls(**{name: x[k].tolist() for k, name in enumerate(('rearLeft', 'rearRight', 'frontLeft', 'frontRight'))})
+                names = ('rearLeft', 'rearRight', 'frontLeft', 'frontRight')
+                msg = cls(**{name: x[k].tolist() for k, name in enumerate(names)})
             else:
                 msg = cls()
                 msg.header.stamp = rospy.Time.from_sec(now)

@@ -77,6 +77,7 @@ from ..sources.naoqi_msgs import CHANNEL_NAMES, message_class_from_definition
 from ..stats import CarriedRate, StampPlacer, carried_rate
 from .base import Check, StuckRun, TrailingRun, fmt
 from .channels import ChannelSimilarity, copy_reasons, similar_warning
+from .lag import starved_hint
 from .values import Point
 from .values.audio import AudioValues, ChannelLevel, WavFile
 
@@ -389,8 +390,10 @@ class AudioCheck(Check):
                             % (rate, self.rate, fmt(100 * self.tolerance, 1), lag.describe()))
             return
         if off - spread > self.tolerance:
-            self.fail('sample rate %.0f Hz, expected %d Hz +- %s%%'
-                      % (rate, self.rate, fmt(100 * self.tolerance, 1)))
+            # below it on a busy PC: the audio bridge, when it runs here, may have been starved
+            self.fail('sample rate %.0f Hz, expected %d Hz +- %s%%%s'
+                      % (rate, self.rate, fmt(100 * self.tolerance, 1),
+                         starved_hint(lag) if rate < self.rate else ''))
         elif off > self.tolerance:
             longest = max((g for _, g in self.gaps), default=0.0)
             lag = self.own_lag

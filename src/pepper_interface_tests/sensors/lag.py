@@ -157,3 +157,17 @@ class OwnLag:
                 self.load, self.cores, self.longest, self.wall,
                 ' (%.1f s with the other topics\' on their thread)' % self.thread_wall if shared >= 0.1 else '',
                 ', its callbacks on a CPU %.0f %% of their time' % (100 * share) if share is not None else '')
+
+
+def starved_hint(lag: Optional[OwnLag]) -> str:
+    """For a rate below its band while this PC was busy (load average above the cores) and
+    sensorTest kept up (otherwise the row is NOT JUDGED): the publisher may be the starved one,
+    if it runs here (naoqi_driver or the emulator on this laptop: a converter that waits for a
+    core publishes less). The FAIL stays: a robot's driver may as well be slow on its own, and
+    only the operator knows where it runs. '' when the PC was not busy or not measured (a bag)."""
+    if lag is None or lag.probe is None or lag.load <= BUSY_LOAD_PER_CORE * lag.cores:
+        return ''
+    return ('; this PC was busy while listening (load average %.1f on %d cores, sensorTest kept up): '
+            'if the driver or the emulator publishing it runs on this PC, it may have been starved of '
+            'CPU and published less; test again when the PC is quieter before replacing anything'
+            % (lag.load, lag.cores))

@@ -39,7 +39,7 @@ from ..stats import StreamStats
 from .base import Judgement, Tally
 from .clock import WindowClock
 from .families import Traits
-from .lag import OwnLag
+from .lag import OwnLag, starved_hint
 
 # Spread (max - min) of "ROS time at reception - header stamp" below which a delay beyond the
 # limits is one constant offset between two clocks, not data getting old: network and driver
@@ -271,9 +271,12 @@ class StreamCheck:
                 'topic (%s over a %.1f s window: messages waiting in its full queue are dropped); test again '
                 'when the PC is quieter' % (s.rate or 0.0, lo, hi, lag.describe(), span))
             return
+        hint = starved_hint(lag) if s.clock != 'sim' else ''
         for label, rate in ((rate_label, s.rate), ('header stamp rate', s.stamp_rate)):
             if rate is not None and not (lo <= rate <= hi):
-                out.append('%s %.2f Hz outside the expected %g-%g Hz' % (label, rate, lo, hi))
+                low = rate < lo and hint
+                out.append('%s %.2f Hz outside the expected %g-%g Hz%s' % (label, rate, lo, hi, hint if low else ''))
+                hint = '' if low else hint     # said once
             elif rate is not None and label == rate_label and (rate < 1.1 * lo or rate > 0.9 * hi):
                 # inside the band but within 10 % of an edge: possible, worth a look
                 warnings.append('%s %.2f Hz near the edge of the expected %g-%g Hz' % (label, rate, lo, hi))
