@@ -24,7 +24,7 @@ def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale(master, tmp
         p.wait([topic])
         topics = write_topics(tmp_path / 't.dat', PREFIX, ['imu'])
         r = Running(['--topics', topics, '--sensors', 'imu', '--duration', '12', '--wait', '3',
-                     '--no-report', '--output-dir', str(out)], master.env(), out)
+                     '--no-report', '--output-dir', str(out)], dict(master.env(), COLUMNS='80'), out)
         r.wait_for('start  imu')
         wait_connected(master, '/sensorTest', topic)
         time.sleep(1.0)          # some messages handled on time first
@@ -42,6 +42,11 @@ def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale(master, tmp
     assert 'load average' in reason and 'sensorTest up to' in reason, reason
     assert result.json['exit_code'] == 4
     assert 'could not judge everything' in result.stdout, result.stdout
+    # at 80 columns through a pipe: one block per sensor, the verdict column as wide as NOT JUDGED;
+    # every line fits but a path, never cut (test_terminal_width.py)
+    assert not [ln for ln in result.stdout.splitlines() if len(ln) > 80 and len(ln.split()) > 1], result.stdout
+    assert any(ln.startswith('imu' + ' ' * 20 + 'NOT JUDGED ') and ' msgs, ' in ln
+               for ln in result.stdout.splitlines()), result.stdout
     print(reason)
 
 

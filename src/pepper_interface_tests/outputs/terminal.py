@@ -40,9 +40,24 @@ COLOURS = {PASS: '\033[32m', FAIL: '\033[31m', SKIPPED: '\033[33m', INTERRUPTED:
            NOT_JUDGED: '\033[35m'}
 RESET, BOLD = '\033[0m', '\033[1m'
 REASON_LIMIT = 300      # characters of one reason on the terminal; the files keep more
-ROW = '%-22s %-8s %8s %10s %13s  %s'   # the summary table; reasons start at column TABLE_FIXED
-TABLE_FIXED = len(ROW % ('', '', '', '', '', ''))
+# The summary table: its verdict column as wide as the longest verdict of the run, at least
+# VERDICT_WIDTH ("PASS*", "FAIL"; "NOT JUDGED" and "INTERRUPTED" widen it); reasons start at
+# column table_fixed(width)
+VERDICT_WIDTH = 8
 MIN_REASON_COLUMN = 36  # narrower than this (a terminal under 104 columns): one block per sensor
+
+
+def row_format(verdict_width: int = VERDICT_WIDTH) -> str:
+    return '%%-22s %%-%ds %%8s %%10s %%13s  %%s' % verdict_width
+
+
+ROW = row_format()
+TABLE_FIXED = len(ROW % ('', '', '', '', '', ''))   # with the narrowest verdict column
+
+
+def table_fixed(verdict_width: int) -> int:
+    """The column the reasons start at, with a verdict column `verdict_width` wide."""
+    return TABLE_FIXED + max(0, verdict_width - VERDICT_WIDTH)
 
 
 class SafeStream:
@@ -303,10 +318,11 @@ class Terminal(RunObserver):
                     run.interrupt_reason, REASON_LIMIT), width)):
                 self.line(text if not i else '  ' + text)
         self._headlines(run, width)
-        if width - TABLE_FIXED >= MIN_REASON_COLUMN:
-            self._table(run, width)
+        verdict_width = max([VERDICT_WIDTH] + [len(self._verdict_cell(r)) for r in run.sensors])
+        if width - table_fixed(verdict_width) >= MIN_REASON_COLUMN:
+            self._table(run, width, verdict_width)
         else:
-            self._blocks(run, width)
+            self._blocks(run, width, verdict_width)
         self._drift(run, width)
         c = run.counts()
         warned = sum(1 for r in run.sensors if r.verdict == PASS and r.warnings)
@@ -379,21 +395,22 @@ class Terminal(RunObserver):
             warnings.append('drifted since the baseline: %s (below)' % ', '.join(d.label for d in r.drift))
         return _reasons(self._unsaid(r.reasons)) or ('warning: ' + _reasons(warnings) if warnings else '')
 
-    def _table(self, run: RunResult, width: int) -> None:
+    def _table(self, run: RunResult, width: int, verdict_width: int = VERDICT_WIDTH) -> None:
         """One row per sensor, reasons wrapped inside their own column."""
-        header = ROW % ('sensor', 'verdict', 'messages', 'rate Hz', 'expected Hz', 'reasons')
+        fmt, fixed = row_format(verdict_width), table_fixed(verdict_width)
+        header = fmt % ('sensor', 'verdict', 'messages', 'rate Hz', 'expected Hz', 'reasons')
         self.line(BOLD + header.rstrip() + RESET if self.colour else header.rstrip())
         for r in run.sensors:
             rate = '%.2f' % r.rate_hz if r.rate_hz is not None else '-'
             band = '%g-%g' % tuple(r.expected_rate_hz) if r.expected_rate_hz else '-'
-            wrapped = textwrap.wrap(self._summary_reasons(r), width - TABLE_FIXED,
+            wrapped = textwrap.wrap(self._summary_reasons(r), width - fixed,
                                     break_on_hyphens=False) or ['']
-            row = ROW % (r.name, self._verdict_cell(r), r.messages, rate, band, wrapped[0])
+            row = fmt % (r.name, self._verdict_cell(r), r.messages, rate, band, wrapped[0])
             self.line(self._paint(row.rstrip(), r.verdict))
             for more in wrapped[1:]:
-                self.line(' ' * TABLE_FIXED + more)
+                self.line(' ' * fixed + more)
 
-    def _blocks(self, run: RunResult, width: int) -> None:
+    def _blocks(self, run: RunResult, width: int, verdict_width: int = VERDICT_WIDTH) -> None:
         """Narrow terminals: one block per sensor, its figures on the first line and its reasons
         wrapped below, indented, over the whole width."""
         for r in run.sensors:
@@ -402,7 +419,7 @@ class Terminal(RunObserver):
                 figures += ', %.2f Hz' % r.rate_hz
             if r.expected_rate_hz:
                 figures += ' (expected %g-%g)' % tuple(r.expected_rate_hz)
-            head = textwrap.wrap('%-22s %-8s %s' % (r.name, self._verdict_cell(r), figures), width,
+            head = textwrap.wrap('%-22s %-*s %s' % (r.name, verdict_width, self._verdict_cell(r), figures), width,
                                  subsequent_indent='    ')
             self.line(self._paint(head[0], r.verdict))
             for more in head[1:] + textwrap.wrap(self._summary_reasons(r), width,
