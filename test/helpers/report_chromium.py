@@ -11,7 +11,8 @@ websocket-client package), because one browser session then gives everything at 
     the page's visible text (document.body.innerText), every link's href and media src, and
     the number of <script> elements;
   * the page's scroll width against the window's width (`scroll_width`, `inner_width`) and the
-    outermost elements that run past the right edge (`wide`);
+    outermost elements that run past the right edge (`wide`); each verdict badge's text and
+    height and right edge against its table cell's (`badges`);
   * a PNG screenshot of the whole page (the viewport is resized to the page's height).
 `--dump-dom` and `--screenshot` would each need their own Chromium start and say nothing about
 console errors or broken media.
@@ -59,7 +60,11 @@ PAGE_STATE_JS = r'''
   const wide = over.filter(e => !over.includes(e.parentElement)).slice(0, 10).map(
       e => e.tagName.toLowerCase() + (e.className ? '.' + e.className : '') + ' ' +
            Math.round(e.getBoundingClientRect().right) + 'px: ' + (e.textContent || '').slice(0, 60));
-  return JSON.stringify({imgs, media, sections, boxes, title: document.title, hrefs, mediaSrcs,
+  // each verdict badge: its text, height and right edge, and its table cell's right edge
+  const badges = [...document.querySelectorAll('.badge')].map(b => ({text: b.textContent,
+      height: b.getBoundingClientRect().height, right: b.getBoundingClientRect().right,
+      cell_right: b.closest('td, th') ? b.closest('td, th').getBoundingClientRect().right : null}));
+  return JSON.stringify({imgs, media, sections, boxes, title: document.title, hrefs, mediaSrcs, badges,
                          scroll_width: document.documentElement.scrollWidth, inner_width: window.innerWidth,
                          wide,
                          scripts: document.querySelectorAll('script').length,

@@ -225,6 +225,9 @@ def header(run: RunResult) -> Dict[str, Any]:
         'duration': '%.1f s' % (run.end - run.start) if run.end else '-',
         'exit_code': exit_code,
         'counts': [(verdict_class(v), '%d %s' % (counts.get(v, 0), words.get(v, v))) for v in order],
+        # the summary's verdict column as wide as its longest badge ("PASS*", "NOT JUDGED",
+        # "INTERRUPTED": report.css --verdict-chars), so that no badge wraps or spills over
+        'verdict_chars': max([5] + [len(r.verdict) + (r.verdict == PASS and bool(r.warnings)) for r in run.sensors]),
         'interrupted': clean(run.interrupt_reason or 'run interrupted') if run.interrupted else None,
         'failed': [(anchor(r.name), r.name) for r in run.sensors if r.verdict == FAIL],
         # a family whose WARN or FAIL explains the others' (the robot's health), first
