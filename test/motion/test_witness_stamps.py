@@ -69,6 +69,6 @@ def test_witnesses_handled_in_a_burst_are_placed_when_they_were_sampled(master, 
     by_arrival = [(h, 0.0, 0.0, z) for (_, h), (_, z) in zip(data['log']['imu'], data['gyro'])]
     assert abs(estimate.integrated_gyro(by_arrival, t0, start + 3.0)[2] - TURN) > 0.15
     assert data['behind'] > 0.3 and math.isfinite(data['behind'])
+    turned = [estimate.integrated_gyro(g, t0, start + 3.0)[2] for g in (gyro, by_arrival)]
     print('odometry over the step: %.3f rad placed, %.3f by arrival; gyro: %.3f rad placed, %.3f by arrival'
-          % (estimate.change(data['odom'], t0, t1), estimate.change(arrival, t0, t1),
-             estimate.integrated_gyro(gyro, t0, start + 3.0)[2], estimate.integrated_gyro(by_arrival, t0, start + 3.0)[2]))
+          % (estimate.change(data['odom'], t0, t1), estimate.change(arrival, t0, t1), turned[0], turned[1]))
