@@ -53,9 +53,12 @@ def test_witnesses_handled_in_a_burst_are_placed_when_they_were_sampled(master, 
         # the delivery was bursty: the held samples (s 1.5-2.3) were handled 0.3 s late or more
         late = [handled - (stamp - offset) for stamp, handled in log]
         assert max(late) > 0.3, (role, max(late))
-        # ... and each is placed at its sampling time, on this clock, whatever the driver's offset
+        # ... and each is placed at its sampling time, on this clock, whatever the driver's offset,
+        # from the step's start on (before it, the least lateness may still be settling: on a
+        # loaded machine the first messages can come tens of ms late, as witness_wait allows)
         wrong = [(round(stamp - offset - start, 3), round(t - (stamp - offset), 3))
-                 for (stamp, _), (t, _) in zip(log, series) if abs(t - (stamp - offset)) > PLACED]
+                 for (stamp, _), (t, _) in zip(log, series)
+                 if stamp - offset >= t0 and abs(t - (stamp - offset)) > PLACED]
         assert not wrong, (role, wrong[:5])
     # the step sees the whole turn; placed at their handling times, the held half was outside it
     arrival = [(handled, v) for (_, handled), (_, v) in zip(data['log']['odometry'], data['odom'])]
