@@ -16,10 +16,10 @@ import os
 
 import pytest
 
+from driver_tree_compare import compare_trees
 from pepper_interface_tests.emulator import camera_info, events, qos2
 from pepper_interface_tests.emulator.info import INFO_TOPIC_ROS2
 from pepper_interface_tests.emulator.profiles import build_profile
-from pepper_interface_tests.emulator.urdf_tree import driver_tree
 from pepper_interface_tests.plan import declaration, settings
 from ros2_facts import healthy_recordings, messages, offered_qos, recording_facts
 
@@ -198,26 +198,7 @@ def test_the_emulator_tree_is_naoqi_driver2s_tf(recording):
         else:
             trees.append(m)
     assert len(trees) > 50, len(trees)
-    compared, head_yaws = 0, set()
-    for m in trees:
-        stamps = {(x.header.stamp.sec, x.header.stamp.nanosec) for x in m.transforms}
-        assert len(stamps) == 1, stamps
-        positions = states.get(stamps.pop())
-        if positions is None:
-            continue
-        real = {(x.header.frame_id, x.child_frame_id): x.transform for x in m.transforms}
-        assert len(real) == 84 and ('odom', 'base_link') in real, len(real)
-        emulated = {(p, c): (xyz, q) for p, c, xyz, q in driver_tree(positions)}
-        assert set(emulated) == set(real) - {('odom', 'base_link')}
-        for pair, (xyz, q) in emulated.items():
-            t = real[pair]
-            got = (t.translation.x, t.translation.y, t.translation.z)
-            assert max(abs(a - b) for a, b in zip(got, xyz)) < 1e-5, (pair, got, xyz)
-            r = (t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w)
-            assert min(max(abs(a - b) for a, b in zip(r, q)), max(abs(a + b) for a, b in zip(r, q))) < 1e-5, \
-                (pair, r, q)
-        head_yaws.add(round(positions['HeadYaw'], 1))
-        compared += 1
+    compared, head_yaws = compare_trees(trees, states, lambda x: (x.header.stamp.sec, x.header.stamp.nanosec))
     assert compared > 50, compared
     if recording == 'move':
         assert max(abs(y) for y in head_yaws) >= 0.4, head_yaws

@@ -11,6 +11,7 @@ import subprocess
 import pytest
 
 from bag_facts import bag_facts
+from driver_tree_compare import compare_trees
 from pepper_interface_tests.emulator.profiles import build_profile
 from pepper_interface_tests.plan import declaration, settings
 from rosmaster import script
@@ -285,7 +286,6 @@ def test_the_emulator_tree_is_the_real_drivers_tf(bag):
     base turn, so the moving joints are compared away from zero too."""
     import rosbag
 
-    from pepper_interface_tests.emulator.urdf_tree import driver_tree
     with rosbag.Bag(os.path.join(GOLDEN, bag + '.bag')) as b:
         states = {}
         trees = []
@@ -295,27 +295,7 @@ def test_the_emulator_tree_is_the_real_drivers_tf(bag):
             else:
                 trees.append(m)
     assert len(trees) > 100, len(trees)
-    compared, head_yaws = 0, set()
-    for m in trees:
-        stamps = {x.header.stamp.to_nsec() for x in m.transforms if x.header.frame_id != 'odom'}
-        assert len(stamps) == 1, stamps                      # one stamp: the joint state's
-        positions = states.get(stamps.pop())
-        if positions is None:
-            continue
-        real = {(x.header.frame_id, x.child_frame_id): x.transform for x in m.transforms}
-        assert len(real) == 84 and ('odom', 'base_link') in real, len(real)
-        emulated = {(p, c): (xyz, q) for p, c, xyz, q in driver_tree(positions)}
-        assert set(emulated) == set(real) - {('odom', 'base_link')}
-        for pair, (xyz, q) in emulated.items():
-            t = real[pair]
-            got = (t.translation.x, t.translation.y, t.translation.z)
-            assert max(abs(a - b) for a, b in zip(got, xyz)) < 1e-5, (pair, got, xyz)
-            r = (t.rotation.x, t.rotation.y, t.rotation.z, t.rotation.w)
-            same = max(abs(a - b) for a, b in zip(r, q))
-            flipped = max(abs(a + b) for a, b in zip(r, q))       # q and -q: the same rotation
-            assert min(same, flipped) < 1e-5, (pair, r, q)
-        head_yaws.add(round(positions['HeadYaw'], 1))
-        compared += 1
+    compared, head_yaws = compare_trees(trees, states, lambda x: x.header.stamp.to_nsec())
     assert compared > 100, compared
     if bag == 'move':
         assert max(abs(y) for y in head_yaws) >= 0.4, head_yaws
