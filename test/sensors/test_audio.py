@@ -204,7 +204,8 @@ def test_sensor_test_fails_a_silent_channel_and_a_wrong_sample_rate(module_maste
     assert 'microphone rearRight is silent: all samples are zero' in mic['reasons']
     # the rule: a rate outside 48000 Hz +- 5 % fails, naming the rate measured over the window
     # (on receive times: a 44.1 kHz stream read 43979 Hz on a loaded machine), not its digits
-    rates = [float(m.group(1)) for m in (re.fullmatch(r'sample rate (\d+) Hz, expected 48000 Hz \+- 5%', r)
+    # (on a busy PC the reason goes on with the hint that a starved publisher may be the cause)
+    rates = [float(m.group(1)) for m in (re.match(r'sample rate (\d+) Hz, expected 48000 Hz \+- 5%(;|$)', r)
                                          for r in mic['reasons']) if m]
     assert len(rates) == 1, mic['reasons']
     assert not 48000 * 0.95 <= rates[0] <= 48000 * 1.05, rates      # outside the band: caught

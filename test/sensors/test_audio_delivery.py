@@ -10,7 +10,8 @@ import pytest
 from media_tools import Publishers, explain, sensor_test
 
 SHAPES = ('steady', 'start-burst', 'pauses', 'groups')
-REASON = re.compile(r'sample rate (\d+) Hz, expected 48000 Hz \+- 5%')
+# the reason, and on a busy PC the hint that a starved publisher may be the cause after it
+REASON = re.compile(r'sample rate (\d+) Hz, expected 48000 Hz \+- 5%(;|$)')
 
 
 @pytest.mark.parametrize('shape', SHAPES)
@@ -21,7 +22,7 @@ def test_the_sample_rate_is_judged_right_in_every_delivery_shape(module_master, 
         done, res = sensor_test(module_master, tmp_path, ['microphone'], duration=5)
     assert res is not None, explain(done, res)
     mic = res['by_name']['microphone']
-    rates = [float(m.group(1)) for m in (REASON.fullmatch(r) for r in mic['reasons']) if m]
+    rates = [float(m.group(1)) for m in (REASON.match(r) for r in mic['reasons']) if m]
     if true_rate == 48000:
         assert mic['verdict'] == 'PASS' and done.returncode == 0, explain(done, res)
         assert not rates
