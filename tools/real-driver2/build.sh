@@ -114,21 +114,24 @@ if [ ! -d "$CACHE/ws/src/core" ]; then
   mkdir -p "$CACHE/ws/src/core"
   tar -xJf "$ROS2_SOURCES/ros2-humble-core-src.tar.xz" -C "$CACHE/ws/src/core"
 fi
-# A package the underlay (core + tools) already installs is not built again.
+# A package the underlay already installs is not built again: every prefix of the sourced
+# environment (this cache's tools overlay, the platform's tools overlay, the core; ros2.sh may
+# print any of their setup files, so the prefixes are read from AMENT_PREFIX_PATH).
+IFS=: read -r -a UNDERLAY <<<"${AMENT_PREFIX_PATH:-}"
 while IFS= read -r xml; do
   dir="$(dirname "$xml")"
   pkg="$(sed -n 's:.*<name>\(.*\)</name>.*:\1:p' "$xml" | head -1)"
-  if [ -f "$CACHE/tools/install/share/$pkg/package.xml" ] \
-     || [ -f "$(dirname "$CORE_SETUP")/share/$pkg/package.xml" ]; then
-    touch "$dir/COLCON_IGNORE"
-  fi
+  for prefix in "${UNDERLAY[@]}"; do
+    if [ -f "$prefix/share/$pkg/package.xml" ]; then touch "$dir/COLCON_IGNORE"; break; fi
+  done
 done < <(find "$CACHE/ws/src" -name package.xml -not -path '*/.git/*')
 done_step
 
-# (rclcpp_lifecycle: only diagnostic_updater's tests use it, and they are not built)
+# (rclcpp_lifecycle is built: message_filters 4.3.5 names it as a test_depend, and colcon
+# sources every dependency's environment, tests built or not)
 step "5/8 colcon: what naoqi_driver needs ($JOBS packages at once, -j1 each, nice 19, Release)"
 MAKEFLAGS=-j1 colcon_build "$CACHE/ws" "$CACHE/install" --parallel-workers "$JOBS" \
-  --packages-up-to naoqi_driver --packages-skip naoqi_driver rclcpp_lifecycle
+  --packages-up-to naoqi_driver --packages-skip naoqi_driver
 done_step
 
 step "6/8 colcon: naoqi_driver (-j$JOBS, nice 19, Release)"
