@@ -266,8 +266,13 @@ def test_capture_resubscribes_after_naoqi_restart(procs, master, tmp_path):
     stats = get_param(master, STATS)
     blocks, _ = finish_dump(p['dumper'], out)
     starts = counter_starts(blocks)
-    # The new endpoint's counter starts again: one discontinuity, contiguous on both sides.
-    assert np.count_nonzero(np.diff(starts) != BUFFER) == 1
+    # Contiguous on both sides of the restart, the new endpoint's buffers after the old ones. Its
+    # counter runs from its own start, as a microphone does, subscribed or not (naoqi_endpoint
+    # _pump): its first buffer's index is its time until the capture resubscribed, which can by
+    # chance continue the old run exactly (seen once: 11 buffers, then 21 from index 22), so the
+    # restart is one discontinuity or none.
+    assert len(starts) >= n + 10, (len(starts), n)
+    assert np.count_nonzero(np.diff(starts) != BUFFER) <= 1, starts
     assert stats['lost_in_gaps'] == 0 and stats['stream_resets'] == 0
     assert 'Traceback' not in p['capture'].log()
 
