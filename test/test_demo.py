@@ -15,6 +15,7 @@ import subprocess
 import pytest
 import soundfile
 
+from busy_pc import DELIVERY
 from pepper_interface_tests.plan import declaration
 from pepper_interface_tests.plan.declaration import SENSORS
 from report_chromium import chromium_binary, render_page
@@ -23,9 +24,6 @@ from rosmaster import ROOT
 # the demo's sensors: every sensor of the emulator's stereo head (tools/demo.sh), and their videos
 DEMO = declaration.on_head('stereo')
 VIDEOS = tuple(SENSORS[n].video for n in DEMO if SENSORS[n].video)
-# the warnings a busy PC makes true: pauses of the delivery (sensors/stream.py, sensors/audio.py),
-# frames too far apart to follow the head (motion/rules.py)
-DELIVERY = re.compile(r'pauses? longer than|gaps? in the audio stream|not judged on the head')
 
 
 def ffprobe(path):

@@ -10,6 +10,7 @@ sensorTest listens for a short window (3-4 s), its JSON gives the verdicts.
 
 import pytest
 
+import busy_pc
 from emulator_runs import run
 from pepper_interface_tests.emulator import fault_table
 from pepper_interface_tests.emulator.faults import FaultError, format_faults, parse_faults
@@ -84,7 +85,8 @@ def test_a_broken_bridges_microphone_channels(master, tmp_path, profile):
     base = ['_profile:=' + profile, '_audio:=direct', '_camera_resolution:=QQVGA']
     res, done = run(master, tmp_path, base, ['microphone'], duration=3, tag='healthy')
     mic = res['microphone']      # healthy input through either message: four microphones
-    assert mic['verdict'] == 'PASS' and not mic['warnings'], (mic['reasons'], mic['warnings'])
+    # (a pause in delivery on a busy PC is a true warning, busy_pc.DELIVERY; nothing else)
+    assert mic['verdict'] == 'PASS' and not busy_pc.sensor_warnings(mic), (mic['reasons'], mic['warnings'])
     assert min(mic['values']['channel_step_ratios'].values()) > 1
     res, done = run(master, tmp_path, base + ['_faults:=microphone:copied_channels'], ['microphone'],
                     duration=3, tag='copied')

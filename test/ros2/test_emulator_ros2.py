@@ -4,7 +4,6 @@
 plain rclpy node with naoqi_driver2's subscriptions, test/helpers/ros2_motion_recorder.py).
 Run by the ROS 2 tier (tools/ros2/tests.sh)."""
 import os
-import re
 import signal
 import subprocess
 import sys
@@ -12,6 +11,7 @@ import time
 
 import pytest
 
+from busy_pc import DELIVERY
 from motion_runs import GOAL, assert_stopped_safely, expectations
 from pepper_interface_tests.plan import declaration
 from ros2_runs import domain_env, program, results, signal_as_users_do
@@ -25,9 +25,6 @@ DEMO = ','.join(['tf'] + [n for n in declaration.on_head('stereo') if n != 'tf']
 DEMO_ARGS = ('--platform', 'robot', '--mode', 'parallel', '--sensors', DEMO, '--guided', '--move', '--yes',
              '--no-record')
 ROBOT_ARGS = ('--realsense', 'true', '--touch', 'true', '--operator', 'true', '--condition', 'still')
-# the warnings a busy PC makes true (test/test_demo.py): pauses of the delivery
-# (sensors/stream.py, sensors/audio.py), frames too far apart to follow the head (motion/rules.py)
-DELIVERY = re.compile(r'pauses? longer than|gaps? in the audio stream|not judged on the head')
 BUSY = [sys.executable, '-c', 'while True: pass']
 
 

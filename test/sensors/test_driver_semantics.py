@@ -17,6 +17,7 @@ import pytest
 import rosbag
 import soundfile
 
+import busy_pc
 from driver_feed import R0, ROBOT, T0, feed, run_of
 from fake_pepper import MIC_TONES, audio_buffer, serialized, stock_audio_buffer
 from pepper_interface_tests.results import FAIL, PASS
@@ -173,9 +174,9 @@ def test_healthy_robot_as_naoqi_driver_publishes_it_passes(master, tmp_path):
     finally:
         for p in procs:
             kill_group(p)
-    for name in SENSORS:
-        assert res[name]['verdict'] == PASS, (name, res[name]['reasons'], done.stderr[-2000:])
-    assert done.returncode == 0
+    for name in SENSORS:     # on a busy PC a row may be NOT JUDGED naming the PC, never FAIL
+        assert busy_pc.healthy(res[name]), (name, res[name]['reasons'], done.stderr[-2000:])
+    assert done.returncode == (0 if all(res[n]['verdict'] == PASS for n in SENSORS) else 4)
     assert any('beyond the advertised range' in n for n in res['frontSonar']['notes'])
     assert res['microphone']['received_type'] == AUDIO_BUFFER_TYPE
     data, rate = soundfile.read(str(tmp_path / 'out' / 'microphoneOutput.wav'), dtype='int16')
