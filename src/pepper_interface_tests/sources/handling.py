@@ -64,14 +64,26 @@ def finish(handling: Handling, now: float) -> None:
         th.busy += max(0.0, now - handling.t0)
 
 
+class measured:
+    """`with measured() as own:` a callback's body between begin and finish (the live sources'
+    callbacks hand `own` to feed_raw; `timed` wraps the others). A class, not a generator: it
+    runs once per message."""
+
+    __slots__ = ('own',)
+
+    def __enter__(self) -> Handling:
+        self.own = begin(time.monotonic())
+        return self.own
+
+    def __exit__(self, *exc: Any) -> None:
+        finish(self.own, time.monotonic())
+
+
 def timed(callback: Callable[..., None]) -> Callable[..., None]:
     """`callback` between begin and finish: a subscription that feeds no window (rosapi's: the
     motion check's witnesses, the guide's) keeps its thread busy all the same, and on ROS 2 that
     thread is every topic's."""
     def wrapped(*args: Any) -> None:
-        own = begin(time.monotonic())
-        try:
+        with measured():
             callback(*args)
-        finally:
-            finish(own, time.monotonic())
     return wrapped

@@ -187,11 +187,8 @@ class LiveSource:
             conn = msg._connection_header    # type, message_definition, callerid, md5sum
             if conn.get('callerid') == me:   # never judge this node's own messages (/diagnostics)
                 return
-            own = handling.begin(time.monotonic())     # how late this process handles it
-            try:
+            with handling.measured() as own:     # how late this process handles it
                 run.feed_raw(conn.get('type', '?'), msg._buff, own.t0, rospy.get_rostime().to_sec(), conn, own)
-            finally:
-                handling.finish(own, time.monotonic())
 
         if not rospy.rostime.is_wallclock():   # /use_sim_time: rates and windows on /clock
             run.use_sim_clock(lambda: rospy.get_rostime().to_sec())

@@ -252,11 +252,8 @@ class Ros2LiveSource:
         def callback(raw: bytes, run: Listener = run) -> None:
             if not attached[0] or is_own(topic, raw):    # detached, or this node's /diagnostics
                 return
-            own = handling.begin(time.monotonic())     # how late this process handles it (sources/handling.py)
-            try:
+            with handling.measured() as own:     # how late this process handles it (sources/handling.py)
                 run.feed_raw(ros1_type, converter.to_ros1(raw, msgtype), own.t0, self.graph.now(), header, own)
-            finally:
-                handling.finish(own, time.monotonic())
 
         self.subs[run] = self.graph.node.create_subscription(cls, run.topic, callback, qos, raw=True)
         del self.pending[run]
