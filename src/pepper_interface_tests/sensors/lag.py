@@ -171,3 +171,8 @@ def starved_hint(lag: Optional[OwnLag]) -> str:
             'if the driver or the emulator publishing it runs on this PC, it may have been starved of '
             'CPU and published less; test again when the PC is quieter before replacing anything'
             % (lag.load, lag.cores))
+
+
+def load_now() -> str:
+    """The load average now against the cores, in the words every busy-PC reason uses."""
+    return 'load average %.1f on %d cores' % (os.getloadavg()[0], os.cpu_count() or 1)

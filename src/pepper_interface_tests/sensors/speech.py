@@ -15,13 +15,13 @@ the listening window is not judged (NOT JUDGED with require_heard, else a warnin
 pause and the PC's load: whether the loudspeaker spoke cannot be told from a silent stream,
 and the microphone row says whether that stream is at fault.
 """
-import os
 import time
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, List, Optional, Tuple
 
 from .. import rosapi
 from .base import Check
+from .lag import load_now
 from .values.speech import SpeechValues
 
 if TYPE_CHECKING:
@@ -127,11 +127,10 @@ class SpeechCheck(Check):
         t0, t1 = self.sent_at, self.sent_at + self.listen_after
         pause = monitor.longest_pause(t0, t1)
         if pause >= PAUSE:
-            load, cores = os.getloadavg()[0], os.cpu_count() or 1
             text = ('not judged whether the sentence was heard: the microphones\' stream said nothing for '
-                    '%.1f s of the %.1f s listened (%s; load average %.1f on %d cores): a busy PC or '
+                    '%.1f s of the %.1f s listened (%s; %s): a busy PC or '
                     'network held it, or the microphones stopped (see their row)'
-                    % (pause, self.listen_after, heard.get('why', 'no level rise'), load, cores))
+                    % (pause, self.listen_after, heard.get('why', 'no level rise'), load_now()))
             if self.ctx.options.require_heard:
                 self.not_judged('PC busy or microphones silent: ' + text)
             else:

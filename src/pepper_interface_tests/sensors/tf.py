@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any, List, Optional
 from ..sources import messages
 from ..sources.tf_buffer import TF2_MISSING
 from .base import Check, fmt
-from .lag import BUSY_LOAD_PER_CORE
+from .lag import BUSY_LOAD_PER_CORE, load_now
 from .tree import FRESHEST
 from .values.tf import TfLink, TfValues
 
@@ -48,10 +48,8 @@ LINKS_SHOWN = 120       # links kept for the report's drawing (naoqi_driver: 84)
 
 def _this_pc() -> str:
     """This PC's load, when it is above its cores (sensors/lag.py's rule for a busy PC)."""
-    load, cores = os.getloadavg()[0], os.cpu_count() or 1
-    if load > BUSY_LOAD_PER_CORE * cores:
-        return 'this PC busy (load average %.1f on %d cores)' % (load, cores)
-    return 'this PC (load average %.1f on %d cores)' % (load, cores)
+    busy = os.getloadavg()[0] > BUSY_LOAD_PER_CORE * (os.cpu_count() or 1)
+    return 'this PC%s (%s)' % (' busy' if busy else '', load_now())
 
 
 class _Count:
