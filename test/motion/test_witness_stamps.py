@@ -60,15 +60,29 @@ def test_witnesses_handled_in_a_burst_are_placed_when_they_were_sampled(master, 
                  for (stamp, _), (t, _) in zip(log, series)
                  if stamp - offset >= t0 and abs(t - (stamp - offset)) > PLACED]
         assert not wrong, (role, wrong[:5])
-    # the step sees the whole turn; placed at their handling times, the held half was outside it
+    # the step sees the turn as it was sampled; placed at their handling times, the held half was
+    # outside it. "As sampled": each value at its own stamp on this clock, the publisher's truth
+    # (on a loaded PC its 50 Hz loop can sleep 0.2 s, so the sampled turn may stop short of TURN:
+    # seen at load 7, the last sample before the step's end at s = 1.82). Placed within PLACED
+    # of it, a value moves at most PLACED x the peak rate (pi/4 rad/s): 0.04 rad.
+    slack = PLACED * math.pi / 4
+
+    def sampled(role, series):
+        return [(stamp - offset, v) for (stamp, _), (_, v) in zip(data['log'][role], series)]
     arrival = [(handled, v) for (_, handled), (_, v) in zip(data['log']['odometry'], data['odom'])]
-    assert abs(estimate.change(arrival, t0, t1) - TURN) > 0.15      # what arrival times gave
-    for series in (data['odom'], data['joints']):
-        assert estimate.change(series, t0, t1) == pytest.approx(TURN, abs=0.03)
+    truth = estimate.change(sampled('odometry', data['odom']), t0, t1)
+    assert truth > 0.35, truth           # the publisher sampled most of the turn before t1
+    assert abs(estimate.change(arrival, t0, t1) - truth) > 0.15      # what arrival times gave
+    for role, series in (('odometry', data['odom']), ('jointState', data['joints'])):
+        assert estimate.change(series, t0, t1) == pytest.approx(
+            estimate.change(sampled(role, series), t0, t1), abs=slack)
     # the gyro integrated over the burst: the turn (arrival times stretch the last sample before
     # the hold over it)
     gyro = [(t, 0.0, 0.0, z) for t, z in data['gyro']]
-    assert estimate.integrated_gyro(gyro, t0, start + 3.0)[2] == pytest.approx(TURN, abs=0.03)
+    true_gyro = [(t, 0.0, 0.0, z) for t, z in sampled('imu', data['gyro'])]
+    assert estimate.integrated_gyro(gyro, t0, start + 3.0)[2] == pytest.approx(
+        estimate.integrated_gyro(true_gyro, t0, start + 3.0)[2], abs=slack)
+    assert estimate.integrated_gyro(true_gyro, t0, start + 3.0)[2] == pytest.approx(TURN, abs=0.1)
     by_arrival = [(h, 0.0, 0.0, z) for (_, h), (_, z) in zip(data['log']['imu'], data['gyro'])]
     assert abs(estimate.integrated_gyro(by_arrival, t0, start + 3.0)[2] - TURN) > 0.15
     assert data['behind'] > 0.3 and math.isfinite(data['behind'])
