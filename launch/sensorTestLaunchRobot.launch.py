@@ -5,8 +5,9 @@ the test: sensorTestLaunchRobot.launch's names and arguments, on ROS 2.
       network_interface:=<interface>; echo $?
 
 naoqi_driver2's own launch (ros-naoqi/naoqi_driver2 launch/naoqi_driver.launch.py, package
-naoqi_driver) is included with nao_ip, nao_port, username, password and network_interface when
-naoqi_driver:=true; the launch stops at once, naming the package, when it is not installed.
+naoqi_driver) is included with nao_ip, nao_port, username, password, network_interface and
+qi_listen_url when naoqi_driver:=true; the launch stops at once, naming the package, when it is
+not installed.
 naoqi_driver:=false when the driver already runs (or runs elsewhere).
 The microphones: naoqi_driver2 publishes /audio itself (AudioBuffer) when its audio works,
 which needs the robot to reach back into this machine (NAT, Docker or a wrong interface stop it;
@@ -43,6 +44,8 @@ ARGS = [
     ('username', 'nao', 'naoqi_driver2: the robot\'s user (NAOqi 2.9)'),
     ('password', 'no_password', 'naoqi_driver2: its password (NAOqi 2.9)'),
     ('network_interface', 'eth0', 'naoqi_driver2: the network interface of this machine that reaches the robot'),
+    ('qi_listen_url', 'tcp://0.0.0.0:0', 'naoqi_driver2: where its session listens for NAOqi to call its audio '
+     'back (an address of this machine the robot reaches; naoqi_driver2\'s own default)'),
     ('naoqi_driver', 'true', 'start naoqi_driver2; false when it already runs (or runs elsewhere)'),
     ('driver_audio', 'true', 'true: naoqi_driver2 publishes /audio; false: this package\'s bridge does'),
     ('audio', 'auto', 'start this package\'s audio bridge (naoqiAudio + naoqiAudioPublisher); auto = not driver_audio'),
@@ -67,7 +70,8 @@ def _actions(context):
         driver = get_package_share_directory('naoqi_driver') + '/launch/naoqi_driver.launch.py'
         actions.append(IncludeLaunchDescription(PythonLaunchDescriptionSource(driver), launch_arguments={
             'nao_ip': a['robot_ip'], 'nao_port': a['robot_port'], 'username': a['username'],
-            'password': a['password'], 'network_interface': a['network_interface']}.items()))
+            'password': a['password'], 'network_interface': a['network_interface'],
+            'qi_listen_url': a['qi_listen_url']}.items()))
     bridge = (not flag(a['driver_audio'], 'driver_audio')) if a['audio'] == 'auto' else flag(a['audio'], 'audio')
     if bridge:
         actions += [

@@ -23,11 +23,16 @@ from typing import Callable, Iterable, List, Optional, Sequence
 from .plan.model import TestPlan
 from .progress import Progress
 from .results import RunResult, SensorResult
+from .sources import Graph, ros1_graph
 
-# the reason every listened-to sensor fails with when nothing at all is published (after
-# "no publisher on <topic>: "); the terminal says it once, at the start, with the likely causes
-NO_PUBLISHER_AT_ALL = ('no sensor topic of this run has a publisher on the ROS master (robot off, '
-                       'another master, driver not started?)')
+
+
+def no_publisher_at_all(graph: Optional[Graph]) -> str:
+    """The reason every listened-to sensor fails with when nothing at all is published (after
+    "no publisher on <topic>: "); the terminal says it once, at the start, with the likely causes."""
+    graph = graph or ros1_graph('')
+    return 'no sensor topic of this run has a publisher %s (robot off, %s, driver not started?)' % (
+        graph.place, graph.other)
 
 
 class RunObserver:
@@ -42,7 +47,7 @@ class RunObserver:
     def tick(self, progress: Sequence[Progress], now: float) -> None:
         pass
 
-    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
+    def nothing_published(self, topics: List[str], waited: float, graph: Optional[Graph]) -> None:
         pass
 
     def sensor_done(self, result: SensorResult) -> None:
@@ -75,8 +80,8 @@ class Observers(RunObserver):
     def tick(self, progress: Sequence[Progress], now: float) -> None:
         self._each('tick', lambda o: o.tick(progress, now))
 
-    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
-        self._each('nothing_published', lambda o: o.nothing_published(topics, waited, uri))
+    def nothing_published(self, topics: List[str], waited: float, graph: Optional[Graph]) -> None:
+        self._each('nothing_published', lambda o: o.nothing_published(topics, waited, graph))
 
     def sensor_done(self, result: SensorResult) -> None:
         self._each('sensor_done', lambda o: o.sensor_done(result))

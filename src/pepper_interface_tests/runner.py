@@ -19,7 +19,7 @@ from typing import Callable, Dict, Iterable, List, Optional, Tuple
 from . import interrupts
 from .motion import recorded
 from .motion.record import Recording
-from .observer import NO_PUBLISHER_AT_ALL, Observers, RunObserver
+from .observer import Observers, RunObserver, no_publisher_at_all
 from .plan.settings import SensorPlan, TestPlan
 from .progress import Snapshots
 from .results import FAIL, SKIPPED, RunResult, SensorResult
@@ -228,11 +228,11 @@ class Runner:
             self.source.sleep(0.25)
         now = self.clock()
         self.observers.nothing_published([p.topic for p in plans if p.topic is not None], self.plan.wait,
-                            self.source.master_uri)
+                                       self.source.graph_words)
         for lane in self.lanes:
             for p in [p for p in lane if p in plans]:
                 self._done(skipped_result(p, self.start, now, FAIL, [
-                    'no publisher on %s: %s%s' % (p.topic, NO_PUBLISHER_AT_ALL,
+                    'no publisher on %s: %s%s' % (p.topic, no_publisher_at_all(self.source.graph_words),
                                                    no_publisher_note(p.sensor.name))]))
                 lane.remove(p)
 

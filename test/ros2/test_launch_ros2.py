@@ -144,13 +144,13 @@ def test_the_launch_files_declare_the_ros1_arguments(tmp_path):
 
 # A stand-in for naoqi_driver2's package, in a prefix of its own: its launch file declares the
 # arguments of ros-naoqi/naoqi_driver2 launch/naoqi_driver.launch.py (nao_ip, nao_port,
-# username, password, network_interface, namespace) and logs the values it was given.
+# username, password, network_interface, qi_listen_url, namespace) and logs the values it was given.
 FAKE_DRIVER_LAUNCH = '''
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, LogInfo
 from launch.substitutions import LaunchConfiguration
 
-NAMES = ('nao_ip', 'nao_port', 'username', 'password', 'network_interface', 'namespace')
+NAMES = ('nao_ip', 'nao_port', 'username', 'password', 'network_interface', 'qi_listen_url', 'namespace')
 
 
 def generate_launch_description():
@@ -167,10 +167,11 @@ def test_the_robot_launch_includes_naoqi_driver2s_launch_with_the_robots_address
     (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages' / 'naoqi_driver').write_text('')
     env = domain_env(AMENT_PREFIX_PATH=str(prefix) + os.pathsep + os.environ.get('AMENT_PREFIX_PATH', ''))
     p = subprocess.run(launch('sensorTestLaunchRobot.launch.py', 'robot_ip:=10.0.0.5', 'robot_port:=9503',
-                              'network_interface:=wlan0', 'password:=s3cret', 'run_test:=false'),
+                              'network_interface:=wlan0', 'password:=s3cret', 'run_test:=false',
+                              'qi_listen_url:=tcp://10.0.0.2:0'),
                        env=env, capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL)
     text = p.stdout + p.stderr
     assert p.returncode == 0, text
     assert ('fake naoqi_driver2: nao_ip=10.0.0.5 nao_port=9503 username=nao password=s3cret '
-            'network_interface=wlan0 namespace=default') in text, text
+            'network_interface=wlan0 qi_listen_url=tcp://10.0.0.2:0 namespace=default') in text, text
     assert 'naoqiAudio' not in text, text       # driver_audio defaults to true: no second /audio

@@ -224,3 +224,22 @@ def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale_on_ros2(tmp
     assert 'load average' in reason and 'sensorTest up to' in reason, reason
     assert data['exit_code'] == 4 and 'could not judge everything' in text, text
     print(reason)
+
+
+def test_nothing_published_on_ros2_names_the_dds_domain_not_a_ros_master(tmp_path):
+    """Robot off on ROS 2: a domain where nobody publishes. The one 'nothing is published' line
+    and every sensor's reason speak of the DDS domain and what puts a driver out of reach
+    (ROS_DOMAIN_ID, RMW_IMPLEMENTATION, ROS_LOCALHOST_ONLY), never of a ROS master, which ROS 2
+    does not have."""
+    env = domain_env()
+    p = subprocess.run(program('sensorTest') + ['--sensors', 'backSonar,laser,imu', '--mode', 'sequential',
+                       '--duration', '3', '--wait', '3', '--output-dir', str(tmp_path / 'out')] + QUIET
+                       + ['--no-diagnostics'], env=env, capture_output=True, text=True, timeout=120)
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert 'nothing is published' in p.stdout, p.stdout
+    said = ' '.join(p.stdout.split('nothing is published', 1)[1].split())
+    assert 'in ROS 2 DDS domain %s' % env['ROS_DOMAIN_ID'] in said and 'ROS_DOMAIN_ID' in said, said
+    assert 'master' not in p.stdout.lower(), p.stdout
+    for s in results(tmp_path / 'out')[1].values():
+        assert s['verdict'] == 'FAIL' and 'in ROS 2 DDS domain' in s['reasons'][0], s
+        assert 'another ROS_DOMAIN_ID' in s['reasons'][0] and 'master' not in s['reasons'][0], s

@@ -13,7 +13,8 @@ import sys
 import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
-from ..observer import NO_PUBLISHER_AT_ALL, RunObserver
+from ..observer import RunObserver, no_publisher_at_all
+from ..sources import Graph, ros1_graph
 from ..plan import catalog
 from ..progress import Progress
 from ..results import (
@@ -278,15 +279,15 @@ class Terminal(RunObserver):
                                   break_on_hyphens=False) or [text]:
             self.line(self._paint(part, result.verdict))
 
-    def nothing_published(self, topics: List[str], waited: float, uri: Optional[str]) -> None:
+    def nothing_published(self, topics: List[str], waited: float, graph: Optional[Graph]) -> None:
         """Said once, at the start, instead of once per silent sensor (runner._nothing_published)."""
+        graph = graph or ros1_graph('')
         text = ('nothing is published: not one of the %d sensor topics of this run has a publisher '
-                'on the ROS master%s after %g s. Likely causes: the robot is off or unreachable; '
-                'ROS_MASTER_URI names another master; naoqi_driver (or the emulator) is not '
-                'started; the topics file names other topics (--platform, --topics). Every '
-                'listened-to sensor FAILs for this reason.'
-                % (len(topics), ' at %s' % uri if uri else '', waited))
-        self._said_once = ': ' + NO_PUBLISHER_AT_ALL
+                '%s%s after %g s. Likely causes: the robot is off or unreachable; %s; '
+                'naoqi_driver (or the emulator) is not started; the topics file names other '
+                'topics (--platform, --topics). Every listened-to sensor FAILs for this reason.'
+                % (len(topics), graph.place, graph.address, waited, graph.other_cause))
+        self._said_once = ': ' + no_publisher_at_all(graph)
         self.line(self._paint(textwrap.fill(text, columns(), initial_indent='sensorTest: ',
                                             subsequent_indent='  '), FAIL))
 

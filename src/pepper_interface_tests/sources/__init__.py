@@ -1,12 +1,26 @@
 """Where messages come from: a live ROS graph (live.LiveSource) or a recorded bag
 (bag.BagSource). The runner sees either through the `Source` protocol below; a source feeds
 a sensor's window through the `Listener` protocol (sensors/window.py implements it)."""
-from typing import Any, Callable, Dict, List, Optional, Protocol, Set, Tuple
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Protocol, Set, Tuple
 
 from .handling import Handling
 
 # (advertised type or None, publisher node names or None when the topic is unknown to the source)
 TopicInfo = Tuple[Optional[str], Optional[List[str]]]
+
+
+class Graph(NamedTuple):
+    """How a run speaks of the graph it listens on, where ROS 1 and ROS 2 differ: 'nothing is
+    published' names it and what puts a driver out of its reach."""
+    place: str          # 'on the ROS master' | 'in ROS 2 DDS domain 0'
+    address: str        # ' at http://host:11311' | ' (rmw_cyclonedds_cpp)'
+    other: str          # short: 'another master' | 'another ROS_DOMAIN_ID'
+    other_cause: str    # long: 'ROS_MASTER_URI names another master' | ...
+
+
+def ros1_graph(uri: str) -> Graph:
+    return Graph('on the ROS master', ' at %s' % uri if uri else '', 'another master',
+                 'ROS_MASTER_URI names another master')
 
 
 class SourceLost(Exception):
@@ -75,5 +89,5 @@ class Source(Protocol):
         """Wait `dt` seconds on the source's clock (a bag may not wait at all)."""
 
     @property
-    def master_uri(self) -> Optional[str]:
-        """The ROS master the source listens on (None for a bag)."""
+    def graph_words(self) -> Optional[Graph]:
+        """The graph the source listens on, in words (None for a bag)."""

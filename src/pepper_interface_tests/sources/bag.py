@@ -23,7 +23,7 @@ import os
 from typing import TYPE_CHECKING, Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 from ..plan.textfile import ConfigError
-from . import Listener, TopicInfo, bag_chunks
+from . import Graph, Listener, TopicInfo, bag_chunks
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
@@ -192,7 +192,7 @@ class BagSource:
     def published_topics(self) -> None:
         return None     # a bag has no publishers to ask about; the check on each topic says enough
 
-    master_uri: Optional[str] = None
+    graph_words: Optional[Graph] = None
 
     def lookup(self, topic: str) -> TopicInfo:
         t = self.types.get(topic)

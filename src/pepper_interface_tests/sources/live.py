@@ -23,7 +23,7 @@ from urllib.parse import urlparse
 import rosgraph
 import rospy
 
-from . import Listener, SourceLost, TopicInfo, handling
+from . import Graph, Listener, SourceLost, TopicInfo, handling, ros1_graph
 
 MASTER_TIMEOUT = 2.0
 # a master stalled for several seconds (WiFi, a loaded robot) is not gone: rospy's data
@@ -214,8 +214,8 @@ class LiveSource:
             run.observe_connections(sub.get_num_connections(), now)
 
     @property
-    def master_uri(self) -> Optional[str]:
-        return master_uri()
+    def graph_words(self) -> Optional[Graph]:
+        return ros1_graph(master_uri())
 
     def _publishers(self) -> Dict[str, List[str]]:
         """Topic -> the nodes publishing it other than this one (one getSystemState). This node

@@ -37,7 +37,7 @@ import time
 from collections import namedtuple
 from typing import Any, Dict, List, Optional, Set
 
-from . import Listener, SourceLost, TopicInfo, handling
+from . import Graph, Listener, SourceLost, TopicInfo, handling
 
 POLL = 0.25          # s between looks at the graph for a topic's type and publishers
 DESTROY_WAIT = 0.1   # s the spinning thread waits for work before it destroys what it was given
@@ -198,8 +198,14 @@ class Ros2LiveSource:
         self._last_conn: Dict[Listener, float] = {}
 
     @property
-    def master_uri(self) -> Optional[str]:
-        return 'ROS 2 (DDS domain %s)' % (os.environ.get('ROS_DOMAIN_ID') or '0')
+    def graph_words(self) -> Optional[Graph]:
+        """A ROS 2 graph has no master: a driver is out of reach in another DDS domain, on
+        another middleware, or behind ROS_LOCALHOST_ONLY (Humble's; ROS_AUTOMATIC_DISCOVERY_RANGE
+        from Iron on)."""
+        return Graph('in ROS 2 DDS domain %s' % (os.environ.get('ROS_DOMAIN_ID') or '0'),
+                     ' (%s)' % (os.environ.get('RMW_IMPLEMENTATION') or 'the default middleware'),
+                     'another ROS_DOMAIN_ID',
+                     'ROS_DOMAIN_ID, RMW_IMPLEMENTATION or ROS_LOCALHOST_ONLY differs from the driver\'s')
 
     def _check(self) -> None:
         if not self.graph.ok:
