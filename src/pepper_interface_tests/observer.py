@@ -26,7 +26,6 @@ from .results import RunResult, SensorResult
 from .sources import Graph, ros1_graph
 
 
-
 def no_publisher_at_all(graph: Optional[Graph]) -> str:
     """The reason every listened-to sensor fails with when nothing at all is published (after
     "no publisher on <topic>: "); the terminal says it once, at the start, with the likely causes."""

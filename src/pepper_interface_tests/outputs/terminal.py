@@ -14,7 +14,6 @@ import textwrap
 from typing import TYPE_CHECKING, Any, List, Optional, Sequence, TextIO
 
 from ..observer import RunObserver, no_publisher_at_all
-from ..sources import Graph, ros1_graph
 from ..plan import catalog
 from ..progress import Progress
 from ..results import (
@@ -33,6 +32,7 @@ from ..results import (
     robot_line,
 )
 from ..sensors.families import traits
+from ..sources import Graph, ros1_graph
 
 if TYPE_CHECKING:
     from ..plan.settings import TestPlan
