@@ -141,8 +141,12 @@ def check_stream(topic, got, expected, tolerance=0.2, rtf=None):
         problems.append('%s: rate %.2f Hz, expected %.2f +-%d%%' % (topic, rate, hz, tolerance * 100))
     if frame is not None and got['frames'] != [frame]:
         problems.append('%s: frame ids %s, expected %s' % (topic, got['frames'], frame))
-    if rtf is None and 'stamp_delay' in got and got['stamp_delay'] > 1.0:
-        problems.append('%s: header stamps %.2f s away from receive time' % (topic, got['stamp_delay']))
+    # stamped on the receiver's clock: the freshest message within 1 s of its receipt (the
+    # largest delay is the listener's backlog on a loaded machine: 1.31 s once at load 15, a
+    # 640x480 stream of a Python listener)
+    if rtf is None and 'stamp_delay_least' in got and got['stamp_delay_least'] > 1.0:
+        problems.append('%s: header stamps at least %.2f s away from receive time'
+                        % (topic, got['stamp_delay_least']))
     if not got['seq_increasing']:
         problems.append('%s: header.seq not increasing' % topic)
     for key in ('encoding', 'width', 'height'):

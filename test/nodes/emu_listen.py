@@ -148,6 +148,8 @@ class Record:
                 out['stamp_rate'] = (len(self.stamps) - 1) / (self.stamps[-1] - self.stamps[0])
             if self.stamps:
                 out['stamp_delay'] = max(abs(t - s) for t, s in zip(self.times, self.stamps))
+                # the freshest message's: what its clock is, less this listener's own backlog
+                out['stamp_delay_least'] = min(abs(t - s) for t, s in zip(self.times, self.stamps))
             out['seq_increasing'] = all(b > a for a, b in zip(self.seqs, self.seqs[1:]))
             out['first_time'] = self.times[0] if self.times else None
             out['last_time'] = self.times[-1] if self.times else None
