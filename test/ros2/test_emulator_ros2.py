@@ -124,6 +124,57 @@ def test_the_demo_on_ros2_beside_three_busy_processes_per_core_fails_no_sensor(r
         assert 'could not judge everything' in said, said[-4000:]
 
 
+def _stopped_at_health(robot, tmp_path, *args, stop=5.0):
+    """sensorTest with robotHealth, stopped by a real SIGSTOP as its window starts, for `stop` s
+    (longer than its --wait): what a PC too busy to run it does. Its exit code and rows."""
+    out, said = tmp_path / 'out', tmp_path / 'sensorTest.log'
+    proc = robot.sensor_test(out, '--mode', 'parallel', '--wait', '3', '--no-report', '--no-record',
+                             '--no-diagnostics', *args)
+    try:
+        wait_until(lambda: 'start  robotHealth' in said.read_text(), 90, said.read_text, every=0.01)
+        os.killpg(proc.pid, signal.SIGSTOP)
+        try:
+            time.sleep(stop)
+        finally:
+            os.killpg(proc.pid, signal.SIGCONT)
+        rc = proc.wait(120)
+    finally:
+        if proc.poll() is None:
+            kill_group(proc)
+    assert 'Traceback' not in said.read_text(), said.read_text()
+    return rc, results(out)[1], said.read_text()
+
+
+def test_robot_health_on_ros2_is_not_failed_by_a_stopped_sensor_test(robot_factory, tmp_path):
+    """Issue 41's robotHealth FAIL on ROS 2 ("no naoqi_driver diagnostics on /diagnostics within
+    5 s") for a healthy robot: nothing reached the window while sensorTest did not run. A real
+    SIGSTOP as the window starts, for longer than --wait: the window waits longer on a busy PC
+    (sensors/health.py BUSY_EXTRA), the arrays the DDS reader held come once it runs again, and
+    the row PASSes; it never FAILs the robot."""
+    robot = robot_factory('--audio', 'off', '--camera-resolution', 'QQVGA')
+    rc, rows, said = _stopped_at_health(robot, tmp_path, '--sensors', 'robotHealth')
+    health = rows['robotHealth']
+    assert health['verdict'] in ('PASS', 'NOT JUDGED'), (health, said[-3000:])
+    if health['verdict'] == 'NOT JUDGED':       # the held arrays still did not come: the PC named
+        assert health['reasons'][0].startswith('PC busy: no naoqi_driver diagnostics') and \
+            'load average' in health['reasons'][0], health
+    assert rc == (0 if health['verdict'] == 'PASS' else 4), said[-3000:]
+
+
+def test_robot_health_on_ros2_fails_a_topic_nobody_publishes_however_busy_the_pc(robot_factory, tmp_path):
+    """The driver's diagnostics off (naoqi_driver.cpp:706-709 creates no /diagnostics publisher):
+    no node but sensorTest publishes the topic, so a busy PC explains nothing and the row FAILs
+    within --wait, SIGSTOP or not."""
+    robot = robot_factory('--audio', 'off', '--camera-resolution', 'QQVGA')
+    topics = tmp_path / 'topics.dat'
+    topics.write_text('robotHealth /diagnostics_off\nlaser /laser\n')
+    rc, rows, said = _stopped_at_health(robot, tmp_path, '--sensors', 'robotHealth,laser', '--topics', str(topics))
+    health = rows['robotHealth']
+    assert health['verdict'] == 'FAIL' and rc == 1, (health, said[-3000:])
+    assert any(r.startswith('no publisher on /diagnostics_off') for r in health['reasons']), health
+    assert health['ended_at'] - health['started_at'] < 3 + 6, health      # never the busy PC's longer wait
+
+
 @pytest.mark.parametrize('fault, failed, words', [
     ('no_description', 'frontCamera', 'has no path to base_footprint'),
     ('stale', 'tf', 'old when they arrive'),

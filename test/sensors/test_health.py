@@ -161,3 +161,66 @@ def test_the_emulator_builds_the_array_as_diagnostics_cpp():
     assert [(kv.key, kv.value) for kv in battery.values] == [('Percentage', '45'), ('Charging', 'False'),
                                                               ('Fully Charged', 'False')]
     assert driver_array(temps(), 20, True).status[-3].message == 'Charging (  20%)'
+
+
+def stop_this_process(seconds):
+    """A real SIGSTOP of this process for `seconds` (a child sends the SIGCONT): what a PC too busy
+    to run sensorTest does; the stall probe (sensors/lag.py) sees it."""
+    import signal
+    import subprocess
+    import time
+
+    from pepper_interface_tests.sensors.lag import StallProbe
+    StallProbe.shared()
+    time.sleep(0.2)
+    child = subprocess.Popen(['sh', '-c', 'sleep %s; kill -CONT %d' % (seconds, os.getpid())])
+    os.kill(os.getpid(), signal.SIGSTOP)
+    child.wait()
+
+
+def live_poll(check, until, step=0.1):
+    """The runner's polls of a live window, on this process's clock, until `until` s or done()."""
+    import time
+    t0 = time.monotonic()
+    while not check.done() and time.monotonic() - t0 < until:
+        check.poll(time.monotonic() - t0)
+        time.sleep(step)
+    return time.monotonic() - t0
+
+
+@pytest.mark.integration
+def test_nothing_heard_while_this_process_was_stopped_is_not_judged_after_a_longer_wait(tmp_path):
+    """Issue 41 on ROS 2: a healthy driver's arrays held unhandled while sensorTest did not run.
+    The window waits BUSY_EXTRA s more than --wait, then names the PC: NOT JUDGED, never FAIL."""
+    from pepper_interface_tests.results import NOT_JUDGED
+    from pepper_interface_tests.sensors.health import BUSY_EXTRA
+    c = make(tmp_path)
+    c.observe_connections(1)                # the driver's publisher is on the topic
+    c.poll(0.0)
+    stop_this_process(1.5)
+    took = live_poll(c, 20)
+    assert c.done() and took >= 2.0 + BUSY_EXTRA - 0.5, took
+    c.close()
+    j = c.judgement()
+    assert j.verdict == NOT_JUDGED and not j.reasons, j
+    assert j.unjudged[0].startswith('PC busy: no naoqi_driver diagnostics on /diagnostics within 8 s although '
+                                    'the topic has a publisher, but this PC was busy (load average '), j
+    assert 'sensorTest did not run for' in j.unjudged[0], j
+
+
+@pytest.mark.integration
+@pytest.mark.parametrize('publishers, other', [(0, False), (1, True)], ids=['no publisher', 'other nodes heard'])
+def test_a_busy_pc_explains_nothing_when_no_one_publishes_or_other_arrays_were_handled(tmp_path, publishers, other):
+    """The driver's diagnostics off (no publisher but sensorTest), or other nodes' arrays handled
+    meanwhile (the PC did take the topic): FAIL within --wait, however busy the PC."""
+    c = make(tmp_path)
+    c.observe_connections(publishers)
+    if other:
+        c.feed(own_status_array(), 0.1)
+    c.poll(0.0)
+    stop_this_process(1.5)
+    took = live_poll(c, 20)
+    assert c.done() and took < 2.0 + 1.0, took
+    c.close()
+    assert c.judgement().verdict == FAIL and c.judgement().reasons[0].startswith(
+        'no naoqi_driver diagnostics on /diagnostics within 2 s'), c.judgement()

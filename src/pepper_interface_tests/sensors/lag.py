@@ -176,3 +176,27 @@ def starved_hint(lag: Optional[OwnLag]) -> str:
 def load_now() -> str:
     """The load average now against the cores, in the words every busy-PC reason uses."""
     return 'load average %.1f on %d cores' % (os.getloadavg()[0], os.cpu_count() or 1)
+
+
+# seconds of a window during which this process did not run that explain a 1 Hz topic's silence
+# (robotHealth: naoqi_driver's /diagnostics at 1 Hz, share/boot_config.json "diag")
+STALLED_EXPLAINS = 1.0
+
+
+def pc_busy(lag: Optional[OwnLag], began: float, now: float) -> str:
+    """Why this PC counts as busy for a live window that began at `began` (monotonic), in the
+    words every busy-PC reason uses; '' when it does not: the load average now above the cores,
+    the topic's callbacks on a CPU less than half of their time (OwnLag.busy), or this process
+    not running for STALLED_EXPLAINS s or more since `began` (the stall probe, started here if
+    no callback of the topic has started it)."""
+    probe = lag.probe if lag is not None and lag.probe is not None else StallProbe.shared()
+    if lag is not None:
+        lag.probe = probe
+    stalled = probe.stalled(began, now)
+    load, cores = os.getloadavg()[0], os.cpu_count() or 1
+    if load <= BUSY_LOAD_PER_CORE * cores and stalled < STALLED_EXPLAINS and not (lag is not None and lag.busy):
+        return ''
+    return '%s; sensorTest did not run for %.1f s of the %.1f s listened%s' % (
+        load_now(), stalled, now - began,
+        ', its callbacks on a CPU %.0f %% of their time' % (100 * lag.cpu_share)
+        if lag is not None and lag.cpu_share is not None else '')

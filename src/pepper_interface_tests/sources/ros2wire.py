@@ -16,17 +16,28 @@ from typing import Any, Deque, Dict, Optional
 
 # what this process published last on each topic it also listens to (/diagnostics): a ROS 2
 # subscription callback does not say who sent a message, so sources/live2.py drops a message
-# byte-equal to one of these, as sources/live.py drops its own node's on ROS 1
+# byte-equal to one of these, as sources/live.py drops its own node's on ROS 1. Cyclone DDS
+# hands a raw subscription the serialized message padded with zeros to a multiple of 4 bytes
+# (a 10-byte std_msgs/String arrives as 12 bytes, its encapsulation header unchanged): the
+# padding is not part of the comparison
 OWN_KEEP = 8
+CDR_ALIGN = 4
 _own: Dict[str, Deque[bytes]] = {}
 _own_lock = threading.Lock()
 
 
 def is_own(topic: str, raw: bytes) -> bool:
-    """True when `raw` is one of the last OWN_KEEP messages this process published on `topic`."""
+    """True when `raw` is one of the last OWN_KEEP messages this process published on `topic`,
+    padded or not (CDR_ALIGN)."""
     with _own_lock:
-        kept = _own.get(topic)
-        return kept is not None and raw in kept
+        kept = list(_own.get(topic) or ())
+    return any(_same(raw, mine) for mine in kept)
+
+
+def _same(raw: bytes, mine: bytes) -> bool:
+    """`raw` is `mine`, or `mine` followed by the zeros that pad it to a multiple of CDR_ALIGN."""
+    extra = len(raw) - len(mine)
+    return 0 <= extra < CDR_ALIGN and raw[:len(mine)] == mine and not any(raw[len(mine):])
 
 
 def ros2_type(ros1_type: str) -> str:
