@@ -275,6 +275,9 @@ class Check:
     def start(self) -> None:
         """Before listening begins."""
 
+    def observe_connections(self, n: int) -> None:
+        """The live source's count of the topic's publishers, every poll (robotHealth reads it)."""
+
     def poll(self, elapsed: float) -> None:
         """Called about every 50 ms from the runner's thread while the window is open (never at
         the same time as feed: the window holds its lock)."""

@@ -94,9 +94,7 @@ class SensorRun:
 
     def observe_connections(self, n: int, now: float) -> None:
         self.stream.observe_connections(n, now)
-        observe = getattr(self.check, 'observe_connections', None)     # robotHealth (sensors/health.py)
-        if observe is not None:
-            observe(n)
+        self.check.observe_connections(n)
 
     def feed_raw(self, type_name: str, buff: bytes, t_recv: float, ros_now: float,
                  conn: Optional[Dict[str, Any]] = None, own: Optional[Handling] = None) -> None:
