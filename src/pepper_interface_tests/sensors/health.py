@@ -26,11 +26,12 @@ On a busy PC (issue 41): listening live, while nothing of the driver's has come 
 busy (sensors/lag.py `pc_busy`: the load average above the cores, sensorTest's callbacks on a
 CPU less than half of their time, or sensorTest itself not running for a second or more of the
 window), the window waits BUSY_EXTRA s more; if still nothing at all reached it and the topic
-has a publisher (on ROS 2 one other than sensorTest; on ROS 1 rospy counts this node's own
-/diagnostics publisher too), the row is NOT JUDGED naming the load and sensorTest's lag, not a
-FAIL of the robot: the arrays may have waited unhandled in sensorTest. Other nodes' arrays
-handled meanwhile show the PC did take the topic: the driver's absence then fails, as does a
-topic nobody else publishes (however busy the PC) and a silent driver on a quiet PC.
+has a publisher other than sensorTest (on ROS 1 the live source leaves out the connection rospy
+makes to this node's own /diagnostics publisher: sources/live.py), the row is NOT JUDGED naming
+the load and sensorTest's lag, not a FAIL of the robot: the arrays may have waited unhandled in
+sensorTest. Other nodes' arrays handled meanwhile show the PC did take the topic: the driver's
+absence then fails, as does a topic nobody else publishes (however busy the PC) and a silent
+driver on a quiet PC.
 """
 import time
 from typing import TYPE_CHECKING, Any, Dict, List, Optional, Tuple

@@ -40,6 +40,18 @@ MASTER_REFUSED = 1.5
 UNRUN_SLACK = 1.0
 
 
+def _other_connections(sub: Any) -> int:
+    """The subscriber's connections to publishers other than this node: rospy connects a node's
+    subscriber to its own publisher of the topic too (sensorTest publishes /diagnostics, which
+    robotHealth listens to), each transport named by its publisher's URI (rospy
+    impl/tcpros_pubsub.py create_transport: connect(..., pub_uri))."""
+    own = rospy.core.get_node_uri()
+    try:
+        return sum(1 for c in list(sub.impl.connections) if getattr(c, 'endpoint_id', None) != own)
+    except AttributeError:      # no impl: count them all, as get_num_connections does
+        return sub.get_num_connections()
+
+
 def master_uri() -> str:
     return rosgraph.get_master_uri()
 
@@ -211,7 +223,7 @@ class LiveSource:
         sub = self.subs.get(run)
         if sub is not None and now - self._last_conn.get(run, 0.0) >= 0.25:
             self._last_conn[run] = now
-            run.observe_connections(sub.get_num_connections(), now)
+            run.observe_connections(_other_connections(sub), now)
 
     @property
     def graph_words(self) -> Optional[Graph]:
