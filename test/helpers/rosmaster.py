@@ -46,6 +46,16 @@ def kill_group(proc, sig=signal.SIGINT, timeout=10):
     return stop_group(proc, sig, timeout)
 
 
+def pause_group(proc, seconds):
+    """A real SIGSTOP of the process group of `proc` for `seconds`, then SIGCONT whatever happens:
+    what a PC too busy to run it (or a laptop's stall) does to sensorTest."""
+    os.killpg(proc.pid, signal.SIGSTOP)
+    try:
+        time.sleep(seconds)
+    finally:
+        os.killpg(proc.pid, signal.SIGCONT)
+
+
 def wait_until(condition, timeout, what, every=0.05):
     """condition()'s first true value, asked every `every` s, instead of sleeping a guessed time;
     after `timeout` s an AssertionError says what did not happen (`what`: text, or a callable

@@ -15,7 +15,7 @@ from busy_pc import DELIVERY
 from motion_runs import GOAL, assert_stopped_safely, expectations
 from pepper_interface_tests.plan import declaration
 from ros2_runs import domain_env, program, results, signal_as_users_do
-from rosmaster import kill_group, spawn, wait_until
+from rosmaster import kill_group, pause_group, spawn, wait_until
 
 HELPERS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'helpers')
 # the demo's sensors (tools/demo.sh), the tree with them: /tf as naoqi_driver2 publishes it
@@ -132,11 +132,7 @@ def _stopped_at_health(robot, tmp_path, *args, stop=5.0):
                              '--no-diagnostics', *args)
     try:
         wait_until(lambda: 'start  robotHealth' in said.read_text(), 90, said.read_text, every=0.01)
-        os.killpg(proc.pid, signal.SIGSTOP)
-        try:
-            time.sleep(stop)
-        finally:
-            os.killpg(proc.pid, signal.SIGCONT)
+        pause_group(proc, stop)
         rc = proc.wait(120)
     finally:
         if proc.poll() is None:

@@ -3,7 +3,6 @@ a ROS 1 bag, published by naoqi_driver2-shaped rclpy publishers (test/helpers/ro
 gets the same verdicts. Run by the ROS 2 tier
 (tools/ros2/tests.sh), in a ROS 2 environment (ROS_VERSION=2)."""
 import os
-import signal
 import subprocess
 import sys
 import time
@@ -12,7 +11,7 @@ import pytest
 
 import ros2_recordings as rr
 from ros2_runs import domain_env, program, results, ros1_env
-from rosmaster import kill_group, script, spawn, wait_until
+from rosmaster import kill_group, pause_group, script, spawn, wait_until
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 LIVE = [sys.executable, os.path.join(HERE, '..', 'helpers', 'ros2_live.py')]
@@ -201,11 +200,7 @@ def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale_on_ros2(tmp
         try:
             wait_until(lambda: 'start  imu' in said.read_text(), 60, lambda: said.read_text())
             time.sleep(2.0)      # the subscription matched, some messages handled on time first
-            os.killpg(proc.pid, signal.SIGSTOP)
-            try:
-                time.sleep(6.5)  # the stall under test: longer than max_delay (5 s)
-            finally:
-                os.killpg(proc.pid, signal.SIGCONT)
+            pause_group(proc, 6.5)  # the stall under test: longer than max_delay (5 s)
             rc = proc.wait(90)
         finally:
             if proc.poll() is None:

@@ -18,7 +18,7 @@ import time
 import pytest
 
 from motion_runs import GOAL, JOINTS, TWIST, assert_stopped_safely, expectations  # noqa: F401
-from rosmaster import NODES, Master, kill_group, script, spawn, wait_until
+from rosmaster import NODES, Master, kill_group, pause_group, script, spawn, wait_until
 
 PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -435,11 +435,7 @@ def test_a_motion_cut_short_by_a_stalled_pc_says_the_pc_was_busy(master, robot, 
     try:
         wait_until(lambda: any(r['topic'] == JOINTS for r in robot.received()), 40,
                    lambda: 'no head command: %s' % (tmp_path / 'sensorTest.log').read_text()[-2000:])
-        os.killpg(proc.pid, signal.SIGSTOP)
-        try:
-            time.sleep(16.0)    # longer than the window: witness_wait + 3 s + 5 step_timeouts
-        finally:
-            os.killpg(proc.pid, signal.SIGCONT)
+        pause_group(proc, 16.0)     # longer than the window: witness_wait + 3 s + 5 step_timeouts
         proc.wait(60)
     finally:
         kill_group(proc)

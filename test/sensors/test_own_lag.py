@@ -5,12 +5,11 @@ the held messages' stamps old once it runs again: NOT JUDGED naming the PC, exit
 A rate below its band on a busy PC (sensorTest keeping up) still FAILs, with a hint that a
 publisher on this PC may have been starved, naming the load (lag.starved_hint)."""
 import os
-import signal
 import subprocess
 import sys
 import time
 
-from rosmaster import wait_connected, wait_until
+from rosmaster import pause_group, wait_connected, wait_until
 from sensor_test_runs import Publishers, Running, topic_of, write_topics
 
 PREFIX = '/own_lag'
@@ -28,11 +27,7 @@ def test_messages_held_in_a_stopped_sensor_test_are_not_judged_stale(master, tmp
         r.wait_for('start  imu')
         wait_connected(master, '/sensorTest', topic)
         time.sleep(1.0)          # some messages handled on time first
-        os.killpg(r.proc.pid, signal.SIGSTOP)
-        try:
-            time.sleep(6.5)      # the stall under test: longer than max_delay (5 s)
-        finally:
-            os.killpg(r.proc.pid, signal.SIGCONT)
+        pause_group(r.proc, 6.5)     # the stall under test: longer than max_delay (5 s)
         result = r.finish(60)
     imu = result.sensors['imu']
     assert imu['verdict'] == 'NOT JUDGED' and result.rc == 4, (result, imu['reasons'])
