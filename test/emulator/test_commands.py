@@ -78,7 +78,10 @@ def gyro_turn(d, axis=GZ):
 
 
 def wheel_turn(d, col):
-    return last(d, 'joints', AFTER_TURN)[col] - last(d, 'joints', BEFORE_TURN)[col]
+    """The wheel's turn over the base turn: its angle is published wrapped to [-pi, pi)
+    (emulator/body.py), so a wheel that crossed pi reads 2 pi off (WheelFR -1.28 rad read as
+    +5.00 in one run); each expected turn here is under pi."""
+    return math.remainder(last(d, 'joints', AFTER_TURN)[col] - last(d, 'joints', BEFORE_TURN)[col], 2 * math.pi)
 
 
 def laser_shift(d):
