@@ -29,8 +29,10 @@ _own_lock = threading.Lock()
 def is_own(topic: str, raw: bytes) -> bool:
     """True when `raw` is one of the last OWN_KEEP messages this process published on `topic`,
     padded or not (CDR_ALIGN)."""
+    if topic not in _own:       # every message of every topic passes here: most are no own topic
+        return False
     with _own_lock:
-        kept = list(_own.get(topic) or ())
+        kept = list(_own[topic])
     return any(_same(raw, mine) for mine in kept)
 
 
